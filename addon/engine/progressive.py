@@ -1,0 +1,101 @@
+"""The progressive render loop's decisions, free of Blender and of the module so
+they can be reasoned about on their own: how many passes the next ``run()`` takes,
+when the film goes to the screen, and what the stats line says."""
+
+import math
+
+# One run() call should take about this long, so cancel and display stay responsive.
+BATCH_SECONDS = 0.25
+
+
+class PassSchedule:
+    """Batches of passes within a pass budget and an optional time limit."""
+
+    def __init__(self, passes, time_limit=0.0, batch_seconds=BATCH_SECONDS):
+        self.passes = passes
+        self.time_limit = time_limit
+        self.batch_seconds = batch_seconds
+        self.done = 0
+        self.seconds_per_pass = None
+
+    def next_batch(self, elapsed):
+        """Passes for the next run() call; 0 when the render is finished."""
+        left = self.passes - self.done
+        if left <= 0 or (self.time_limit > 0.0 and elapsed >= self.time_limit):
+            return 0
+        if self.seconds_per_pass is None:
+            return 1  # the first pass also compiles programs: measure before batching
+        budget = self.batch_seconds
+        if self.time_limit > 0.0:
+            budget = min(budget, self.time_limit - elapsed)
+        batch = int(budget / max(self.seconds_per_pass, 1e-6))
+        return max(1, min(left, batch))
+
+    def record(self, batch, seconds):
+        """Notes a finished batch; the pass time is a running average that forgets
+        the first (compiling) pass quickly."""
+        self.done += batch
+        per_pass = seconds / batch
+        if self.seconds_per_pass is None:
+            self.seconds_per_pass = per_pass
+        else:
+            self.seconds_per_pass = 0.5 * (self.seconds_per_pass + per_pass)
+
+    def progress(self, elapsed):
+        fraction = self.done / self.passes
+        if self.time_limit > 0.0:
+            fraction = max(fraction, elapsed / self.time_limit)
+        return min(1.0, fraction)
+
+    def remaining_seconds(self, elapsed):
+        if self.seconds_per_pass is None:
+            return math.inf
+        remaining = (self.passes - self.done) * self.seconds_per_pass
+        if self.time_limit > 0.0:
+            remaining = min(remaining, self.time_limit - elapsed)
+        return max(0.0, remaining)
+
+
+class DisplayClock:
+    """When to stream the film into Blender: often while the image changes most
+    (the first seconds), about once per second after that."""
+
+    STEPS = ((2.0, 0.25), (10.0, 0.5), (math.inf, 1.0))  # (until elapsed, interval)
+
+    def __init__(self):
+        self.last = -math.inf
+
+    def due(self, elapsed):
+        interval = next(step for until, step in self.STEPS if elapsed < until)
+        if elapsed - self.last >= interval:
+            self.last = elapsed
+            return True
+        return False
+
+
+def format_duration(seconds):
+    if not math.isfinite(seconds):
+        return "--:--"
+    seconds = int(round(seconds))
+    hours, rest = divmod(seconds, 3600)
+    minutes, seconds = divmod(rest, 60)
+    return f"{hours}:{minutes:02d}:{seconds:02d}" if hours else f"{minutes:02d}:{seconds:02d}"
+
+
+def format_rate(value):
+    for scale, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if value >= scale:
+            return f"{value / scale:.2f} {suffix}"
+    return f"{value:.0f} "
+
+
+def stats_line(schedule, stats, elapsed):
+    """Pass 12/64 | 1.23 M photons/s | radius 0.0123 | 00:05 elapsed, 00:20 left"""
+    parts = [f"Pass {schedule.done}/{schedule.passes}"]
+    if stats.get("photons_per_second"):
+        parts.append(f"{format_rate(stats['photons_per_second'])}photons/s")
+    if stats.get("mean_radius"):
+        parts.append(f"radius {stats['mean_radius']:.4g}")
+    parts.append(f"{format_duration(elapsed)} elapsed, "
+                 f"{format_duration(schedule.remaining_seconds(elapsed))} left")
+    return " | ".join(parts)

@@ -1,0 +1,149 @@
+"""The GLSLPPM RenderEngine: export, build the native renderer, run SPPM passes and
+stream the film into Blender's RenderResult until the passes or the time limit
+are spent or the user cancels.
+
+Every failure ends the render with a report and whatever image exists; nothing
+escapes render() (an exception there would only print a traceback, and a native
+crash would take Blender down, so the module validates scenes before it renders).
+"""
+
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+from .. import native_module
+from ..export import ExportError, export_scene
+from .native_scene import native_scene, native_settings
+from .progressive import DisplayClock, PassSchedule, stats_line
+
+
+def render_size(render):
+    scale = render.resolution_percentage / 100.0
+    return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+
+
+class GlslppmRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "GLSLPPM"
+    bl_label = "GLSLPPM"
+    bl_use_preview = False
+    bl_use_postprocess = True
+    bl_use_eevee_viewport = True         # material preview and rendered viewport via EEVEE
+    bl_use_shading_nodes_custom = False  # the standard shader nodes in the node editor
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.passes_done = 0
+        self.last_stats = {}
+
+    def render(self, depsgraph):
+        try:
+            self._render(depsgraph)
+        except Exception as error:  # noqa: BLE001 - the last line of defence
+            traceback.print_exc()
+            self.report({'ERROR'}, f"GLSLPPM: unexpected error: {error!r}")
+
+    def _render(self, depsgraph):
+        scene = depsgraph.scene
+        width, height = render_size(scene.render)
+        native, problem = native_module.load()
+        if native is None:
+            self._fail(problem, width, height)
+            return
+
+        self.update_stats("", "GLSLPPM | exporting scene")
+        try:
+            data = export_scene(depsgraph, self.camera_override or scene.camera,
+                                width, height, self.test_break)
+        except ExportError as error:
+            self._fail(str(error), width, height)
+            return
+        if data is None:
+            return  # cancelled during export
+        for warning in data.warnings:
+            self.report({'WARNING'}, f"GLSLPPM: {warning}")
+        print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
+              f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
+
+        if data.triangle_count == 0:
+            self.report({'WARNING'}, "GLSLPPM: the scene has no geometry; "
+                        "the image shows only the world")
+            self._fill(width, height, tuple(data.environment) + (1.0,))
+            return
+        if not data.emits_light():
+            self.report({'WARNING'}, "GLSLPPM: the scene has no lights, emissive "
+                        "materials or world light; the image is black")
+            self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
+            return
+
+        self.update_stats("", "GLSLPPM | building BVH and GL programs")
+        settings = scene.glslppm
+        try:
+            renderer = native.Renderer(
+                native_scene(native, data),
+                native_settings(native, settings, width, height, scene.frame_current))
+        except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
+            self._fail(f"the renderer could not start: {error}", width, height)
+            return
+        try:
+            self._render_passes(native, renderer, settings, width, height)
+        finally:
+            renderer.close()
+
+    def _render_passes(self, native, renderer, settings, width, height):
+        schedule = PassSchedule(settings.passes, settings.time_limit)
+        clock = DisplayClock()
+        result = self.begin_result(0, 0, width, height)
+        combined = result.layers[0].passes["Combined"]
+        start = time.perf_counter()
+        film_ok = False
+        try:
+            while not self.test_break():
+                elapsed = time.perf_counter() - start
+                batch = schedule.next_batch(elapsed)
+                if batch == 0:
+                    break
+                began = time.perf_counter()
+                renderer.run(passes=batch)
+                schedule.record(batch, time.perf_counter() - began)
+                self.passes_done = schedule.done
+                elapsed = time.perf_counter() - start
+                self.last_stats = renderer.stats()
+                self.update_stats("", "GLSLPPM | " + stats_line(schedule, self.last_stats,
+                                                                elapsed))
+                self.update_progress(schedule.progress(elapsed))
+                if clock.due(elapsed):
+                    film_ok = self._write_film(renderer, combined)
+                    self.update_result(result)
+            film_ok = self._write_film(renderer, combined)
+        except native.GlslppmError as error:
+            self.report({'ERROR'}, f"GLSLPPM: rendering failed after {schedule.done} "
+                        f"passes: {error}")
+        finally:
+            if not film_ok:
+                _set_rect(combined, np.zeros((height, width, 4), dtype=np.float32))
+            self.end_result(result)
+        print(f"GLSLPPM: {schedule.done} passes in {time.perf_counter() - start:.2f} s "
+              f"on {self.last_stats.get('renderer', '?')}")
+
+    def _write_film(self, renderer, combined):
+        _set_rect(combined, renderer.film())
+        return True
+
+    def _fill(self, width, height, rgba):
+        """A finished result of one colour (for scenes with nothing to render)."""
+        result = self.begin_result(0, 0, width, height)
+        pixels = np.empty((height, width, 4), dtype=np.float32)
+        pixels[:] = rgba
+        _set_rect(result.layers[0].passes["Combined"], pixels)
+        self.end_result(result)
+
+    def _fail(self, message, width, height):
+        self.report({'ERROR'}, f"GLSLPPM: {message}")
+        self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
+
+
+def _set_rect(render_pass, film):
+    """Film rows run top to bottom; Blender's rect wants the bottom row first."""
+    render_pass.rect = np.ascontiguousarray(film[::-1]).reshape(-1, 4)

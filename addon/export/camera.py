@@ -1,0 +1,88 @@
+"""Camera converter: Blender's camera and sensor fit onto the renderer's camera.
+
+Blender measures the sensor, shift and orthographic scale along the *fit*
+dimension: the larger image side for AUTO, the width for HORIZONTAL, the height
+for VERTICAL (``BKE_camera_params_compute_viewplane``). The renderer takes the
+full horizontal angle of view and shift and ortho scale relative to the larger
+image side, so this module converts.
+"""
+
+import math
+
+import numpy as np
+
+from .scene_data import CameraData
+
+
+def fit_is_horizontal(sensor_fit, width, height):
+    """Whether the sensor maps onto the image width (else the height)."""
+    if sensor_fit == 'AUTO':
+        return width >= height
+    return sensor_fit == 'HORIZONTAL'
+
+
+def horizontal_fov(camera, width, height):
+    """Full horizontal angle of view (radians) of a perspective camera."""
+    horizontal = fit_is_horizontal(camera.sensor_fit, width, height)
+    if camera.sensor_fit == 'VERTICAL':
+        sensor = camera.sensor_height
+    else:
+        sensor = camera.sensor_width
+    half_tan = 0.5 * sensor / camera.lens
+    if not horizontal:
+        half_tan *= width / height
+    return 2.0 * math.atan(half_tan)
+
+
+def convert_camera(camera_object, width, height, warn):
+    """CameraData for a camera object (evaluated) at the given image size."""
+    camera = camera_object.data
+    matrix = np.array(camera_object.matrix_world, dtype=np.float64)
+    to_world = _without_scale(matrix).astype(np.float32)
+
+    horizontal = fit_is_horizontal(camera.sensor_fit, width, height)
+    fit_side = width if horizontal else height
+    # Blender's units (fraction of the fit side) -> fraction of the larger side.
+    to_larger = fit_side / max(width, height)
+
+    if camera.type == 'PANO':
+        warn(f"camera '{camera_object.name}': panoramic cameras are not supported; "
+             "rendering as perspective")
+    projection = "orthographic" if camera.type == 'ORTHO' else "perspective"
+    data = CameraData(
+        to_world=np.ascontiguousarray(to_world),
+        fov_x=horizontal_fov(camera, width, height),
+        shift_x=float(camera.shift_x) * to_larger,
+        shift_y=float(camera.shift_y) * to_larger,
+        projection=projection,
+        ortho_scale=float(camera.ortho_scale) / to_larger)
+    dof = camera.dof
+    if dof.use_dof and projection == "perspective":
+        data.aperture_radius, data.focus_distance = _depth_of_field(camera_object, matrix)
+    return data
+
+
+def _without_scale(matrix):
+    """Rotation and translation only: Blender ignores camera object scale for rays."""
+    result = matrix.copy()
+    for axis in range(3):
+        length = np.linalg.norm(result[:3, axis])
+        if length > 0.0:
+            result[:3, axis] /= length
+    return result
+
+
+def _depth_of_field(camera_object, matrix):
+    """Aperture radius in scene units and focus distance, as Cycles computes them:
+    radius = focal length / (2 f-stop) with the focal length in metres."""
+    camera = camera_object.data
+    dof = camera.dof
+    radius = 0.0
+    if dof.aperture_fstop > 0.0:
+        radius = 0.5 * camera.lens * 1e-3 / dof.aperture_fstop
+    distance = dof.focus_distance
+    if dof.focus_object is not None:
+        target = np.array(dof.focus_object.matrix_world, dtype=np.float64)[:3, 3]
+        view = -matrix[:3, 2] / max(np.linalg.norm(matrix[:3, 2]), 1e-30)
+        distance = abs(float(np.dot(view, target - matrix[:3, 3])))
+    return radius, max(float(distance), 1e-6)

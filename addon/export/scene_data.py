@@ -1,0 +1,79 @@
+"""Plain data the exporter produces: numpy buffers and small records whose fields
+are the keyword arguments of the native module's constructors (``engine/native_scene.py``
+turns them into ``_glslppm`` objects). Keeping export free of the native module lets
+it be tested, and timed, on its own.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class MaterialData:
+    """``_glslppm.Material``: kind is "diffuse", "conductor" or "dielectric";
+    emission is radiance (colour × strength)."""
+    kind: str = "diffuse"
+    color: tuple = (0.8, 0.8, 0.8)
+    ior: float = 1.5
+    emission: tuple = (0.0, 0.0, 0.0)
+
+
+@dataclass
+class LightData:
+    """``_glslppm.Light`` in Blender's units: power is light.energy (W; W/m² for sun),
+    direction is where the light travels (the light's local -Z in world space)."""
+    kind: str
+    color: tuple
+    power: float
+    position: tuple = (0.0, 0.0, 0.0)
+    direction: tuple = (0.0, 0.0, -1.0)
+    spot_size: float = 0.0
+    spot_blend: float = 0.0
+    radius: float = 0.0
+    angle: float = 0.0
+
+
+@dataclass
+class CameraData:
+    """``_glslppm.Camera``: to_world is the camera's matrix_world without scale (looks
+    down local -Z, +Y up); fov_x the full horizontal angle; shift and ortho_scale
+    relative to the larger image dimension whatever the sensor fit."""
+    to_world: np.ndarray
+    fov_x: float
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    projection: str = "perspective"
+    ortho_scale: float = 1.0
+    aperture_radius: float = 0.0
+    focus_distance: float = 10.0
+
+
+@dataclass
+class SceneData:
+    """World-space triangles (three corners per triangle, unshared) and the rest of
+    the scene, ready for ``_glslppm.Scene``."""
+    positions: np.ndarray            # float32 (V, 3)
+    indices: np.ndarray              # uint32 (T, 3)
+    normals: object                  # float32 (V, 3) or None
+    uvs: object                      # float32 (V, 2) or None
+    material_ids: np.ndarray         # uint32 (T,)
+    materials: list
+    lights: list
+    camera: CameraData
+    environment: tuple
+    width: int
+    height: int
+    warnings: list = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+
+    @property
+    def triangle_count(self):
+        return len(self.indices)
+
+    def emits_light(self):
+        """True when something in the scene can light it."""
+        if self.lights or max(self.environment) > 0.0:
+            return True
+        emissive = np.array([max(m.emission) > 0.0 for m in self.materials], dtype=bool)
+        return bool(len(self.material_ids) and emissive[self.material_ids].any())

@@ -1,0 +1,48 @@
+"""Finds and imports the compiled module ``_glslppm``.
+
+Packaged, the module sits beside this file (with ``shaders/`` beside it). For
+development and tests, ``GLSLPPM_MODULE_DIR`` names a build directory to import
+it from instead. Import failures become a message for the render report, never
+an exception at add-on registration: the add-on must register (and show its
+settings) even where the module cannot load.
+"""
+
+import importlib
+import os
+import sys
+
+_cache = {}
+
+
+def load():
+    """Returns (module, None) or (None, message saying what to do)."""
+    if "module" in _cache:
+        return _cache["module"], None
+    module_dir = os.environ.get("GLSLPPM_MODULE_DIR", "")
+    errors = []
+    if module_dir:
+        try:
+            module = _import_from(module_dir)
+            _cache["module"] = module
+            return module, None
+        except ImportError as error:
+            errors.append(f"GLSLPPM_MODULE_DIR={module_dir}: {error}")
+    try:
+        module = importlib.import_module("._glslppm", __package__)
+        _cache["module"] = module
+        return module, None
+    except ImportError as error:
+        errors.append(f"packaged module: {error}")
+    python = "%d.%d" % sys.version_info[:2]
+    return None, (
+        "the GLSLPPM native module _glslppm could not be loaded for Python "
+        f"{python} ({'; '.join(errors)}); reinstall the add-on built for this "
+        "Blender, or set GLSLPPM_MODULE_DIR to a build directory")
+
+
+def _import_from(module_dir):
+    if not os.path.isdir(module_dir):
+        raise ImportError("not a directory")
+    if module_dir not in sys.path:
+        sys.path.insert(0, module_dir)
+    return importlib.import_module("_glslppm")

@@ -1,0 +1,19 @@
+"""Panels: the engine's own (render settings, light) and Blender's that apply."""
+
+import bpy
+
+from . import compat, light_panel, render_panels
+
+_classes = render_panels.classes + light_panel.classes
+
+
+def register():
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+    compat.register()
+
+
+def unregister():
+    compat.unregister()
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

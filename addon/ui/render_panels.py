@@ -1,0 +1,64 @@
+"""Render Properties panels for scene.glslppm."""
+
+import bpy
+
+
+class GlslppmRenderPanel:
+    bl_space_type = 'PROPERTIES'
+    bl_region_type = 'WINDOW'
+    bl_context = "render"
+    COMPAT_ENGINES = {'GLSLPPM'}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.glslppm
+        column = layout.column()
+        column.prop(settings, "passes")
+        column.prop(settings, "time_limit", text="Time Limit (s)")
+        column.prop(settings, "seed")
+
+
+class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
+    bl_label = "Photons"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.glslppm
+        column = layout.column()
+        column.prop(settings, "photons_per_pass")
+        column.prop(settings, "use_auto_radius")
+        row = column.row()
+        row.active = not settings.use_auto_radius
+        row.prop(settings, "initial_radius")
+        column.prop(settings, "alpha")
+        column.prop(settings, "max_bounces")
+
+
+class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
+    bl_label = "Advanced"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.glslppm
+        column = layout.column()
+        column.prop(settings, "hash_mode")
+        column.prop(settings, "rng")
+        column.prop(settings, "device")
+
+
+classes = (RENDER_PT_glslppm_sampling, RENDER_PT_glslppm_photons, RENDER_PT_glslppm_advanced)

@@ -1,0 +1,72 @@
+// The GPU layout of a threaded BVH: flat arrays of vec4 / ivec2 records that upload as
+// std430 shader storage buffers unchanged (shaders/common/mtbvh.glsl reads them).
+//
+//   nodes      2 vec4 per node, node 0 = root, in build preorder:
+//                [2n]   = (lo.xyz, intBitsToFloat(first packed triangle))
+//                [2n+1] = (hi.xyz, intBitsToFloat(triangle count; 0 = inner node))
+//              Boxes are padded outwards relative to their magnitude (pad_box), so a ray
+//              that the triangle test accepts is never culled by float rounding.
+//   links      ivec2 per node per order: links[order * node_count + node] = (hit, miss),
+//              -1 = end of traversal. order = 2*axis + (dir[axis] < 0) for the MTBVH
+//              (6 orders, see thread_mtbvh.h), always 0 for the TBVH (1 order).
+//   triangles  3 vec4 per packed triangle, in leaf order:
+//                (v0.xyz, intBitsToFloat(material id)),
+//                (v1.xyz, intBitsToFloat(original triangle id)),
+//                (v2.xyz, 0)
+//   normals    empty unless the mesh has normals; 3 vec4 per packed triangle:
+//                (n0.xyz, 0), (n1.xyz, 0), (n2.xyz, 0)
+//   uvs        empty unless the mesh has uvs; 2 vec4 per packed triangle:
+//                (u0, v0, u1, v1), (u2, v2, 0, 0)
+//
+// Storage per triangle is reported in stats (Hachisuka 2015 counts about 9 vec4 per
+// triangle for a TBVH and 14 for the MTBVH with its six link sets).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bvh/build_sah_bvh.h"
+#include "bvh/thread_mtbvh.h"
+#include "scene/mesh.h"
+
+namespace glslppm {
+
+struct BvhStats {
+    std::size_t triangles = 0;           // packed (kept) triangles
+    std::size_t degenerate_dropped = 0;  // zero-area triangles left out by validate_mesh
+    std::size_t nodes = 0, leaves = 0;
+    int max_depth = 0;
+    double build_seconds = 0.0, thread_seconds = 0.0, pack_seconds = 0.0;
+    std::size_t bytes_total = 0;      // nodes + links + triangles + normals + uvs
+    double bytes_per_triangle = 0.0;  // bytes_total / triangles (0 when empty)
+    double total_seconds() const { return build_seconds + thread_seconds + pack_seconds; }
+    double vec4_per_triangle() const { return bytes_per_triangle / 16.0; }
+};
+
+struct PackedBvh {
+    int order_count = 0;  // 6 = MTBVH, 1 = TBVH
+    std::uint32_t node_count = 0, triangle_count = 0;
+    std::vector<glm::vec4> nodes;
+    std::vector<glm::ivec2> links;
+    std::vector<glm::vec4> triangles;
+    std::vector<glm::vec4> normals;
+    std::vector<glm::vec4> uvs;
+    BvhStats stats;
+};
+
+// Relative padding of leaf boxes: 2^-19 of the box's largest absolute coordinate, i.e. at
+// least 16 float ulps of every coordinate, at any scene scale (no absolute epsilon).
+constexpr float kBoxPadRelative = 1.0f / 524288.0f;
+Aabb pad_box(const Aabb& box);
+
+// Packs an already built and threaded BVH (for building the MTBVH and the TBVH of one tree).
+PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
+                   bool parallel = true);
+
+// Builds (binned SAH), threads (order_count 6 or 1) and packs, with timings in stats.
+PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options,
+                           int order_count);
+
+}  // namespace glslppm

@@ -1,0 +1,68 @@
+#include "bvh/thread_mtbvh.h"
+
+#include <future>
+#include <stdexcept>
+#include <string>
+
+namespace glslppm {
+namespace {
+
+// One link set: an iterative preorder walk carrying each node's miss link (the node after
+// its subtree), so no recursion and no parent pointers are needed.
+void thread_order(const Bvh& bvh, int order, int order_count, glm::ivec2* links) {
+    struct Item {
+        std::int32_t node, miss;
+    };
+    std::vector<Item> stack{{0, -1}};
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[item.node];
+        if (node.is_leaf()) {
+            links[item.node] = glm::ivec2(item.miss, item.miss);
+            continue;
+        }
+        std::int32_t first = node.left, second = node.right;
+        if (order_count > 1 && right_child_first(bvh.nodes[first], bvh.nodes[second], order))
+            std::swap(first, second);
+        links[item.node] = glm::ivec2(first, item.miss);
+        stack.push_back({second, item.miss});
+        stack.push_back({first, second});  // popped next: the preorder visits it right away
+    }
+}
+
+}  // namespace
+
+bool right_child_first(const BvhNode& left, const BvhNode& right, int order) {
+    const int axis = order / 2;
+    const float l = left.box.centroid()[axis];
+    const float r = right.box.centroid()[axis];
+    return (order & 1) == 0 ? r < l : r > l;
+}
+
+ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
+    if (order_count != kMtbvhOrderCount && order_count != kTbvhOrderCount)
+        throw std::invalid_argument("a threaded BVH has 6 (MTBVH) or 1 (TBVH) link orders, not " +
+                                    std::to_string(order_count));
+    ThreadedBvh threaded;
+    threaded.order_count = order_count;
+    threaded.node_count = static_cast<std::uint32_t>(bvh.nodes.size());
+    threaded.links.resize(static_cast<std::size_t>(order_count) * threaded.node_count);
+    if (threaded.node_count == 0) return threaded;
+    auto run = [&](int begin, int end) {
+        for (int order = begin; order < end; ++order)
+            thread_order(bvh, order, order_count,
+                         threaded.links.data() +
+                             static_cast<std::size_t>(order) * threaded.node_count);
+    };
+    if (parallel && order_count > 1 && threaded.node_count > 4096) {
+        auto upper = std::async(std::launch::async, run, order_count / 2, order_count);
+        run(0, order_count / 2);
+        upper.get();
+    } else {
+        run(0, order_count);
+    }
+    return threaded;
+}
+
+}  // namespace glslppm

@@ -1,0 +1,166 @@
+// glslppm-render: renders the built-in Cornell box (or, later, a scene file) to an EXR.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "image/exr.h"
+#include "render/renderer.h"
+#include "scenes/cornell_box.h"
+
+using namespace glslppm;
+
+namespace {
+
+struct Options {
+    RenderSettings settings;
+    int passes = 0;
+    double seconds = 0.0;
+    std::string out;
+    bool json = false;
+};
+
+const char* kUsage =
+    "usage: glslppm-render [options]\n"
+    "  Renders the built-in Cornell box (diffuse walls, a mirror and a glass sphere, a\n"
+    "  ceiling light) with stochastic progressive photon mapping.\n"
+    "  --width N --height N      image size (default 512 x 512)\n"
+    "  --passes N                passes to run (default 64 unless --seconds is given)\n"
+    "  --seconds S               stop after S seconds (with --passes: whichever comes first)\n"
+    "  --photons N               photons per pass (default 262144)\n"
+    "  --alpha A                 SPPM alpha (default 0.7)\n"
+    "  --radius R                initial radius (default: automatic)\n"
+    "  --max-depth N             eye and photon bounces (default 16)\n"
+    "  --hash stochastic|exact   photon hashing (default stochastic)\n"
+    "  --rng paper|pcg           generator (default paper)\n"
+    "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
+    "  --seed N                  random seed\n"
+    "  --out FILE.exr            write the image\n"
+    "  --json                    print the final statistics as one JSON object\n";
+
+Options parse(int argc, char** argv) {
+    Options o;
+    o.settings.width = 512;
+    o.settings.height = 512;
+    o.settings.photons_per_pass = 262144;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+            return argv[++i];
+        };
+        auto number = [&]() {
+            const std::string v = value();
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end) throw std::invalid_argument(a + ": '" + v + "' is not a number");
+            return x;
+        };
+        if (a == "--width") o.settings.width = static_cast<int>(number());
+        else if (a == "--height") o.settings.height = static_cast<int>(number());
+        else if (a == "--passes") o.passes = static_cast<int>(number());
+        else if (a == "--seconds") o.seconds = number();
+        else if (a == "--photons") o.settings.photons_per_pass = static_cast<std::uint32_t>(number());
+        else if (a == "--alpha") o.settings.alpha = static_cast<float>(number());
+        else if (a == "--radius") o.settings.initial_radius = static_cast<float>(number());
+        else if (a == "--max-depth") o.settings.max_depth = static_cast<int>(number());
+        else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
+        else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
+        else if (a == "--device") o.settings.device = static_cast<int>(number());
+        else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
+        else if (a == "--out") o.out = value();
+        else if (a == "--json") o.json = true;
+        else if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else throw std::invalid_argument("unknown option " + a + " (see --help)");
+    }
+    if (o.passes <= 0 && o.seconds <= 0.0) o.passes = 64;
+    validate(o.settings);
+    return o;
+}
+
+void progress(double fraction, const RenderStats& s) {
+    const int width = 30;
+    const int filled = static_cast<int>(fraction * width);
+    std::fprintf(stderr, "\r[%.*s%*s] %3d%%  pass %llu  %.2f Mphotons/s", filled,
+                 "##############################", width - filled, "",
+                 static_cast<int>(100.0 * fraction), static_cast<unsigned long long>(s.passes),
+                 s.photons_per_second * 1e-6);
+    std::fflush(stderr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        const Options o = parse(argc, argv);
+        Renderer renderer(make_cornell_box(), o.settings);
+        const bool terminal = isatty(STDERR_FILENO);
+        const auto start = std::chrono::steady_clock::now();
+        auto elapsed = [&] {
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        };
+        int done = 0, step = 1;
+        while (true) {
+            if (o.passes > 0 && done >= o.passes) break;
+            if (o.seconds > 0.0 && elapsed() >= o.seconds) break;
+            int n = step;
+            if (o.passes > 0) n = std::min(n, o.passes - done);
+            const double before = elapsed();
+            renderer.run(n);
+            done += n;
+            // Aim for about four progress updates a second.
+            const double took = elapsed() - before;
+            if (took < 0.125) step *= 2;
+            else if (took > 0.5 && step > 1) step /= 2;
+            if (terminal) {
+                const double f = o.passes > 0 ? double(done) / o.passes : elapsed() / o.seconds;
+                progress(std::min(1.0, f), renderer.stats());
+            }
+        }
+        if (terminal) std::fputc('\n', stderr);
+        const RenderStats s = renderer.stats();
+        if (!o.out.empty()) {
+            FloatImage image{o.settings.width, o.settings.height, renderer.film()};
+            write_exr(o.out, image,
+                      {{"passes", std::to_string(s.passes)},
+                       {"photons_emitted", std::to_string(s.photons_emitted)},
+                       {"seconds", std::to_string(s.seconds)},
+                       {"photons_per_pass", std::to_string(o.settings.photons_per_pass)},
+                       {"alpha", std::to_string(o.settings.alpha)},
+                       {"initial_radius", std::to_string(s.initial_radius)},
+                       {"hash", to_string(o.settings.hash)},
+                       {"rng", to_string(o.settings.rng)},
+                       {"max_depth", std::to_string(o.settings.max_depth)},
+                       {"renderer", s.renderer},
+                       {"variant", s.variant}});
+        }
+        if (o.json) {
+            std::printf(
+                "{\"passes\": %llu, \"photons_emitted\": %llu, \"seconds\": %.6f, "
+                "\"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
+                "\"rays_per_second\": %.1f, \"width\": %d, \"height\": %d, "
+                "\"photons_per_pass\": %u, \"mean_radius\": %.6g, \"renderer\": \"%s\", "
+                "\"variant\": \"%s\"}\n",
+                static_cast<unsigned long long>(s.passes),
+                static_cast<unsigned long long>(s.photons_emitted), s.seconds,
+                s.seconds > 0 ? s.passes / s.seconds : 0.0, s.photons_per_second,
+                s.rays_per_second, o.settings.width, o.settings.height,
+                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str());
+        } else {
+            std::printf("%llu passes, %.3g photons in %.2f s: %.2f Mphotons/s, %.2f Mrays/s (%s)\n",
+                        static_cast<unsigned long long>(s.passes), double(s.photons_emitted),
+                        s.seconds, s.photons_per_second * 1e-6, s.rays_per_second * 1e-6,
+                        s.renderer.c_str());
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glslppm-render: %s\n", e.what());
+        return 1;
+    }
+}

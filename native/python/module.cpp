@@ -1,0 +1,316 @@
+// The pybind11 module `_glslppm`: scenes from numpy arrays (used in place where dtype and
+// layout fit), renderers run in steps with the GIL released, films back as numpy arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+
+#include "gl/egl_context.h"
+#include "gl/shader_program.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace py = pybind11;
+using namespace glslppm;
+
+namespace {
+
+// Holds the numpy arrays a Scene's MeshView points into.
+struct ArrayOwner {
+    std::vector<py::object> arrays;
+    ~ArrayOwner() {
+        py::gil_scoped_acquire gil;
+        arrays.clear();
+    }
+};
+
+std::string describe(const py::array& a) {
+    std::string shape = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i)
+        shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    shape += a.ndim() == 1 ? ",)" : ")";
+    return "dtype " + std::string(py::str(a.dtype())) + ", shape " + shape;
+}
+
+// Checks dtype and shape and returns a C-contiguous view: the array itself when it already
+// fits (no copy), else a contiguous copy of the right dtype only if the dtype is right.
+template <class T>
+py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_t columns,
+                          const char* dtype_name) {
+    if (!py::isinstance<py::array>(object))
+        throw py::value_error(std::string(name) + ": expected a numpy array of " + dtype_name);
+    py::array a = py::reinterpret_borrow<py::array>(object);
+    if (!a.dtype().is(py::dtype::of<T>()))
+        throw py::value_error(std::string(name) + ": expected dtype " + dtype_name + ", got " +
+                              describe(a));
+    const bool shape_ok = columns == 0 ? a.ndim() == 1
+                                       : (a.ndim() == 2 && a.shape(1) == columns);
+    if (!shape_ok) {
+        const std::string want = columns == 0 ? "(N,)" : "(N, " + std::to_string(columns) + ")";
+        throw py::value_error(std::string(name) + ": expected shape " + want + ", got " +
+                              describe(a));
+    }
+    return py::array_t<T, py::array::c_style>::ensure(a);
+}
+
+Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
+                       std::array<float, 3> emission) {
+    Material m;
+    if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
+    else if (kind == "conductor") m.kind = MaterialKind::Conductor;
+    else if (kind == "dielectric") m.kind = MaterialKind::Dielectric;
+    else throw py::value_error("Material kind: '" + kind + "' is not one of diffuse, conductor, dielectric");
+    m.color = {color[0], color[1], color[2]};
+    m.ior = ior;
+    m.emission = {emission[0], emission[1], emission[2]};
+    return m;
+}
+
+glm::vec3 vec3_of(std::array<float, 3> v) { return {v[0], v[1], v[2]}; }
+
+Scene make_py_scene(const py::object& positions, const py::object& indices,
+                    const py::object& normals, const py::object& uvs,
+                    const py::object& material_ids, std::vector<Material> materials,
+                    std::vector<Light> lights, Camera camera, std::array<float, 3> environment) {
+    auto owner = std::make_shared<ArrayOwner>();
+    Scene scene;
+    auto p = take_array<float>(positions, "positions", 3, "float32");
+    auto t = take_array<std::uint32_t>(indices, "indices", 3, "uint32");
+    owner->arrays = {p, t};
+    scene.mesh.positions = {reinterpret_cast<const glm::vec3*>(p.data()), std::size_t(p.shape(0))};
+    scene.mesh.triangles = {reinterpret_cast<const glm::uvec3*>(t.data()), std::size_t(t.shape(0))};
+    if (!normals.is_none()) {
+        auto n = take_array<float>(normals, "normals", 3, "float32");
+        owner->arrays.push_back(n);
+        scene.mesh.normals = {reinterpret_cast<const glm::vec3*>(n.data()), std::size_t(n.shape(0))};
+    }
+    if (!uvs.is_none()) {
+        auto u = take_array<float>(uvs, "uvs", 2, "float32");
+        owner->arrays.push_back(u);
+        scene.mesh.uvs = {reinterpret_cast<const glm::vec2*>(u.data()), std::size_t(u.shape(0))};
+    }
+    if (!material_ids.is_none()) {
+        auto m = take_array<std::uint32_t>(material_ids, "material_ids", 0, "uint32");
+        owner->arrays.push_back(m);
+        scene.mesh.material_ids = {m.data(), std::size_t(m.shape(0))};
+    }
+    scene.keepalive = owner;
+    scene.materials = std::move(materials);
+    scene.lights = std::move(lights);
+    scene.camera = camera;
+    scene.environment = vec3_of(environment);
+    if (scene.materials.empty()) scene.materials.push_back(Material{});
+    // Validate now, so that a bad array fails where the user passed it.
+    validate_mesh(scene.mesh, static_cast<std::uint32_t>(scene.materials.size()));
+    return scene;
+}
+
+// The Python-facing renderer: close() frees the GPU now rather than at garbage collection.
+class PyRenderer {
+public:
+    PyRenderer(const Scene& scene, const RenderSettings& settings)
+        : renderer_(std::make_unique<Renderer>(scene, settings)) {}
+    Renderer& get() {
+        if (!renderer_) throw std::runtime_error("this Renderer was closed");
+        return *renderer_;
+    }
+    void close() { renderer_.reset(); }
+    bool closed() const { return !renderer_; }
+
+private:
+    std::unique_ptr<Renderer> renderer_;
+};
+
+py::dict stats_dict(const RenderStats& s) {
+    py::dict d;
+    d["passes"] = s.passes;
+    d["photons_emitted"] = s.photons_emitted;
+    d["rays"] = s.rays;
+    d["seconds"] = s.seconds;
+    d["photons_per_second"] = s.photons_per_second;
+    d["rays_per_second"] = s.rays_per_second;
+    d["mean_radius"] = s.mean_radius;
+    d["max_radius"] = s.max_radius;
+    d["initial_radius"] = s.initial_radius;
+    d["renderer"] = s.renderer;
+    d["variant"] = s.variant;
+    d["triangles"] = s.triangles;
+    d["degenerate_dropped"] = s.degenerate_dropped;
+    d["emitters"] = s.emitters;
+    d["bvh_seconds"] = s.bvh_seconds;
+    d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
+    d["gpu_bytes"] = s.gpu_bytes;
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_glslppm, m) {
+    m.doc() = "glslppm: stochastic progressive photon mapping on the GPU through headless OpenGL";
+    static py::exception<std::runtime_error> error(m, "GlslppmError", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const gl::GlError& e) {
+            error(e.what());
+        } catch (const gl::ShaderError& e) {
+            error(e.what());
+        }
+    });
+    // SceneError and std::invalid_argument become ValueError (pybind11's default).
+
+    py::class_<Material>(m, "Material")
+        .def(py::init(&make_material), py::arg("kind") = "diffuse",
+             py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
+             py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f});
+
+    py::class_<Light>(m, "Light")
+        .def(py::init([](const std::string& kind, std::array<float, 3> color, float power,
+                         std::array<float, 3> position, std::array<float, 3> direction,
+                         float spot_size, float spot_blend, float radius, float angle) {
+                 Light l;
+                 if (kind == "point") l.kind = LightKind::Point;
+                 else if (kind == "spot") l.kind = LightKind::Spot;
+                 else if (kind == "sun") l.kind = LightKind::Sun;
+                 else throw py::value_error("Light kind: '" + kind + "' is not one of point, spot, sun");
+                 if (!(power >= 0.0f)) throw py::value_error("Light power: must be >= 0");
+                 l.color = vec3_of(color);
+                 l.power = power;
+                 l.position = vec3_of(position);
+                 l.direction = vec3_of(direction);
+                 if (glm::length(l.direction) == 0.0f)
+                     throw py::value_error("Light direction: must not be zero");
+                 l.spot_size = spot_size;
+                 l.spot_blend = spot_blend;
+                 l.radius = radius;
+                 l.angle = angle;
+                 return l;
+             }),
+             py::arg("kind") = "point", py::arg("color") = std::array<float, 3>{1, 1, 1},
+             py::arg("power") = 1.0f, py::arg("position") = std::array<float, 3>{0, 0, 0},
+             py::arg("direction") = std::array<float, 3>{0, 0, -1},
+             py::arg("spot_size") = 0.785398f, py::arg("spot_blend") = 0.15f,
+             py::arg("radius") = 0.0f, py::arg("angle") = 0.0f);
+
+    py::class_<Camera>(m, "Camera")
+        .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
+                         float fov_x, float shift_x, float shift_y, const std::string& projection,
+                         float ortho_scale, float aperture_radius, float focus_distance) {
+                 if (to_world.ndim() != 2 || to_world.shape(0) != 4 || to_world.shape(1) != 4)
+                     throw py::value_error("Camera to_world: expected a 4x4 matrix");
+                 Camera c;
+                 // Row-major numpy (Blender's matrix_world) into column-major glm.
+                 for (int r = 0; r < 4; ++r)
+                     for (int k = 0; k < 4; ++k) c.to_world[k][r] = to_world.at(r, k);
+                 if (!(fov_x > 0.0f && fov_x < 3.14159f))
+                     throw py::value_error("Camera fov_x: must be in (0, pi) radians");
+                 c.fov_x = fov_x;
+                 c.shift_x = shift_x;
+                 c.shift_y = shift_y;
+                 if (projection == "perspective") c.projection = Projection::Perspective;
+                 else if (projection == "orthographic") c.projection = Projection::Orthographic;
+                 else throw py::value_error("Camera projection: '" + projection + "' is not perspective or orthographic");
+                 c.ortho_scale = ortho_scale;
+                 c.aperture_radius = aperture_radius;
+                 c.focus_distance = focus_distance;
+                 return c;
+             }),
+             py::arg("to_world"), py::arg("fov_x") = 0.691111f, py::arg("shift_x") = 0.0f,
+             py::arg("shift_y") = 0.0f, py::arg("projection") = "perspective",
+             py::arg("ortho_scale") = 6.0f, py::arg("aperture_radius") = 0.0f,
+             py::arg("focus_distance") = 10.0f);
+
+    py::class_<Scene>(m, "Scene")
+        .def(py::init(&make_py_scene), py::arg("positions"), py::arg("indices"),
+             py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+             py::arg("material_ids") = py::none(),
+             py::arg("materials") = std::vector<Material>{},
+             py::arg("lights") = std::vector<Light>{}, py::arg("camera") = Camera{},
+             py::arg("environment") = std::array<float, 3>{0, 0, 0})
+        .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
+        .def_property_readonly("shares_memory_with_input", [](const Scene& s) {
+            // True: the MeshView points into the numpy arrays given (no copy was made).
+            auto owner = std::static_pointer_cast<const ArrayOwner>(s.keepalive);
+            return owner && !owner->arrays.empty() &&
+                   py::array(owner->arrays[0]).data() == static_cast<const void*>(s.mesh.positions.data());
+        });
+
+    py::class_<RenderSettings>(m, "Settings")
+        .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
+                         float initial_radius, int max_depth, const std::string& hash,
+                         const std::string& rng, int device, std::uint64_t seed, int leaf_size) {
+                 RenderSettings s;
+                 s.width = width;
+                 s.height = height;
+                 s.photons_per_pass = photons_per_pass;
+                 s.alpha = alpha;
+                 s.initial_radius = initial_radius;
+                 s.max_depth = max_depth;
+                 s.hash = parse_hash_mode(hash);
+                 s.rng = parse_rng_kind(rng);
+                 s.device = device;
+                 s.seed = seed;
+                 s.leaf_size = leaf_size;
+                 validate(s);
+                 return s;
+             }),
+             py::arg("width") = 256, py::arg("height") = 256, py::arg("photons_per_pass") = 65536,
+             py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
+             py::arg("hash") = "stochastic", py::arg("rng") = "paper", py::arg("device") = -1,
+             py::arg("seed") = 0, py::arg("leaf_size") = 4)
+        .def_readonly("width", &RenderSettings::width)
+        .def_readonly("height", &RenderSettings::height);
+
+    py::class_<PyRenderer>(m, "Renderer")
+        .def(py::init([](const Scene& scene, const RenderSettings& settings) {
+                 py::gil_scoped_release release;
+                 return std::make_unique<PyRenderer>(scene, settings);
+             }),
+             py::arg("scene"), py::arg("settings"))
+        .def("run", [](PyRenderer& r, int passes) {
+            if (passes < 0) throw py::value_error("passes: must be >= 0");
+            py::gil_scoped_release release;
+            r.get().run(passes);
+        }, py::arg("passes") = 1)
+        .def("film", [](PyRenderer& r) {
+            std::vector<float> film;
+            {
+                py::gil_scoped_release release;
+                film = r.get().film();
+            }
+            const auto& s = r.get().settings();
+            py::array_t<float> out({s.height, s.width, 4});
+            std::memcpy(out.mutable_data(), film.data(), film.size() * sizeof(float));
+            return out;
+        })
+        .def("photons", [](PyRenderer& r) {
+            std::vector<float> photons;
+            {
+                py::gil_scoped_release release;
+                photons = r.get().photons();
+            }
+            py::array_t<float> out({static_cast<py::ssize_t>(photons.size() / 12), py::ssize_t(12)});
+            std::memcpy(out.mutable_data(), photons.data(), photons.size() * sizeof(float));
+            return out;
+        })
+        .def("stats", [](PyRenderer& r) {
+            RenderStats s;
+            {
+                py::gil_scoped_release release;
+                s = r.get().stats();
+            }
+            return stats_dict(s);
+        })
+        .def("close", [](PyRenderer& r) {
+            py::gil_scoped_release release;
+            r.close();
+        }, "Frees the GL context and every GPU buffer now (also done on garbage collection).")
+        .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); });
+
+    m.def("list_devices", [] {
+        py::list out;
+        for (const auto& d : gl::list_devices()) out.append(py::str(d.name));
+        return out;
+    });
+}

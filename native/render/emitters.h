@@ -1,0 +1,43 @@
+// The lights photons start from, as the GPU reads them (shaders/common/emitters.glsl):
+// emissive triangles, point, spot and sun lights and the environment, each with its
+// emitted power, picked in proportion to it. Four vec4 per emitter:
+//   [0] (a.xyz, intBitsToFloat(kind))
+//   [1] (b.xyz, b.w)       triangle: v1; spot: axis, cos(half angle); sun: direction
+//   [2] (c.xyz, cdf)       triangle: v2; spot: (smooth width, 0, 0); cdf: cumulative pick
+//                          probability up to and including this emitter
+//   [3] (power.rgb, pick probability)
+// with a = v0 (triangle) or position (point, spot). A photon carries power / probability, so
+// the mean flux of emitted photons is the total power (the energy test checks this).
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bvh/packed_bvh.h"
+#include "scene/scene.h"
+
+namespace glslppm {
+
+enum class EmitterKind : int { Triangle = 0, Point = 1, Spot = 2, Sun = 3, Environment = 4 };
+
+struct EmitterTable {
+    std::vector<glm::vec4> records;  // 4 per emitter
+    glm::vec3 total_power{0.0f};     // watts, per channel
+    std::size_t count = 0;
+    bool has[5] = {false, false, false, false, false};  // by EmitterKind
+};
+
+// Bounding sphere of the scene (distant lights shine through its disc).
+struct SceneBounds {
+    glm::vec3 lo{0.0f}, hi{0.0f};
+    glm::vec3 center() const { return 0.5f * (lo + hi); }
+    float radius() const { return 0.5f * glm::length(hi - lo); }
+};
+
+SceneBounds scene_bounds(const PackedBvh& bvh);
+
+// Throws SceneError when nothing emits light.
+EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const SceneBounds& bounds);
+
+}  // namespace glslppm

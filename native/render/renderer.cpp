@@ -1,0 +1,441 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <epoxy/gl.h>
+
+#include "bvh/packed_bvh.h"
+#include "gl/gl_thread.h"
+#include "gl/shader_program.h"
+#include "render/emitters.h"
+#include "render/rng_seed.h"
+
+namespace glslppm {
+namespace {
+
+constexpr GLuint kLocalSize = 64;
+constexpr float kPi = 3.14159265358979f;
+
+// Mirrors `uniform Frame` in shaders/common/frame.glsl (std140).
+struct FrameBlock {
+    glm::mat4 camera_to_world;
+    glm::vec4 camera_fov;
+    glm::vec4 camera_lens;
+    glm::vec4 scene_lo;
+    glm::vec4 scene_sphere;
+    glm::vec4 environment;
+    glm::uvec4 sizes;
+    glm::uvec4 pass_info;
+    glm::vec4 sppm;
+};
+static_assert(sizeof(FrameBlock) == 64 + 8 * 16);
+
+// Mirrors `buffer Counters` in shaders/common/sppm_buffers.glsl.
+struct Counters {
+    std::uint32_t cell_size_bits, max_radius_bits, pass_emitted, pass_rays;
+    std::uint32_t emitted_lo, emitted_hi, rays_lo, rays_hi;
+};
+
+// Buffer bindings, as the shaders declare them.
+enum Binding : GLuint {
+    kNodes = 0, kLinks = 1, kTriangles = 2, kEmitters = 3, kMaterials = 4, kCounters = 5,
+    kVisiblePoints = 6, kPixelStats = 7, kDirectLight = 8, kPhotonPaths = 9, kPhotons = 10,
+    kRngStates = 11, kFilm = 12, kHashCells = 13, kHashSorted = 14, kNormals = 15,
+};
+
+std::uint32_t next_power_of_two(std::uint64_t v) {
+    std::uint64_t p = 1;
+    while (p < v) p <<= 1;
+    return static_cast<std::uint32_t>(p);
+}
+
+// One 32-bit hash of the seed, pass and stage for the PCG generator's per-dispatch seed.
+std::uint32_t mix_seed(std::uint64_t seed, std::uint64_t pass, std::uint32_t stage) {
+    std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + pass * 0xBF58476D1CE4E5B9ull + stage;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::uint32_t>(z ^ (z >> 31));
+}
+
+}  // namespace
+
+struct Renderer::Gpu {
+    std::unique_ptr<gl::GlThread> thread;
+    RenderSettings settings;
+    PackedBvh bvh;
+    EmitterTable emitters;
+    SceneBounds bounds;
+    FrameBlock frame{};
+    gl::Defines defines;
+    std::string variant;
+    std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
+    std::uint64_t passes = 0;
+    double seconds = 0.0;
+    float initial_radius = 0.0f;
+    std::size_t gpu_bytes = 0;
+
+    GLuint ubo = 0;
+    std::vector<GLuint> buffers;  // every SSBO, deleted together
+    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
+
+    const gl::ComputeProgram* eye = nullptr;
+    const gl::ComputeProgram* photon = nullptr;
+    const gl::ComputeProgram* hash_a = nullptr;   // insert / count
+    const gl::ComputeProgram* hash_b = nullptr;   // winner / scatter
+    const gl::ComputeProgram* scan[3] = {nullptr, nullptr, nullptr};
+    const gl::ComputeProgram* gather = nullptr;
+    const gl::ComputeProgram* end_pass = nullptr;
+    const gl::ComputeProgram* resolve = nullptr;
+
+    GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {
+        GLuint id = 0;
+        glGenBuffers(1, &id);
+        buffers.push_back(id);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
+        while (glGetError() != GL_NO_ERROR) {
+        }
+        glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
+                     data, GL_DYNAMIC_COPY);
+        if (glGetError() == GL_OUT_OF_MEMORY)
+            throw gl::GlError("out of GPU memory allocating " + std::string(what) + " (" +
+                              std::to_string(bytes >> 20) + " MiB): lower the resolution or "
+                              "the photons per pass");
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id);
+        gpu_bytes += bytes;
+        return id;
+    }
+
+    void release() {
+        if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+        buffers.clear();
+        if (ubo) glDeleteBuffers(1, &ubo);
+        ubo = 0;
+    }
+
+    void dispatch(const gl::ComputeProgram& program, std::uint32_t threads) {
+        program.use();
+        const std::uint32_t groups = (threads + kLocalSize - 1) / kLocalSize;
+        if (groups <= 65535u) {
+            glDispatchCompute(std::max(groups, 1u), 1, 1);
+        } else {
+            const std::uint32_t x = 32768u;
+            glDispatchCompute(x, (groups + x - 1) / x, 1);
+        }
+    }
+
+    void set_rng_seed(const gl::ComputeProgram& program, std::uint32_t stage) {
+        const GLint location = program.uniform("u_rng_seed");
+        if (location >= 0) {
+            program.use();
+            glUniform1ui(location, mix_seed(settings.seed, passes, stage));
+        }
+    }
+
+    void upload_frame() {
+        glBindBuffer(GL_UNIFORM_BUFFER, ubo);
+        glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameBlock), &frame);
+    }
+
+    void run_pass() {
+        const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
+        frame.pass_info.x = static_cast<std::uint32_t>(passes);
+        upload_frame();
+
+        set_rng_seed(*eye, 0);
+        dispatch(*eye, pixels);
+        set_rng_seed(*photon, 1);
+        dispatch(*photon, photon_threads);
+        glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+        // Empty cells: key "infinite", no photons.
+        const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
+        const GLuint empty_exact[4] = {0u, 0u, 0u, 0u};
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, hash);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                          settings.hash == HashMode::Exact ? empty_exact : empty_stochastic);
+        glMemoryBarrier(ssbo);
+        dispatch(*hash_a, photon_threads);
+        glMemoryBarrier(ssbo);
+        if (settings.hash == HashMode::Exact) {
+            const std::uint32_t blocks = hash_cells / 1024u;
+            scan[0]->use();
+            glDispatchCompute(blocks, 1, 1);
+            glMemoryBarrier(ssbo);
+            scan[1]->use();
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(ssbo);
+            scan[2]->use();
+            glDispatchCompute(blocks, 1, 1);
+            glMemoryBarrier(ssbo);
+        }
+        dispatch(*hash_b, photon_threads);
+        glMemoryBarrier(ssbo);
+        dispatch(*gather, pixels);
+        glMemoryBarrier(ssbo);
+        end_pass->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(ssbo);
+        ++passes;
+    }
+
+    Counters read_counters() {
+        Counters c{};
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(Counters), &c);
+        return c;
+    }
+
+    static std::uint64_t total(std::uint32_t lo, std::uint32_t hi) {
+        return (static_cast<std::uint64_t>(hi) << 32) | lo;
+    }
+};
+
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+    : settings_(settings), gpu_(std::make_unique<Gpu>()) {
+    validate(settings);
+    if (scene.materials.empty())
+        throw SceneError("materials: the scene has no materials (at least one is needed)");
+    Gpu& g = *gpu_;
+    g.settings = settings;
+
+    const ValidMesh mesh =
+        validate_mesh(scene.mesh, static_cast<std::uint32_t>(scene.materials.size()));
+    if (mesh.kept.empty())
+        throw SceneError("the scene has no geometry: nothing to render (" +
+                         std::to_string(mesh.stats.degenerate_dropped) +
+                         " degenerate triangles dropped)");
+    BvhBuildOptions options;
+    options.leaf_size = settings.leaf_size;
+    g.bvh = build_packed_bvh(mesh, options, 6);
+    g.bounds = scene_bounds(g.bvh);
+    g.emitters = build_emitters(scene, g.bvh, g.bounds);
+
+    // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
+    // scene requires").
+    bool conductor = false, dielectric = false;
+    for (std::uint32_t t = 0; t < g.bvh.triangle_count; ++t) {
+        const auto kind = scene.materials[static_cast<std::size_t>(
+                                              std::bit_cast<int>(g.bvh.triangles[3 * t].w))]
+                              .kind;
+        conductor |= kind == MaterialKind::Conductor;
+        dielectric |= kind == MaterialKind::Dielectric;
+    }
+    std::vector<std::string> features;
+    auto feature = [&](bool on, const char* define, const char* name) {
+        if (!on) return;
+        g.defines.push_back({define, "1"});
+        features.push_back(name);
+    };
+    feature(!g.bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(conductor, "HAS_CONDUCTOR", "conductor");
+    feature(dielectric, "HAS_DIELECTRIC", "dielectric");
+    feature(g.emitters.has[0], "HAS_TRIANGLE_EMITTERS", "area-lights");
+    feature(g.emitters.has[1], "HAS_POINT_LIGHTS", "point-lights");
+    feature(g.emitters.has[2], "HAS_SPOT_LIGHTS", "spot-lights");
+    feature(g.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
+    feature(g.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
+            "environment");
+    g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
+    g.defines.push_back({"RNG_STATE_BINDING", "11"});
+    g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
+    g.defines.push_back({"LOCAL_SIZE", std::to_string(kLocalSize) + "u"});
+    features.push_back("rng=" + to_string(settings.rng));
+    features.push_back("hash=" + to_string(settings.hash));
+    for (const std::string& f : features) g.variant += (g.variant.empty() ? "" : ",") + f;
+
+    // Sizes and the frame constants.
+    g.pixels = static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
+    g.photon_threads = settings.photons_per_pass;
+    g.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * g.photon_threads, 1024));
+    const float diagonal = glm::length(g.bounds.hi - g.bounds.lo);
+    const Camera& cam = scene.camera;
+    const float aspect = static_cast<float>(settings.height) / static_cast<float>(settings.width);
+    const float tan_x = std::tan(0.5f * cam.fov_x);
+    const float tan_larger = settings.width >= settings.height ? tan_x : tan_x * aspect;
+    FrameBlock& f = g.frame;
+    f.camera_to_world = cam.to_world;
+    f.camera_fov = glm::vec4(tan_x, tan_x * aspect, 2.0f * cam.shift_x * tan_larger,
+                             2.0f * cam.shift_y * tan_larger);
+    f.camera_lens = glm::vec4(static_cast<float>(cam.projection), 0.5f * cam.ortho_scale,
+                              cam.aperture_radius, cam.focus_distance);
+    f.scene_lo = glm::vec4(g.bounds.lo, 1e-3f * diagonal);
+    f.scene_sphere = glm::vec4(g.bounds.center(), g.bounds.radius());
+    f.environment = glm::vec4(scene.environment, 0.0f);
+    f.sizes = glm::uvec4(settings.width, settings.height, g.photon_threads, g.hash_cells);
+    f.pass_info = glm::uvec4(0, static_cast<std::uint32_t>(settings.seed),
+                             static_cast<std::uint32_t>(settings.max_depth),
+                             static_cast<std::uint32_t>(g.emitters.count));
+    // Automatic radius: two pixel footprints at the distance of the scene's centre, at
+    // most 5% of the scene's diagonal.
+    float radius = settings.initial_radius;
+    if (radius <= 0.0f) {
+        const glm::vec3 eye(cam.to_world[3]);
+        const float distance =
+            std::max(glm::length(g.bounds.center() - eye), 0.5f * g.bounds.radius());
+        const float footprint = 2.0f * distance * tan_x / static_cast<float>(settings.width);
+        radius = std::min(2.0f * footprint, 0.05f * diagonal);
+    }
+    g.initial_radius = radius;
+    f.sppm = glm::vec4(settings.alpha, 1e-5f * diagonal, 0.0f, 0.0f);
+
+    g.thread = std::make_unique<gl::GlThread>(settings.device);
+    g.thread->call([&] {
+        try {
+            gl::ProgramCache& cache = g.thread->context().programs();
+            auto program = [&](const char* file, const char* phase) -> const gl::ComputeProgram* {
+                gl::Defines d = g.defines;
+                if (phase) d.push_back({phase, "1"});
+                return &cache.get(file, d);
+            };
+            const bool exact = settings.hash == HashMode::Exact;
+            g.eye = program("eye_trace.comp", nullptr);
+            g.photon = program("photon_trace.comp", nullptr);
+            g.hash_a = program("hash_photons.comp", exact ? "PHASE_COUNT" : "PHASE_INSERT");
+            g.hash_b = program("hash_photons.comp", exact ? "PHASE_SCATTER" : "PHASE_WINNER");
+            if (exact) {
+                g.scan[0] = program("prefix_sum.comp", "PHASE_BLOCKS");
+                g.scan[1] = program("prefix_sum.comp", "PHASE_BLOCK_SUMS");
+                g.scan[2] = program("prefix_sum.comp", "PHASE_ADD");
+            }
+            g.gather = program("gather.comp", nullptr);
+            g.end_pass = program("end_pass.comp", nullptr);
+            g.resolve = program("resolve_film.comp", nullptr);
+
+            glGenBuffers(1, &g.ubo);
+            glBindBuffer(GL_UNIFORM_BUFFER, g.ubo);
+            glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), &g.frame, GL_DYNAMIC_DRAW);
+            glBindBufferBase(GL_UNIFORM_BUFFER, 0, g.ubo);
+
+            auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+            g.make_buffer(kNodes, bytes(g.bvh.nodes), g.bvh.nodes.data(), "BVH nodes");
+            g.make_buffer(kLinks, bytes(g.bvh.links), g.bvh.links.data(), "BVH links");
+            g.make_buffer(kTriangles, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
+            if (!g.bvh.normals.empty())
+                g.make_buffer(kNormals, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
+            g.make_buffer(kEmitters, bytes(g.emitters.records), g.emitters.records.data(),
+                          "lights");
+            std::vector<glm::vec4> materials;
+            for (const Material& m : scene.materials) {
+                materials.emplace_back(m.color, static_cast<float>(m.kind));
+                materials.emplace_back(m.emission, m.ior);
+            }
+            g.make_buffer(kMaterials, bytes(materials), materials.data(), "materials");
+            Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
+            g.counters = g.make_buffer(kCounters, sizeof(counters), &counters, "counters");
+
+            const std::size_t px = g.pixels, ph = g.photon_threads;
+            g.make_buffer(kVisiblePoints, px * 3 * 16, nullptr, "visible points");
+            std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
+            for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;
+            g.pixel_stats = g.make_buffer(kPixelStats, bytes(stats), stats.data(), "pixel statistics");
+            stats.assign(px * 2, glm::vec4(0.0f));
+            g.make_buffer(kDirectLight, bytes(stats), stats.data(), "direct light");
+            std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
+            for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
+            g.make_buffer(kPhotonPaths, bytes(paths), paths.data(), "photon paths");
+            paths.assign(ph * 3, glm::vec4(0.0f));
+            g.photons = g.make_buffer(kPhotons, bytes(paths), paths.data(), "photons");
+            if (settings.rng == RngKind::Paper) {
+                const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
+                g.make_buffer(kRngStates, bytes(seeds), seeds.data(), "generator states");
+            }
+            g.hash = g.make_buffer(kHashCells, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
+            const std::size_t sorted = exact ? ph + g.hash_cells / 1024 : 1;
+            g.make_buffer(kHashSorted, sorted * 4, nullptr, "sorted photons");
+            g.film = g.make_buffer(kFilm, px * 16, nullptr, "film");
+            glFinish();
+        } catch (...) {
+            g.release();
+            throw;
+        }
+    });
+}
+
+Renderer::~Renderer() {
+    if (gpu_ && gpu_->thread) gpu_->thread->call([this] { gpu_->release(); });
+}
+
+void Renderer::run(int passes) {
+    Gpu& g = *gpu_;
+    const auto start = std::chrono::steady_clock::now();
+    g.thread->call([&] {
+        for (int i = 0; i < passes; ++i) g.run_pass();
+        glFinish();
+    });
+    g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<float> Renderer::film() {
+    Gpu& g = *gpu_;
+    std::vector<float> out(std::size_t(g.pixels) * 4, 0.0f);
+    g.thread->call([&] {
+        const Counters c = g.read_counters();
+        const std::uint64_t emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
+        g.frame.sppm.z = g.passes ? 1.0f / static_cast<float>(g.passes) : 0.0f;
+        g.frame.sppm.w = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        g.upload_frame();
+        g.dispatch(*g.resolve, g.pixels);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.film);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
+                           out.data());
+    });
+    return out;
+}
+
+std::vector<float> Renderer::photons() {
+    Gpu& g = *gpu_;
+    std::vector<float> out(std::size_t(g.photon_threads) * 12, 0.0f);
+    g.thread->call([&] {
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.photons);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
+                           out.data());
+    });
+    return out;
+}
+
+RenderStats Renderer::stats() {
+    Gpu& g = *gpu_;
+    RenderStats s;
+    std::vector<glm::vec4> pixel_stats(std::size_t(g.pixels) * 2);
+    Counters c{};
+    g.thread->call([&] {
+        c = g.read_counters();
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.pixel_stats);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                           static_cast<GLsizeiptr>(pixel_stats.size() * sizeof(glm::vec4)),
+                           pixel_stats.data());
+    });
+    double sum = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < g.pixels; ++i) {
+        sum += pixel_stats[2 * i + 1].x;
+        largest = std::max(largest, static_cast<double>(pixel_stats[2 * i + 1].x));
+    }
+    s.passes = g.passes;
+    s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
+    s.rays = Gpu::total(c.rays_lo, c.rays_hi);
+    s.seconds = g.seconds;
+    s.photons_per_second = g.seconds > 0 ? static_cast<double>(s.photons_emitted) / g.seconds : 0;
+    s.rays_per_second = g.seconds > 0 ? static_cast<double>(s.rays) / g.seconds : 0;
+    s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
+    s.max_radius = largest;
+    s.initial_radius = g.initial_radius;
+    s.renderer = g.thread->info().renderer;
+    s.variant = g.variant;
+    s.triangles = g.bvh.stats.triangles;
+    s.degenerate_dropped = g.bvh.stats.degenerate_dropped;
+    s.emitters = g.emitters.count;
+    s.bvh_seconds = g.bvh.stats.total_seconds();
+    s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
+    s.gpu_bytes = g.gpu_bytes;
+    return s;
+}
+
+}  // namespace glslppm

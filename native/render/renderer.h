@@ -1,0 +1,62 @@
+// The SPPM renderer: owns a GL thread with its EGL context, the scene's MTBVH on the GPU and
+// the per-pixel and per-photon state; runs passes (eye trace, photon trace, photon hashing,
+// gather with the progressive update) and resolves the film on demand.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/settings.h"
+#include "scene/scene.h"
+
+namespace glslppm {
+
+struct RenderStats {
+    std::uint64_t passes = 0;
+    std::uint64_t photons_emitted = 0;  // photon paths started, 64-bit
+    std::uint64_t rays = 0;
+    double seconds = 0.0;               // time spent in run()
+    double photons_per_second = 0.0;
+    double rays_per_second = 0.0;
+    double mean_radius = 0.0;
+    double max_radius = 0.0;
+    double initial_radius = 0.0;
+    std::string renderer;               // GL_RENDERER
+    std::string variant;                // the feature set the programs were compiled with
+    std::size_t triangles = 0;
+    std::size_t degenerate_dropped = 0;
+    std::size_t emitters = 0;
+    double bvh_seconds = 0.0;
+    double bvh_bytes_per_triangle = 0.0;
+    std::size_t gpu_bytes = 0;          // buffers this renderer allocated
+};
+
+class Renderer {
+public:
+    // Validates the scene and settings (std::invalid_argument / SceneError), builds the
+    // MTBVH, creates the GL context (gl::GlError) and compiles the programs
+    // (gl::ShaderError). The scene's arrays may be freed afterwards.
+    Renderer(const Scene& scene, const RenderSettings& settings);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Runs `passes` SPPM passes and waits for the GPU to finish them.
+    void run(int passes);
+    // Linear RGBA, height x width x 4 floats, row 0 at the top.
+    std::vector<float> film();
+    RenderStats stats();
+    // The photons stored by the last pass, 12 floats each: position, key bits, direction
+    // towards where it came from, 0, flux, 1 if stored else 0 (tests and debugging).
+    std::vector<float> photons();
+    const RenderSettings& settings() const { return settings_; }
+
+private:
+    struct Gpu;
+    RenderSettings settings_;
+    std::unique_ptr<Gpu> gpu_;
+};
+
+}  // namespace glslppm

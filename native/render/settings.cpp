@@ -1,0 +1,41 @@
+#include "render/settings.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace glslppm {
+
+HashMode parse_hash_mode(const std::string& name) {
+    if (name == "stochastic") return HashMode::Stochastic;
+    if (name == "exact") return HashMode::Exact;
+    throw std::invalid_argument("hash: '" + name + "' is not a hash mode (stochastic, exact)");
+}
+
+RngKind parse_rng_kind(const std::string& name) {
+    if (name == "paper") return RngKind::Paper;
+    if (name == "pcg") return RngKind::Pcg;
+    throw std::invalid_argument("rng: '" + name + "' is not a generator (paper, pcg)");
+}
+
+std::string to_string(HashMode mode) { return mode == HashMode::Exact ? "exact" : "stochastic"; }
+std::string to_string(RngKind kind) { return kind == RngKind::Pcg ? "pcg" : "paper"; }
+
+void validate(const RenderSettings& s) {
+    auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
+    if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+        fail("width/height: " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+             " is outside 1..16384");
+    if (s.photons_per_pass < 1 || s.photons_per_pass > (1u << 26))
+        fail("photons_per_pass: " + std::to_string(s.photons_per_pass) +
+             " is outside 1..67108864");
+    if (!(s.alpha > 0.0f && s.alpha <= 1.0f))
+        fail("alpha: " + std::to_string(s.alpha) + " is outside (0, 1]");
+    if (!(s.initial_radius >= 0.0f) || !std::isfinite(s.initial_radius))
+        fail("initial_radius: must be 0 (automatic) or a positive distance");
+    if (s.max_depth < 1 || s.max_depth > 1024)
+        fail("max_depth: " + std::to_string(s.max_depth) + " is outside 1..1024");
+    if (s.leaf_size < 1 || s.leaf_size > 64)
+        fail("leaf_size: " + std::to_string(s.leaf_size) + " is outside 1..64");
+}
+
+}  // namespace glslppm

@@ -1,0 +1,34 @@
+// What a user chooses for a render (the add-on's scene.glslppm, the CLI's options).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace glslppm {
+
+enum class HashMode { Stochastic, Exact };
+enum class RngKind { Paper, Pcg };
+
+struct RenderSettings {
+    int width = 256;
+    int height = 256;
+    std::uint32_t photons_per_pass = 65536;
+    float alpha = 0.7f;           // SPPM's fraction of new photons kept (Hachisuka 2009)
+    float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
+    int max_depth = 16;           // eye and photon bounces
+    HashMode hash = HashMode::Stochastic;
+    RngKind rng = RngKind::Paper;
+    int device = -1;              // EGL device index; -1: $GLSLPPM_DEVICE or the first GPU
+    std::uint64_t seed = 0;
+    int leaf_size = 4;            // BVH leaf size (triangles)
+};
+
+HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
+RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
+std::string to_string(HashMode mode);
+std::string to_string(RngKind kind);
+
+// Throws std::invalid_argument naming the setting when one is out of range.
+void validate(const RenderSettings& settings);
+
+}  // namespace glslppm

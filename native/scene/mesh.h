@@ -1,0 +1,53 @@
+// Triangle meshes as they arrive (from numpy, from loaders, from procedural scenes) and
+// their validation. A MeshView never owns its arrays: the caller keeps them alive (the
+// Python module keeps the numpy arrays referenced), so no copy is made where dtype and
+// layout already fit.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace glslppm {
+
+// A bad input array: names the array and the first bad element, so that a user can find it.
+class SceneError : public std::invalid_argument {
+public:
+    using std::invalid_argument::invalid_argument;
+};
+
+struct MeshView {
+    std::span<const glm::vec3> positions;     // (V,3) float32
+    std::span<const glm::uvec3> triangles;    // (T,3) uint32 vertex indices
+    std::span<const glm::vec3> normals;       // (V,3) or empty: geometric normals are used
+    std::span<const glm::vec2> uvs;           // (V,2) or empty: no texture coordinates
+    std::span<const std::uint32_t> material_ids;  // (T,) or empty: material 0 everywhere
+};
+
+struct MeshStats {
+    std::size_t input_triangles = 0;
+    std::size_t degenerate_dropped = 0;  // zero-area triangles, dropped (not an error)
+};
+
+// A mesh that passed validation: every index in range, every coordinate finite, and the
+// list of triangles that have area (`kept`, ascending ids into view.triangles).
+struct ValidMesh {
+    MeshView view;
+    std::vector<std::uint32_t> kept;
+    MeshStats stats;
+};
+
+// Throws SceneError naming the array and the first bad index: index out of range, NaN or
+// Inf coordinates or normals or uvs, material id >= material_count, arrays whose lengths
+// disagree. Zero-area triangles are dropped and counted.
+ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count);
+
+// True when the triangle spans no area relative to its own edges (collinear or coincident
+// vertices); such a triangle can never be hit robustly and is dropped.
+bool is_degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+
+}  // namespace glslppm

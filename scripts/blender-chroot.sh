@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# The Debian 13 ("trixie") chroot that runs Blender 4.3 (Python 3.13) beside the
+# host's Debian 12 Blender 3.4.
+#
+#   scripts/blender-chroot.sh create          debootstrap it once (a stamp file makes this idempotent)
+#   scripts/blender-chroot.sh build           build _glslppm for the chroot's Python into build-trixie/
+#   scripts/blender-chroot.sh run CMD [ARG..] run a command inside, the repository mounted at /src
+#   scripts/blender-chroot.sh shell           an interactive shell inside
+#
+# Mounts (/proc, /dev, the repository) live in a private mount namespace made by
+# unshare(1): they vanish with the command, even when it is killed, so nothing is
+# left mounted and several commands can use the chroot at once.
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+root=${GLSLPPM_CHROOT:-$repo/build/trixie}
+stamp=$root/.glslppm-ready
+mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
+packages=(blender g++ cmake ninja-build pkg-config python3-dev python3-numpy pybind11-dev
+          libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+          zip ca-certificates)
+
+need_root() {
+  if [ "$(id -u)" -ne 0 ]; then
+    exec sudo -E "$0" "$@"
+  fi
+}
+
+# Runs "$@" in the chroot inside a fresh private mount namespace.
+in_chroot() {
+  local workdir=${CHROOT_WORKDIR:-/src}
+  unshare --mount --propagation private -- /bin/bash -s -- "$root" "$repo" "$workdir" "$@" <<'EOF'
+set -e
+root=$1 repo=$2 workdir=$3; shift 3
+mkdir -p "$root/proc" "$root/dev" "$root/sys" "$root/src" "$root/tmp"
+mount --rbind /dev "$root/dev"
+mount -t proc proc "$root/proc" 2>/dev/null || mount --rbind /proc "$root/proc"
+mount --rbind /sys "$root/sys" 2>/dev/null || true
+mount --bind "$repo" "$root/src"
+cp -L /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+[ -e "$root/etc/mtab" ] || ln -s /proc/self/mounts "$root/etc/mtab"
+exec chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" \
+  PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+  DEBIAN_FRONTEND=noninteractive \
+  GLSLPPM_MODULE_DIR="${GLSLPPM_MODULE_DIR:-}" GLSLPPM_TEST_ARGS="${GLSLPPM_TEST_ARGS:-}" \
+  /bin/bash -c 'cd "$0" && exec "$@"' "$workdir" "$@"
+EOF
+}
+
+create() {
+  if [ -f "$stamp" ]; then
+    echo "chroot: $root is ready (remove $stamp to recreate)"
+    return 0
+  fi
+  local t0=$SECONDS
+  if [ ! -x "$root/usr/bin/apt-get" ]; then
+    command -v debootstrap >/dev/null || {
+      echo "installing debootstrap"
+      DEBIAN_FRONTEND=noninteractive apt-get install -y -qq debootstrap >/dev/null
+    }
+    rm -rf "$root"
+    mkdir -p "$(dirname "$root")"
+    echo "chroot: debootstrap trixie into $root"
+    debootstrap --variant=minbase trixie "$root" "$mirror" >"$root.debootstrap.log" 2>&1 || {
+      tail -20 "$root.debootstrap.log"
+      echo "chroot: debootstrap failed (log: $root.debootstrap.log)" >&2
+      exit 1
+    }
+  fi
+  echo "chroot: installing ${packages[*]}"
+  # No daemons may start inside the chroot.
+  printf '#!/bin/sh\nexit 101\n' >"$root/usr/sbin/policy-rc.d"
+  chmod +x "$root/usr/sbin/policy-rc.d"
+  CHROOT_WORKDIR=/ in_chroot /bin/bash -c \
+    "apt-get update -qq && apt-get install -y -qq --no-install-recommends ${packages[*]} >/dev/null && apt-get clean"
+  touch "$stamp"
+  echo "chroot: ready in $((SECONDS - t0)) s"
+}
+
+build() {
+  create
+  in_chroot /bin/bash -c \
+    'cmake -S . -B build-trixie -G Ninja -DPython3_EXECUTABLE=/usr/bin/python3 -DGLSLPPM_TESTS=OFF >/dev/null &&
+     cmake --build build-trixie -j "$(nproc)" --target _glslppm'
+}
+
+cmd=${1:-create}
+shift || true
+need_root "$cmd" "$@"
+case "$cmd" in
+  create) create ;;
+  build) build ;;
+  run) [ -f "$stamp" ] || create; in_chroot "$@" ;;
+  shell) [ -f "$stamp" ] || create; in_chroot /bin/bash ;;
+  *) echo "usage: $0 create|build|run CMD...|shell" >&2; exit 2 ;;
+esac

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the build, the tests and the demo need, only those missing.
+# Usage: scripts/install-deps.sh [build|test|demo]
+set -euo pipefail
+what=${1:-build}
+pkgs=(cmake ninja-build g++ pkg-config python3-dev python3-numpy pybind11-dev
+      libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+      libgtest-dev)
+case "$what" in
+  test) pkgs+=(python3-pytest dieharder blender debootstrap) ;;
+  demo) pkgs+=(blender) ;;
+esac
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "installing: ${missing[*]}"
+sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

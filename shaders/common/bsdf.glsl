@@ -1,0 +1,48 @@
+// The closed material model: Lambertian diffuse, specular conductor, smooth dielectric.
+#ifndef BSDF_GLSL
+#define BSDF_GLSL
+
+#include "common/scene_buffers.glsl"
+
+vec3 material_color(int m) { return materials[2 * m].xyz; }
+int material_kind(int m) { return int(materials[2 * m].w); }
+vec3 material_emission(int m) { return materials[2 * m + 1].xyz; }
+float material_ior(int m) { return materials[2 * m + 1].w; }
+
+// Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
+float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
+    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) {
+        cos_t = 0.0;
+        return 1.0;  // total internal reflection
+    }
+    cos_t = sqrt(1.0 - sin2_t);
+    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or
+// refraction by Fresnel with probability equal to the reflectance, so the weight is the
+// colour alone. `n` is the shading normal on the geometric normal's side; returns the new
+// direction and multiplies `weight`.
+vec3 scatter_specular(int m, vec3 dir, vec3 n, vec3 ng, float u, inout vec3 weight) {
+    vec3 color = material_color(m);
+#ifdef HAS_DIELECTRIC
+    if (material_kind(m) == MATERIAL_DIELECTRIC) {
+        bool entering = dot(dir, ng) < 0.0;
+        vec3 nn = entering ? n : -n;
+        float eta = entering ? 1.0 / material_ior(m) : material_ior(m);
+        float cos_i = min(1.0, -dot(dir, nn));
+        float cos_t;
+        float f = fresnel_dielectric(cos_i, eta, cos_t);
+        if (u < f) return reflect(dir, nn);
+        weight *= color;
+        return normalize(eta * dir + (eta * cos_i - cos_t) * nn);
+    }
+#endif
+    weight *= color;
+    return reflect(dir, dot(dir, n) < 0.0 ? n : -n);
+}
+
+#endif

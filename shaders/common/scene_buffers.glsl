@@ -1,0 +1,27 @@
+// Scene data beside the MTBVH (mirrored in native/render/gpu_layout.h).
+#ifndef SCENE_BUFFERS_GLSL
+#define SCENE_BUFFERS_GLSL
+
+// Lights photons start from, 4 per emitter: (a.xyz, kind), (b.xyz, b.w), (c.xyz, cumulative
+// pick probability), (power or radiance rgb, pick probability). See native/render/emitters.h.
+layout(std430, binding = 3) readonly buffer Emitters { vec4 emitters[]; };
+
+// Materials, 2 per material: (colour, kind), (emission, ior).
+layout(std430, binding = 4) readonly buffer Materials { vec4 materials[]; };
+
+#ifdef HAS_NORMALS
+// Vertex normals, 3 per packed triangle (n.xyz, 0).
+layout(std430, binding = 15) readonly buffer Normals { vec4 vertex_normals[]; };
+#endif
+
+const int MATERIAL_DIFFUSE = 0;
+const int MATERIAL_CONDUCTOR = 1;
+const int MATERIAL_DIELECTRIC = 2;
+
+const int EMITTER_TRIANGLE = 0;
+const int EMITTER_POINT = 1;
+const int EMITTER_SPOT = 2;
+const int EMITTER_SUN = 3;
+const int EMITTER_ENVIRONMENT = 4;
+
+#endif

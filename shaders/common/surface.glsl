@@ -1,0 +1,54 @@
+// What a ray hit: position, normals and material, read from the packed MTBVH triangles.
+#ifndef SURFACE_GLSL
+#define SURFACE_GLSL
+
+#include "common/mtbvh.glsl"
+#include "common/scene_buffers.glsl"
+
+struct Surface {
+    vec3 position;
+    vec3 geometric_normal;  // from the winding: emitters face this way
+    vec3 normal;            // shading normal, on the same side as the geometric one
+    int material;
+};
+
+Surface surface_at(Ray ray, Hit hit) {
+    int t = hit.triangle;
+    vec4 a = triangles[3 * t + 0];
+    vec4 b = triangles[3 * t + 1];
+    vec4 c = triangles[3 * t + 2];
+    Surface s;
+    // Interpolating the vertices is more accurate than origin + t * dir far from the origin.
+    s.position = a.xyz + hit.u * (b.xyz - a.xyz) + hit.v * (c.xyz - a.xyz);
+    s.geometric_normal = normalize(cross(b.xyz - a.xyz, c.xyz - a.xyz));
+#ifdef HAS_NORMALS
+    vec3 n = (1.0 - hit.u - hit.v) * vertex_normals[3 * t + 0].xyz +
+             hit.u * vertex_normals[3 * t + 1].xyz + hit.v * vertex_normals[3 * t + 2].xyz;
+    float len = length(n);
+    s.normal = len > 0.0 ? n / len : s.geometric_normal;
+    if (dot(s.normal, s.geometric_normal) < 0.0) s.normal = -s.normal;
+#else
+    s.normal = s.geometric_normal;
+#endif
+    s.material = floatBitsToInt(a.w);
+    return s;
+}
+
+// A new ray's origin, pushed off the surface to the side `dir` leaves on: relative to the
+// position's magnitude (scene_lo.w is a floor relative to the scene size), never absolute.
+vec3 offset_origin(vec3 p, vec3 ng, vec3 dir) {
+    float m = max(max(abs(p.x), abs(p.y)), max(abs(p.z), scene_lo.w));
+    float eps = m * 3.0e-6;
+    return p + (dot(dir, ng) >= 0.0 ? eps : -eps) * ng;
+}
+
+Ray make_ray(vec3 origin, vec3 dir) {
+    Ray r;
+    r.origin = origin;
+    r.dir = dir;
+    r.tmin = 0.0;
+    r.tmax = 3.0e38;
+    return r;
+}
+
+#endif

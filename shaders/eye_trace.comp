@@ -1,0 +1,72 @@
+// SPPM stage 1, one thread per pixel: a fresh jittered camera ray each pass, followed
+// through mirrors and glass (reflection or refraction chosen by Fresnel) up to the maximum
+// depth. Emission seen on the way is added to the pixel's direct light; the first
+// non-specular surface becomes the pixel's visible point (Hachisuka 2015, section 2).
+layout(local_size_x = LOCAL_SIZE) in;
+
+#include "common/frame.glsl"
+#include "common/sppm_buffers.glsl"
+#include "common/sampling.glsl"
+#include "common/surface.glsl"
+#include "common/bsdf.glsl"
+
+Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
+    float jx = rng_next(rng), jy = rng_next(rng);
+    // Film coordinates in [-1, 1], y up; row 0 is the top of the image.
+    vec2 ndc = vec2(2.0 * (float(x) + jx) / float(sizes.x) - 1.0,
+                    1.0 - 2.0 * (float(y) + jy) / float(sizes.y));
+    vec3 origin = vec3(0.0);
+    vec3 dir = vec3(ndc * camera_fov.xy + camera_fov.zw, -1.0);
+    return make_ray((camera_to_world * vec4(origin, 1.0)).xyz,
+                    normalize((camera_to_world * vec4(dir, 0.0)).xyz));
+}
+
+void main() {
+    uint i = thread_index();
+    if (i >= sizes.x * sizes.y) return;
+    RNG_STATE rng = rng_load(i);
+    Ray ray = camera_ray(i % sizes.x, i / sizes.x, rng);
+
+    vec3 throughput = vec3(1.0);
+    vec3 direct = vec3(0.0);
+    vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
+    vec3 normal = vec3(0.0);
+    vec3 weight = vec3(0.0);
+    uint rays = 0u;
+    for (uint depth = 0u; depth < pass_info.z; ++depth) {
+        ++rays;
+        Hit hit = closest_hit(ray);
+        if (hit.triangle < 0) {
+            direct += throughput * environment.rgb;
+            break;
+        }
+        Surface s = surface_at(ray, hit);
+        bool front = dot(ray.dir, s.geometric_normal) < 0.0;
+        if (front) direct += throughput * material_emission(s.material);
+        int kind = material_kind(s.material);
+        if (kind == MATERIAL_DIFFUSE) {
+            point = vec4(s.position, float(s.material));
+            normal = front ? s.normal : -s.normal;
+            weight = throughput * material_color(s.material) / PI;
+            break;
+        }
+        vec3 dir = scatter_specular(s.material, ray.dir, s.normal, s.geometric_normal,
+                                    rng_next(rng), throughput);
+        ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
+    }
+
+    visible_points[3 * i + 0] = point;
+    visible_points[3 * i + 1] = vec4(normal, 0.0);
+    visible_points[3 * i + 2] = vec4(weight, 0.0);
+    // Kahan summation: after 1e5 passes a plain float sum stops absorbing increments.
+    vec4 sum = direct_light[2 * i + 0];
+    vec4 comp = direct_light[2 * i + 1];
+    precise vec3 y = direct - comp.xyz;
+    precise vec3 t = sum.xyz + y;
+    precise vec3 c = (t - sum.xyz) - y;
+    comp.xyz = c;
+    direct_light[2 * i + 0] = vec4(t, 0.0);
+    direct_light[2 * i + 1] = comp;
+    rng_store(i, rng);
+    atomicAdd(pass_rays, rays);
+}

@@ -1,0 +1,84 @@
+// SPPM stage 4, one thread per pixel: the photons within radius R of the pixel's visible
+// point, then the progressive update of Hachisuka and Jensen 2009 (SPPM), eq. 4-7:
+//   N' = N + alpha M,   R' = R sqrt(N' / (N + M)),   tau' = (tau + Phi) R'^2 / R^2.
+// With stochastic hashing a cell's survivor stands for all `count` photons of its cell:
+// E[count * [survivor within R]] is the number of that cell's photons within R, so both M
+// and Phi stay unbiased.
+layout(local_size_x = LOCAL_SIZE) in;
+
+#include "common/frame.glsl"
+#include "common/sppm_buffers.glsl"
+#include "common/hash_grid.glsl"
+
+shared float group_max_radius[LOCAL_SIZE];
+
+void main() {
+    uint i = thread_index();
+    float radius_after = 0.0;
+    if (i < sizes.x * sizes.y) {
+        vec4 stats0 = pixel_stats[2 * i + 0];
+        float r = pixel_stats[2 * i + 1].x;
+        radius_after = r;
+        vec4 point = visible_points[3 * i + 0];
+        if (point.w >= 0.0) {
+            vec3 n = visible_points[3 * i + 1].xyz;
+            vec3 weight = visible_points[3 * i + 2].xyz;
+            float cell_size = uintBitsToFloat(cell_size_bits);
+            ivec3 center = grid_cell(point.xyz, cell_size);
+            float r2 = r * r;
+            float m = 0.0;
+            vec3 phi = vec3(0.0);
+            for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                ivec3 cell = center + ivec3(dx, dy, dz);
+                uvec4 entry = hash_cells[grid_hash(cell)];
+#if defined(HASH_STOCHASTIC)
+                if (entry.y == 0u) continue;
+                uint p = entry.z;
+                vec3 x = photons[3 * p + 0].xyz;
+                vec3 d = x - point.xyz;
+                // Only from the cell it belongs to: cells sharing a table entry must not
+                // count their survivor twice.
+                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                    dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                    float count = float(entry.y);
+                    m += count;
+                    phi += count * photons[3 * p + 2].xyz;
+                }
+#else
+                for (uint k = entry.y; k < entry.y + entry.x; ++k) {
+                    uint p = hash_sorted[k];
+                    vec3 x = photons[3 * p + 0].xyz;
+                    vec3 d = x - point.xyz;
+                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                        dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                        m += 1.0;
+                        phi += photons[3 * p + 2].xyz;
+                    }
+                }
+#endif
+            }
+            if (m > 0.0) {
+                float n_old = stats0.w;
+                float n_new = n_old + sppm.x * m;
+                float r_new = max(r * sqrt(n_new / (n_old + m)), sppm.y);
+                float shrink = (r_new * r_new) / r2;
+                vec3 tau = (stats0.xyz + weight * phi) * shrink;
+                pixel_stats[2 * i + 0] = vec4(tau, n_new);
+                pixel_stats[2 * i + 1].x = r_new;
+                radius_after = r_new;
+            }
+        }
+    }
+    // The next pass's cells must hold the largest radius of any pixel: reduce in the work
+    // group, then one atomic per group (positive floats order like their bits).
+    uint t = gl_LocalInvocationID.x;
+    group_max_radius[t] = radius_after;
+    barrier();
+    for (uint s = LOCAL_SIZE / 2u; s > 0u; s >>= 1u) {
+        if (t < s) group_max_radius[t] = max(group_max_radius[t], group_max_radius[t + s]);
+        barrier();
+    }
+    if (t == 0u) atomicMax(max_radius_bits, floatBitsToUint(group_max_radius[0]));
+}

@@ -1,0 +1,30 @@
+// SPPM stage 3, one thread per photon: hash this pass's photons into the grid.
+// Stochastic (Hachisuka and Jensen 2010, with the paper's random depth): each cell keeps
+// the photon with the smallest independent random key (atomicMin, the paper's z-buffer) and
+// counts the photons that fell into it; the gather scales the survivor by that count.
+// Exact: a counting sort keeps every photon (PHASE_COUNT, prefix_sum.comp, PHASE_SCATTER).
+layout(local_size_x = LOCAL_SIZE) in;
+
+#include "common/frame.glsl"
+#include "common/sppm_buffers.glsl"
+#include "common/hash_grid.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= sizes.z || photons[3 * i + 2].w == 0.0) return;
+    vec4 pk = photons[3 * i + 0];
+    uint h = grid_hash(grid_cell(pk.xyz, uintBitsToFloat(cell_size_bits)));
+#if defined(PHASE_INSERT)
+    atomicMin(hash_cells[h].x, floatBitsToUint(pk.w));
+    atomicAdd(hash_cells[h].y, 1u);
+#elif defined(PHASE_WINNER)
+    // Equal keys (chance 2^-32 per pair) leave one of them, which is as good.
+    if (hash_cells[h].x == floatBitsToUint(pk.w)) hash_cells[h].z = i;
+#elif defined(PHASE_COUNT)
+    atomicAdd(hash_cells[h].x, 1u);
+#elif defined(PHASE_SCATTER)
+    hash_sorted[hash_cells[h].y + atomicAdd(hash_cells[h].z, 1u)] = i;
+#else
+#error "hash_photons.comp needs a PHASE_ define"
+#endif
+}

@@ -1,0 +1,76 @@
+// SPPM stage 2, one thread per photon path, with path regeneration (Hachisuka 2015,
+// section 3.3): each pass traces ONE bounce and stores at most one photon. A path killed
+// by Russian roulette, by the depth limit or by leaving the scene starts anew from a light
+// in the next pass, so every thread stays busy whatever the path lengths. Photons are
+// stored on non-specular surfaces only, each with an independent random key for the
+// stochastic hash.
+layout(local_size_x = LOCAL_SIZE) in;
+
+#include "common/frame.glsl"
+#include "common/sppm_buffers.glsl"
+#include "common/sampling.glsl"
+#include "common/surface.glsl"
+#include "common/bsdf.glsl"
+#include "common/emitters.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= sizes.z) return;
+    uint state_index = sizes.x * sizes.y + i;
+    RNG_STATE rng = rng_load(state_index);
+
+    vec4 p0 = photon_paths[3 * i + 0];
+    vec3 origin = p0.xyz;
+    float bounces = p0.w;
+    vec3 dir = photon_paths[3 * i + 1].xyz;
+    vec3 flux = photon_paths[3 * i + 2].xyz;
+    if (bounces < 0.0) {
+        emit_photon(rng, origin, dir, flux);
+        bounces = 0.0;
+        atomicAdd(pass_emitted, 1u);
+    }
+
+    vec4 stored = vec4(0.0);  // flux.w = 1 when a photon is stored
+    vec4 position_key = vec4(0.0);
+    vec3 incoming = vec3(0.0);
+    Hit hit = closest_hit(make_ray(origin, dir));
+    if (hit.triangle < 0) {
+        bounces = -1.0;  // left the scene: a new path next pass
+    } else {
+        Surface s = surface_at(make_ray(origin, dir), hit);
+        int kind = material_kind(s.material);
+        bounces += 1.0;
+        if (kind == MATERIAL_DIFFUSE) {
+            // Store, then continue by Russian roulette on the albedo.
+            uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
+            position_key = vec4(s.position, uintBitsToFloat(key));
+            incoming = -dir;
+            stored = vec4(flux, 1.0);
+            vec3 albedo = material_color(s.material);
+            float q = min(1.0, max(albedo.r, max(albedo.g, albedo.b)));
+            vec3 n = dot(dir, s.geometric_normal) < 0.0 ? s.normal : -s.normal;
+            if (bounces >= float(pass_info.z) || rng_next(rng) >= q) {
+                bounces = -1.0;
+            } else {
+                flux *= albedo / q;
+                dir = sample_cosine_hemisphere(n, rng_next(rng), rng_next(rng));
+                origin = offset_origin(s.position, s.geometric_normal, dir);
+            }
+        } else if (bounces >= float(pass_info.z)) {
+            bounces = -1.0;
+        } else {
+            dir = scatter_specular(s.material, dir, s.normal, s.geometric_normal,
+                                   rng_next(rng), flux);
+            origin = offset_origin(s.position, s.geometric_normal, dir);
+        }
+    }
+
+    photon_paths[3 * i + 0] = vec4(origin, bounces);
+    photon_paths[3 * i + 1] = vec4(dir, 0.0);
+    photon_paths[3 * i + 2] = vec4(flux, 0.0);
+    photons[3 * i + 0] = position_key;
+    photons[3 * i + 1] = vec4(incoming, 0.0);
+    photons[3 * i + 2] = stored;
+    rng_store(state_index, rng);
+    atomicAdd(pass_rays, 1u);
+}

@@ -1,0 +1,18 @@
+// The film, one thread per pixel: L = tau / (pi R^2 N_emitted) + the emission seen
+// directly, averaged over the passes.
+layout(local_size_x = LOCAL_SIZE) in;
+
+#include "common/frame.glsl"
+#include "common/sppm_buffers.glsl"
+
+layout(std430, binding = 12) writeonly buffer Film { vec4 film[]; };
+
+void main() {
+    uint i = thread_index();
+    if (i >= sizes.x * sizes.y) return;
+    vec3 tau = pixel_stats[2 * i + 0].xyz;
+    float r = pixel_stats[2 * i + 1].x;
+    vec3 photon_light = tau * (sppm.w / (PI * r * r));
+    vec3 direct = direct_light[2 * i + 0].xyz * sppm.z;
+    film[i] = vec4(photon_light + direct, 1.0);
+}

@@ -1,0 +1,275 @@
+"""Scene building, export and render helpers shared by the Blender tests."""
+
+import math
+import os
+
+import bpy
+import numpy as np
+
+ADDON = None        # the enabled add-on package (set by run.py)
+ADDON_NAME = None   # its module name
+OUT = None          # directory for images the tests write
+SOURCE_MODE = False  # the add-on was imported from the source tree (run.py --source)
+
+BLENDER_4_1 = bpy.app.version >= (4, 1, 0)
+BLENDER_4 = bpy.app.version >= (4, 0, 0)
+
+
+class Skip(Exception):
+    """Raised by a test that cannot run here (the message says why)."""
+
+
+def reset_scene(engine='GLSLPPM', size=(64, 64)):
+    """An empty scene with default engine settings (faster than reloading a file,
+    and keeps the add-on registered)."""
+    for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.lights,
+                       bpy.data.cameras, bpy.data.materials, bpy.data.images,
+                       bpy.data.worlds, bpy.data.curves, bpy.data.collections,
+                       bpy.data.node_groups):
+        for item in list(collection):
+            collection.remove(item)
+    scene = bpy.context.scene
+    scene.render.engine = engine
+    scene.render.resolution_x, scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.use_border = False
+    scene.frame_start = scene.frame_end = scene.frame_current = 1
+    scene.view_settings.view_transform = 'Standard'
+    scene.view_settings.look = 'None'
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    settings = scene.glslppm
+    for name in settings.bl_rna.properties.keys():
+        if name not in ("rna_type", "name"):
+            settings.property_unset(name)
+    scene.world = None
+    scene.camera = None
+    return scene
+
+
+def add_mesh_object(name, vertices, faces, location=(0, 0, 0), rotation=(0, 0, 0),
+                    scale=(1, 1, 1), material=None, smooth=False):
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([tuple(v) for v in vertices], [], [tuple(f) for f in faces])
+    mesh.update()
+    if smooth:
+        mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location, obj.rotation_euler, obj.scale = location, rotation, scale
+    if material is not None:
+        mesh.materials.append(material)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+CUBE_VERTICES = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+# Quads wound counter-clockwise seen from outside.
+CUBE_FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+              (1, 5, 7, 3)]
+
+
+def add_cube(name="Cube", **kwargs):
+    return add_mesh_object(name, CUBE_VERTICES, CUBE_FACES, **kwargs)
+
+
+def add_quad(name, corners, material=None):
+    """A one-quad mesh; corners counter-clockwise seen from the side it faces."""
+    return add_mesh_object(name, corners, [(0, 1, 2, 3)], material=material)
+
+
+def add_light(kind, energy, location=(0, 0, 0), rotation=(0, 0, 0), color=(1, 1, 1),
+              **settings):
+    light = bpy.data.lights.new(f"{kind.title()}Light", kind)
+    light.energy = energy
+    light.color = color
+    for key, value in settings.items():
+        setattr(light, key, value)
+    obj = bpy.data.objects.new(light.name, light)
+    obj.location, obj.rotation_euler = location, rotation
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def add_camera(location, rotation, lens=50.0, sensor_fit='AUTO', **settings):
+    camera = bpy.data.cameras.new("Camera")
+    camera.lens = lens
+    camera.sensor_fit = sensor_fit
+    for key, value in settings.items():
+        setattr(camera, key, value)
+    obj = bpy.data.objects.new("Camera", camera)
+    obj.location, obj.rotation_euler = location, rotation
+    bpy.context.scene.collection.objects.link(obj)
+    bpy.context.scene.camera = obj
+    return obj
+
+
+def node_material(name, node_type, **inputs):
+    """A material whose output's Surface is one shader node with the given inputs
+    (names as Blender spells them; a missing name is an error)."""
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    tree = material.node_tree
+    for node in list(tree.nodes):
+        if node.type != 'OUTPUT_MATERIAL':
+            tree.nodes.remove(node)
+    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
+    shader = tree.nodes.new(node_type)
+    for key, value in inputs.items():
+        shader.inputs[key].default_value = value
+    tree.links.new(shader.outputs[0], output.inputs["Surface"])
+    return material
+
+
+def diffuse_material(name, color):
+    return node_material(name, "ShaderNodeBsdfDiffuse", Color=tuple(color) + (1.0,))
+
+
+def emission_material(name, color, strength):
+    return node_material(name, "ShaderNodeEmission", Color=tuple(color) + (1.0,),
+                         Strength=strength)
+
+
+def set_world(color, strength=1.0):
+    world = bpy.data.worlds.new("World")
+    world.use_nodes = True
+    background = next(node for node in world.node_tree.nodes if node.type == 'BACKGROUND')
+    background.inputs["Color"].default_value = tuple(color) + (1.0,)
+    background.inputs["Strength"].default_value = strength
+    bpy.context.scene.world = world
+    return world
+
+
+def export(size=None):
+    """Exports the current scene as the engine would: SceneData."""
+    scene = bpy.context.scene
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    depsgraph.update()
+    width, height = size or (scene.render.resolution_x, scene.render.resolution_y)
+    return ADDON.export.export_scene(depsgraph, scene.camera, width, height)
+
+
+def load_native():
+    module, problem = ADDON.native_module.load()
+    if module is None:
+        raise Skip(problem)
+    return module
+
+
+def render_image(name, engine='GLSLPPM'):
+    """Renders the current scene with engine into OUT/name.exr; returns linear RGBA
+    (H, W, 4) with row 0 at the top."""
+    scene = bpy.context.scene
+    scene.render.engine = engine
+    settings = scene.render.image_settings
+    settings.file_format = 'OPEN_EXR'
+    settings.color_depth = '32'
+    settings.exr_codec = 'ZIP'
+    path = os.path.join(OUT, f"{name}.exr")
+    scene.render.filepath = path
+    scene.render.use_file_extension = False
+    bpy.ops.render.render(write_still=True)
+    return load_image(path)
+
+
+def load_image(path):
+    image = bpy.data.images.load(path, check_existing=False)
+    try:
+        width, height = image.size
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(image)
+    return pixels.reshape(height, width, 4)[::-1]
+
+
+def setup_cycles(samples=64, bounces=16):
+    """Cycles on the CPU, unbiased and unclamped, so it is a fair reference."""
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    cycles = scene.cycles
+    cycles.device = 'CPU'
+    cycles.samples = samples
+    cycles.use_denoising = False
+    cycles.use_adaptive_sampling = False
+    cycles.max_bounces = bounces
+    cycles.diffuse_bounces = bounces
+    cycles.glossy_bounces = bounces
+    cycles.transmission_bounces = bounces
+    cycles.sample_clamp_direct = 0.0
+    cycles.sample_clamp_indirect = 0.0
+    cycles.light_sampling_threshold = 0.0
+    cycles.caustics_reflective = True
+    cycles.caustics_refractive = True
+    cycles.blur_glossy = 0.0
+    cycles.seed = 1
+    scene.render.threads_mode = 'AUTO'
+
+
+def region_means(image, grid):
+    """Mean RGB of each cell of a grid x grid split of the image: (grid, grid, 3)."""
+    height, width = image.shape[:2]
+    rows = np.array_split(np.arange(height), grid)
+    cols = np.array_split(np.arange(width), grid)
+    return np.array([[image[r[0]:r[-1] + 1, c[0]:c[-1] + 1, :3].reshape(-1, 3).mean(axis=0)
+                      for c in cols] for r in rows])
+
+
+def assert_close(actual, expected, tolerance=1e-5, what="value"):
+    actual = np.asarray(actual, dtype=np.float64)
+    expected = np.asarray(expected, dtype=np.float64)
+    if actual.shape != expected.shape or not np.allclose(actual, expected, atol=tolerance,
+                                                         rtol=0.0):
+        raise AssertionError(f"{what}: expected {expected.tolist()}, got {actual.tolist()}")
+
+
+def recording_engine_class():
+    """A subclass of the add-on's engine that records its reports and can stop after
+    a number of passes (standing in for the user pressing Esc)."""
+    base = ADDON.engine.GlslppmRenderEngine
+
+    class GlslppmRecordingEngine(base):
+        bl_idname = "GLSLPPM_RECORDING"
+        bl_label = "GLSLPPM (test recorder)"
+        reports = []
+        break_after_passes = None
+        last_passes = 0
+
+        def report(self, type, message):
+            GlslppmRecordingEngine.reports.append((sorted(type)[0], message))
+            super().report(type, message)
+
+        def test_break(self):
+            limit = GlslppmRecordingEngine.break_after_passes
+            GlslppmRecordingEngine.last_passes = self.passes_done
+            if limit is not None and self.passes_done >= limit:
+                return True
+            return super().test_break()
+
+    return GlslppmRecordingEngine
+
+
+_recording = []
+
+
+def recording_engine():
+    """The recording engine, registered once per session; its records cleared."""
+    if not _recording:
+        cls = recording_engine_class()
+        bpy.utils.register_class(cls)
+        _recording.append(cls)
+    cls = _recording[0]
+    cls.reports.clear()
+    cls.break_after_passes = None
+    cls.last_passes = 0
+    return cls
+
+
+def look_at_rotation(location, target):
+    """Euler rotation of a camera at location looking at target with +Z up."""
+    from mathutils import Vector
+    direction = Vector(target) - Vector(location)
+    return direction.to_track_quat('-Z', 'Y').to_euler()
+
+
+def degrees(value):
+    return math.radians(value)

@@ -1,0 +1,115 @@
+"""Runs the Blender tests inside Blender (pytest is not part of Blender's Python):
+
+    blender -b --factory-startup --python tests/blender/run.py -- [options]
+
+    --module NAME    enable the installed add-on NAME ("glslppm" for Blender 3.x,
+                     "bl_ext.user_default.glslppm" for an extension in 4.2+)
+    --source DIR     import the add-on package from DIR (the repo's addon/) instead
+    --out DIR        where tests write images (default: a temporary directory)
+    -k TEXT          run only tests whose name contains TEXT (repeatable)
+
+Each test_*.py module's test_* functions run in file order. A test fails on any
+exception, is skipped by raising helpers.Skip. Prints one line per test and a
+summary "N passed, M failed, K skipped"; exits 1 when any test failed.
+"""
+
+import argparse
+import importlib
+import os
+import sys
+import tempfile
+import time
+import traceback
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles")
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(prog="run.py")
+    parser.add_argument("--module")
+    parser.add_argument("--source")
+    parser.add_argument("--out")
+    parser.add_argument("-k", dest="keywords", action="append", default=[])
+    return parser.parse_args(argv)
+
+
+def enable_addon(args):
+    import addon_utils
+    if args.source:
+        link_dir = tempfile.mkdtemp(prefix="glslppm-source-")
+        os.symlink(os.path.abspath(args.source), os.path.join(link_dir, "glslppm"))
+        sys.path.insert(0, link_dir)
+        package = importlib.import_module("glslppm")
+        package.register()
+        return package, "glslppm"
+    name = args.module or "glslppm"
+    module = addon_utils.enable(name, default_set=True, handle_error=_raise)
+    if module is None:
+        raise RuntimeError(f"add-on {name} could not be enabled")
+    return module, name
+
+
+def _raise(error):
+    raise error
+
+
+def main():
+    args = parse_args()
+    sys.path.insert(0, HERE)
+    import bpy
+    import helpers
+    version = ".".join(map(str, bpy.app.version))
+    print(f"== Blender {version} tests ==", flush=True)
+    helpers.OUT = args.out or tempfile.mkdtemp(prefix="glslppm-tests-")
+    os.makedirs(helpers.OUT, exist_ok=True)
+    passed, failed, skipped = [], [], []
+    started = time.perf_counter()
+    try:
+        helpers.SOURCE_MODE = bool(args.source)
+        helpers.ADDON, helpers.ADDON_NAME = enable_addon(args)
+    except Exception:  # noqa: BLE001 - reported as a failed test
+        traceback.print_exc()
+        failed.append("enable add-on")
+        helpers.ADDON = None
+    if helpers.ADDON is not None:
+        for module_name in TEST_MODULES:
+            module = importlib.import_module(module_name)
+            for name, test in vars(module).items():
+                if not name.startswith("test_") or not callable(test):
+                    continue
+                full = f"{module_name}.{name}"
+                if args.keywords and not any(k in full for k in args.keywords):
+                    continue
+                run_test(full, test, passed, failed, skipped)
+    seconds = time.perf_counter() - started
+    print(f"RESULT Blender {version}: {len(passed)} passed, {len(failed)} failed, "
+          f"{len(skipped)} skipped in {seconds:.0f} s", flush=True)
+    for name in failed:
+        print(f"FAILED {name}")
+    sys.exit(1 if failed else 0)
+
+
+def run_test(full, test, passed, failed, skipped):
+    import helpers
+    helpers.reset_scene()
+    began = time.perf_counter()
+    try:
+        test()
+    except helpers.Skip as reason:
+        skipped.append(full)
+        print(f"SKIP {full}: {reason}", flush=True)
+        return
+    except Exception:  # noqa: BLE001 - a failing test, whatever it raised
+        failed.append(full)
+        print(f"FAIL {full} ({time.perf_counter() - began:.1f} s)", flush=True)
+        traceback.print_exc()
+        sys.stdout.flush()
+        return
+    passed.append(full)
+    print(f"PASS {full} ({time.perf_counter() - began:.1f} s)", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,392 @@
+"""Export from the evaluated depsgraph, checked against numbers worked out by hand:
+triangle counts, world-space positions, normals, material mapping per node kind,
+lights, camera angles of view and the world."""
+
+import math
+
+import bpy
+import numpy as np
+
+import helpers
+from helpers import (add_camera, add_cube, add_light, add_mesh_object, assert_close,
+                     diffuse_material, export, node_material, set_world)
+
+PRINCIPLED = "ShaderNodeBsdfPrincipled"
+TRANSMISSION = "Transmission Weight" if helpers.BLENDER_4 else "Transmission"
+EMISSION_COLOR = "Emission Color" if helpers.BLENDER_4 else "Emission"
+
+
+def _camera():
+    add_camera((0, -10, 0), (math.pi / 2, 0, 0))
+
+
+def _triangles(data):
+    return data.positions.reshape(-1, 3, 3)
+
+
+def _geometric_normals(data):
+    tri = _triangles(data)
+    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def test_cube_triangles_in_world_space():
+    _camera()
+    add_cube(location=(1, 2, 3), rotation=(0, 0, math.pi / 2), scale=(2, 1, 0.5))
+    data = export()
+    assert data.triangle_count == 12, data.triangle_count
+    assert data.positions.dtype == np.float32 and data.positions.flags.c_contiguous
+    assert data.indices.dtype == np.uint32 and data.indices.shape == (12, 3)
+    assert data.material_ids.dtype == np.uint32 and data.material_ids.shape == (12,)
+    # Scale (2, 1, 0.5) then 90 degrees about Z: x spans +-1, y +-2, z +-0.5, offset (1,2,3).
+    assert_close(data.positions.min(axis=0), (0, 0, 2.5), 1e-5, "world min corner")
+    assert_close(data.positions.max(axis=0), (2, 4, 3.5), 1e-5, "world max corner")
+    # Local corner (1, -1, 1) -> scaled (2, -1, 0.5) -> rotated (1, 2, 0.5) -> (2, 4, 3.5).
+    assert (np.abs(data.positions - (2, 4, 3.5)).max(axis=1) < 1e-5).sum() >= 3
+    # Flat cube: no normals exported; every triangle faces away from the centre.
+    assert data.normals is None
+    outward = (_triangles(data).mean(axis=1) - (1, 2, 3))
+    assert ((_geometric_normals(data) * outward).sum(axis=1) > 0).all()
+
+
+def test_mirrored_object_keeps_outward_winding():
+    _camera()
+    add_cube(location=(0, 0, 0), scale=(-1, 1, 1))
+    data = export()
+    outward = _triangles(data).mean(axis=1)
+    assert ((_geometric_normals(data) * outward).sum(axis=1) > 0).all(), \
+        "negative scale flipped triangles inward"
+
+
+def test_modifiers_and_instances():
+    _camera()
+    cube = add_cube(location=(0, 0, 0))
+    array = cube.modifiers.new("Array", 'ARRAY')
+    array.count = 3
+    array.relative_offset_displace = (2, 0, 0)   # cubes at x = 0, 4, 8 (size 2, offset 2 sizes)
+    collection = bpy.data.collections.new("Instanced")
+    collection.objects.link(bpy.data.objects.new("Inner", add_cube("Inner").data))
+    bpy.context.scene.collection.objects.unlink(bpy.data.objects["Inner"])
+    for index, x in enumerate((20.0, 30.0)):
+        empty = bpy.data.objects.new(f"Instance{index}", None)
+        empty.instance_type = 'COLLECTION'
+        empty.instance_collection = collection
+        empty.location = (x, 0, 0)
+        empty.scale = (0.5, 0.5, 0.5)
+        bpy.context.scene.collection.objects.link(empty)
+    data = export()
+    assert data.triangle_count == 3 * 12 + 2 * 12, data.triangle_count
+    centers = _triangles(data).mean(axis=1)
+    instanced = centers[centers[:, 0] > 15]
+    assert len(instanced) == 24
+    assert_close(sorted({10 * round(float(x) / 10) for x in instanced[:, 0]}), [20, 30], 0,
+                 "instance placement")
+    inst = data.positions[data.positions[:, 0] > 15]
+    assert_close(inst[:, 1].min(), -0.5, 1e-5, "instance scale")
+    assert_close(data.positions[:, 0][data.positions[:, 0] < 15].max(), 9.0, 1e-5, "array end")
+    assert data.stats["meshes"] == 2, data.stats  # the instanced mesh was read once
+
+
+def test_smooth_normals_follow_the_surface():
+    _camera()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=2,
+                                         location=(1, 1, 1))
+    sphere = bpy.context.active_object
+    sphere.data.polygons.foreach_set("use_smooth", [True] * len(sphere.data.polygons))
+    sphere.data.update()
+    add_cube(location=(10, 0, 0))  # flat: its corners get face normals
+    data = export()
+    assert data.normals is not None and data.normals.shape == data.positions.shape
+    lengths = np.linalg.norm(data.normals, axis=1)
+    assert_close(lengths.min(), 1.0, 1e-4, "unit normals")
+    sphere_corners = data.positions[:, 0] < 5
+    radial = data.positions[sphere_corners] - (1, 1, 1)
+    radial /= np.linalg.norm(radial, axis=1, keepdims=True)
+    cosine = (radial * data.normals[sphere_corners]).sum(axis=1)
+    assert cosine.min() > 0.999, cosine.min()
+    cube_normals = data.normals[~sphere_corners].reshape(-1, 3, 3)
+    faces = _geometric_normals(data)[data.indices[:, 0] // 1 >= 0][
+        (data.positions[::3, 0] >= 5)]
+    assert_close(cube_normals[:, 0], faces, 1e-5, "flat faces use face normals")
+
+
+def test_custom_normals():
+    _camera()
+    obj = add_mesh_object("Quad", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)],
+                          [(0, 1, 2, 3)], rotation=(math.pi / 2, 0, 0))
+    mesh = obj.data
+    if not helpers.BLENDER_4_1:
+        mesh.use_auto_smooth = True
+    tilted = (0.0, 0.6, 0.8)
+    mesh.normals_split_custom_set([tilted] * len(mesh.loops))
+    data = export()
+    assert data.normals is not None
+    # Rotating 90 degrees about X maps local (0, 0.6, 0.8) to (0, -0.8, 0.6).
+    assert_close(data.normals, np.tile((0.0, -0.8, 0.6), (6, 1)), 1e-4, "custom normals")
+
+
+def test_nan_vertices_are_dropped_with_a_warning():
+    _camera()
+    add_mesh_object("Bad", [(0, 0, 0), (1, 0, 0), (0, 1, 0), (float("nan"), 0, 0)],
+                    [(0, 1, 2), (1, 3, 2)])
+    data = export()
+    assert data.triangle_count == 1, data.triangle_count
+    assert data.stats["dropped_triangles"] == 1
+    assert any("NaN" in w for w in data.warnings), data.warnings
+    assert np.isfinite(data.positions).all()
+
+
+def _material_of(data, index=0):
+    return data.materials[int(data.material_ids[index])]
+
+
+def _single(material):
+    """Exports one cube with the material (clearing earlier objects, keeping materials)."""
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    _camera()
+    add_cube(material=material)
+    return export()
+
+
+def test_principled_mappings():
+    base = (0.2, 0.4, 0.6, 1.0)
+    data = _single(node_material("Plastic", PRINCIPLED, **{"Base Color": base}))
+    material = _material_of(data)
+    assert material.kind == "diffuse", material
+    assert_close(material.color, base[:3], 1e-6, "principled base colour")
+    assert not data.warnings, data.warnings
+
+    data = _single(node_material("Metal", PRINCIPLED, **{"Base Color": base, "Metallic": 1.0,
+                                                          "Roughness": 0.0}))
+    assert _material_of(data).kind == "conductor" and not data.warnings, data.warnings
+
+    data = _single(node_material("Glass", PRINCIPLED, **{TRANSMISSION: 1.0, "IOR": 1.33,
+                                                          "Roughness": 0.0}))
+    material = _material_of(data)
+    assert material.kind == "dielectric" and abs(material.ior - 1.33) < 1e-6, material
+
+    data = _single(node_material("Glow", PRINCIPLED, **{EMISSION_COLOR: (1.0, 0.5, 0.25, 1),
+                                                         "Emission Strength": 4.0}))
+    assert_close(_material_of(data).emission, (4.0, 2.0, 1.0), 1e-6, "principled emission")
+    assert data.emits_light()
+
+    data = _single(node_material("RoughMetal", PRINCIPLED, **{"Metallic": 1.0,
+                                                               "Roughness": 0.8}))
+    assert _material_of(data).kind == "diffuse"
+    assert len(data.warnings) == 1 and "roughness" in data.warnings[0], data.warnings
+
+
+def test_basic_node_mappings():
+    data = _single(helpers.diffuse_material("Red", (0.8, 0.1, 0.1)))
+    assert _material_of(data).kind == "diffuse"
+    assert_close(_material_of(data).color, (0.8, 0.1, 0.1), 1e-6, "diffuse colour")
+
+    data = _single(node_material("Mirror", "ShaderNodeBsdfGlossy", Roughness=0.0,
+                                 Color=(0.9, 0.9, 0.9, 1)))
+    assert _material_of(data).kind == "conductor" and not data.warnings, data.warnings
+
+    data = _single(node_material("Satin", "ShaderNodeBsdfGlossy", Roughness=0.3))
+    assert _material_of(data).kind == "conductor"
+    assert len(data.warnings) == 1 and "0.30" in data.warnings[0], data.warnings
+
+    data = _single(node_material("Matte", "ShaderNodeBsdfGlossy", Roughness=0.9))
+    assert _material_of(data).kind == "diffuse" and len(data.warnings) == 1
+
+    data = _single(node_material("Glass", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0))
+    material = _material_of(data)
+    assert material.kind == "dielectric" and abs(material.ior - 1.45) < 1e-6, material
+
+    data = _single(helpers.emission_material("Lamp", (1.0, 0.8, 0.6), 10.0))
+    material = _material_of(data)
+    assert_close(material.emission, (10.0, 8.0, 6.0), 1e-5, "emission radiance")
+    assert_close(material.color, (0, 0, 0), 0, "emitter reflects nothing")
+
+
+def test_linked_colour_inputs():
+    material = node_material("Tinted", "ShaderNodeBsdfDiffuse")
+    tree = material.node_tree
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.3, 0.5, 0.7, 1.0)
+    shader = next(node for node in tree.nodes if node.type == 'BSDF_DIFFUSE')
+    tree.links.new(rgb.outputs[0], shader.inputs["Color"])
+    data = _single(material)
+    assert_close(_material_of(data).color, (0.3, 0.5, 0.7), 1e-6, "RGB node colour")
+
+
+def test_image_texture_mean_and_missing_file():
+    import os
+    image = bpy.data.images.new("Checker", 4, 4, float_buffer=True)
+    pixels = np.zeros((4, 4, 4), dtype=np.float32)
+    pixels[..., 3] = 1.0
+    pixels[::2, :, 0] = 1.0   # half the rows red, half the columns blue: 0 and 1 are
+    pixels[:, ::2, 2] = 1.0   # the same in every colour space Blender may save in
+    image.pixels.foreach_set(pixels.ravel())
+    path = os.path.join(helpers.OUT, "checker.exr")
+    image.filepath_raw = path
+    image.file_format = 'OPEN_EXR'
+    image.save()
+    material = node_material("Textured", PRINCIPLED)
+    tree = material.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load(path)
+    principled = next(node for node in tree.nodes if node.type == 'BSDF_PRINCIPLED')
+    tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
+    data = _single(material)
+    assert_close(_material_of(data).color, (0.5, 0.0, 0.5), 1e-5, "image mean colour")
+    assert any("mean colour" in w for w in data.warnings), data.warnings
+
+    missing = node_material("Missing", PRINCIPLED, **{"Base Color": (0.1, 0.2, 0.3, 1)})
+    tree = missing.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load("/nonexistent/texture.png", check_existing=False)
+    principled = next(node for node in tree.nodes if node.type == 'BSDF_PRINCIPLED')
+    tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
+    data = _single(missing)
+    assert_close(_material_of(data).color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
+    assert any("missing" in w for w in data.warnings), data.warnings
+
+
+def test_unsupported_material_falls_back_once():
+    _camera()
+    material = node_material("Toon", "ShaderNodeBsdfTranslucent")
+    material.diffuse_color = (0.1, 0.7, 0.2, 1.0)
+    add_cube("A", material=material)
+    add_cube("B", location=(5, 0, 0), material=material)
+    data = export()
+    assert_close(_material_of(data).color, (0.1, 0.7, 0.2), 1e-6, "viewport colour")
+    assert len(data.warnings) == 1 and "Toon" in data.warnings[0], data.warnings
+
+
+def test_material_slots_map_per_triangle():
+    _camera()
+    red = diffuse_material("Red", (1, 0, 0))
+    blue = diffuse_material("Blue", (0, 0, 1))
+    cube = add_cube(material=red)
+    cube.data.materials.append(blue)
+    cube.data.polygons.foreach_set("material_index", [0, 1, 0, 1, 0, 1])
+    cube.data.update()
+    data = export()
+    colors = np.array([data.materials[i].color for i in data.material_ids])
+    centers = _triangles(data).mean(axis=1)
+    # Faces -X, -Y, -Z (indices 0, 2, 4) red; +X, +Y, +Z blue.
+    blue_side = centers.sum(axis=1) > 0
+    assert_close(colors[blue_side], np.tile((0, 0, 1), (6, 1)), 0, "blue faces")
+    assert_close(colors[~blue_side], np.tile((1, 0, 0), (6, 1)), 0, "red faces")
+
+
+def test_point_spot_sun_lights():
+    _camera()
+    add_light('POINT', 100.0, location=(1, 2, 3), color=(1, 0.5, 0.25), shadow_soft_size=0.1)
+    add_light('SPOT', 50.0, location=(0, 0, 5), rotation=(math.pi / 2, 0, 0),
+              spot_size=math.radians(60), spot_blend=0.25)
+    add_light('SUN', 3.0, rotation=(0, math.pi / 4, 0), angle=math.radians(2))
+    data = export()
+    lights = {light.kind: light for light in data.lights}
+    point, spot, sun = lights["point"], lights["spot"], lights["sun"]
+    assert_close(point.position, (1, 2, 3), 1e-6, "point position")
+    assert_close(point.color, (1, 0.5, 0.25), 1e-6, "point colour")
+    assert point.power == 100.0 and abs(point.radius - 0.1) < 1e-6
+    # Rotating -Z by 90 degrees about X points the spot along +Y.
+    assert_close(spot.direction, (0, 1, 0), 1e-6, "spot direction")
+    assert abs(spot.spot_size - math.radians(60)) < 1e-6 and abs(spot.spot_blend - 0.25) < 1e-6
+    # Rotating -Z by 45 degrees about Y: (-sin 45, 0, -cos 45).
+    assert_close(sun.direction, (-math.sqrt(0.5), 0, -math.sqrt(0.5)), 1e-6, "sun direction")
+    assert sun.power == 3.0 and abs(sun.angle - math.radians(2)) < 1e-6
+
+
+def test_area_lights_become_emitters():
+    _camera()
+    add_light('AREA', 100.0, location=(0, 0, 4), shape='RECTANGLE', size=2.0, size_y=1.0)
+    data = export()
+    assert not data.lights and data.triangle_count == 2, data.triangle_count
+    area = 2.0
+    assert_close(_material_of(data).emission, [100.0 / (math.pi * area)] * 3, 1e-5,
+                 "radiance P / (pi A)")
+    assert_close(_geometric_normals(data), np.tile((0, 0, -1), (2, 1)), 1e-6, "faces -Z")
+    assert_close(data.positions[:, 2], [4.0] * 6, 1e-6, "height")
+
+    helpers.reset_scene()
+    _camera()
+    add_light('AREA', 10.0, location=(0, 0, 0), rotation=(math.pi / 2, 0, 0), shape='DISK',
+              size=2.0)
+    data = export()
+    normals = _geometric_normals(data)
+    assert_close(normals, np.tile((0, 1, 0), (len(normals), 1)), 1e-5, "disk faces +Y")
+    tri = _triangles(data).astype(np.float64)
+    polygon_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+                                        axis=1).sum()
+    assert abs(polygon_area - math.pi) < 0.01 * math.pi, polygon_area
+    emitted = _material_of(data).emission[0] * math.pi * polygon_area
+    assert abs(emitted - 10.0) < 1e-4, "emitted power must equal the light's power"
+
+
+def _fov(sensor_fit, size, **camera):
+    helpers.reset_scene(size=size)
+    add_camera((0, 0, 0), (0, 0, 0), lens=50.0, sensor_fit=sensor_fit, sensor_width=36.0,
+               sensor_height=24.0, **camera)
+    add_cube(location=(0, 0, -5))
+    return export().camera
+
+
+def test_camera_fov_for_each_sensor_fit():
+    wide, tall = (128, 64), (64, 128)
+    assert_close(_fov('AUTO', wide).fov_x, 2 * math.atan(18 / 50), 1e-6, "AUTO landscape")
+    assert_close(_fov('AUTO', tall).fov_x, 2 * math.atan(18 / 50 * 0.5), 1e-6, "AUTO portrait")
+    assert_close(_fov('HORIZONTAL', tall).fov_x, 2 * math.atan(18 / 50), 1e-6, "HORIZONTAL")
+    assert_close(_fov('VERTICAL', wide).fov_x, 2 * math.atan(12 / 50 * 2), 1e-6, "VERTICAL")
+    camera = _fov('VERTICAL', wide, shift_x=0.1, shift_y=-0.2)
+    # Shift is in units of the fit side (height 64); the module wants the larger (128).
+    assert_close((camera.shift_x, camera.shift_y), (0.05, -0.1), 1e-6, "shift")
+    camera = _fov('AUTO', wide, shift_x=0.1)
+    assert_close(camera.shift_x, 0.1, 1e-6, "AUTO shift unchanged")
+
+
+def test_camera_transform_ortho_and_depth_of_field():
+    helpers.reset_scene()
+    camera = add_camera((1, 2, 3), (0.3, 0.2, 0.1), type='ORTHO', ortho_scale=7.0)
+    camera.scale = (2, 2, 2)
+    add_cube(location=(0, 0, -5))
+    data = export()
+    expected = np.array(camera.matrix_world.normalized())
+    assert_close(data.camera.to_world, expected, 1e-5, "camera matrix without scale")
+    assert data.camera.to_world.dtype == np.float32 and data.camera.to_world.shape == (4, 4)
+    assert data.camera.projection == "orthographic" and abs(data.camera.ortho_scale - 7) < 1e-6
+
+    helpers.reset_scene()
+    camera = add_camera((0, 0, 0), (0, 0, 0), lens=50.0)
+    camera.data.dof.use_dof = True
+    camera.data.dof.aperture_fstop = 2.0
+    target = bpy.data.objects.new("Target", None)
+    target.location = (1, 0, -4)
+    bpy.context.scene.collection.objects.link(target)
+    camera.data.dof.focus_object = target
+    add_cube(location=(0, 0, -5))
+    data = export()
+    assert_close(data.camera.aperture_radius, 0.05 / 4, 1e-7, "aperture radius")
+    assert_close(data.camera.focus_distance, 4.0, 1e-5, "focus distance along the view axis")
+
+
+def test_world_background():
+    _camera()
+    add_cube()
+    set_world((0.5, 0.25, 1.0), 2.0)
+    assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "background colour x strength")
+    world = bpy.context.scene.world
+    world.use_nodes = False
+    world.color = (0.1, 0.2, 0.3)
+    assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
+    bpy.context.scene.world = None
+    data = export()
+    assert_close(data.environment, (0, 0, 0), 0, "no world")
+    assert not data.emits_light()
+
+
+def test_no_camera_is_an_export_error():
+    add_cube()
+    try:
+        export()
+    except helpers.ADDON.export.ExportError as error:
+        assert "camera" in str(error)
+    else:
+        raise AssertionError("export without a camera should fail")

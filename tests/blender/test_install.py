@@ -1,0 +1,85 @@
+"""The add-on (3.x) or extension (4.2+) is installed and registered: engine, settings,
+panels, and the packaged native module with its shaders."""
+
+import glob
+import os
+
+import addon_utils
+import bpy
+
+import helpers
+
+BLENDER_PANELS = ("RENDER_PT_format", "RENDER_PT_output", "RENDER_PT_color_management",
+                  "DATA_PT_lens", "DATA_PT_camera", "DATA_PT_camera_dof", "DATA_PT_spot",
+                  "DATA_PT_area", "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
+                  "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface", "WORLD_PT_context_world")
+OWN_PANELS = ("RENDER_PT_glslppm_sampling", "RENDER_PT_glslppm_photons",
+              "RENDER_PT_glslppm_advanced", "DATA_PT_glslppm_light")
+
+
+def test_engine_is_a_render_engine():
+    engines = {getattr(cls, "bl_idname", None) for cls in bpy.types.RenderEngine.__subclasses__()}
+    assert "GLSLPPM" in engines, engines
+    engine = helpers.ADDON.engine.GlslppmRenderEngine
+    assert engine.bl_label == "GLSLPPM" and engine.bl_use_preview is False
+    bpy.context.scene.render.engine = 'GLSLPPM'
+    assert bpy.context.scene.render.engine == 'GLSLPPM'
+
+
+def test_addon_enabled_in_preferences():
+    if helpers.SOURCE_MODE:
+        raise helpers.Skip("running from the source tree: not enabled through addon_utils")
+    enabled = {addon.module for addon in bpy.context.preferences.addons}
+    assert helpers.ADDON_NAME in enabled, (helpers.ADDON_NAME, sorted(enabled))
+    loaded_default, loaded_state = addon_utils.check(helpers.ADDON_NAME)
+    assert loaded_state, "add-on not loaded"
+
+
+def test_installed_package_ships_module_and_shaders():
+    if helpers.SOURCE_MODE:
+        raise helpers.Skip("running from the source tree, not an installed package")
+    package_dir = os.path.dirname(helpers.ADDON.__file__)
+    modules = glob.glob(os.path.join(package_dir, "_glslppm*.so"))
+    assert modules, f"no compiled module in {package_dir}"
+    assert os.path.isdir(os.path.join(package_dir, "shaders")), "no shaders/ beside the module"
+    assert glob.glob(os.path.join(package_dir, "shaders", "*")), "shaders/ is empty"
+    native, problem = helpers.ADDON.native_module.load()
+    assert native is not None, problem
+
+
+def test_scene_settings_defaults():
+    settings = bpy.context.scene.glslppm
+    assert settings.passes == 64
+    assert settings.time_limit == 0.0
+    assert settings.photons_per_pass == 65536
+    assert abs(settings.alpha - 0.7) < 1e-6
+    assert settings.use_auto_radius and settings.radius() == 0.0
+    settings.use_auto_radius = False
+    settings.initial_radius = 0.25
+    assert abs(settings.radius() - 0.25) < 1e-6
+    assert settings.max_bounces == 16
+    assert settings.hash_mode == 'STOCHASTIC' and settings.rng in {'PAPER', 'PCG'}
+    assert settings.device == -1 and settings.seed == 0
+
+
+def test_panels_show_for_engine():
+    missing = [name for name in BLENDER_PANELS + OWN_PANELS
+               if 'GLSLPPM' not in getattr(bpy.types, name).COMPAT_ENGINES]
+    assert not missing, f"panels not shown for GLSLPPM: {missing}"
+    # EEVEE-only settings stay hidden.
+    assert 'GLSLPPM' not in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+
+
+def test_disable_and_enable_again():
+    if helpers.SOURCE_MODE:
+        raise helpers.Skip("running from the source tree: not enabled through addon_utils")
+    addon_utils.disable(helpers.ADDON_NAME, default_set=True)
+    engines = {getattr(cls, "bl_idname", None) for cls in bpy.types.RenderEngine.__subclasses__()}
+    try:
+        assert "GLSLPPM" not in engines, "engine still registered after disabling"
+        assert not hasattr(bpy.types.Scene, "glslppm")
+        assert 'GLSLPPM' not in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+    finally:
+        module = addon_utils.enable(helpers.ADDON_NAME, default_set=True)
+        assert module is not None
+        helpers.ADDON = module
