@@ -5,6 +5,9 @@ Blender 3.x reads ``bl_info``; Blender 4.2+ installs the package as an extension
 described by ``blender_manifest.toml`` and ignores ``bl_info``.
 """
 
+from . import engine, export, native_module, properties, ui  # noqa: F401 (export,
+# native_module: the public submodules scripts and tests reach through the package)
+
 bl_info = {
     "name": "GLSLPPM",
     "author": "glslppm developers",
@@ -15,7 +18,6 @@ bl_info = {
     "category": "Render",
 }
 
-from . import native_module, properties, export, engine, ui
 
 _parts = (properties, engine, ui)
 

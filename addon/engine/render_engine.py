@@ -42,7 +42,16 @@ class GlslppmRenderEngine(bpy.types.RenderEngine):
             self._render(depsgraph)
         except Exception as error:  # noqa: BLE001 - the last line of defence
             traceback.print_exc()
-            self.report({'ERROR'}, f"GLSLPPM: unexpected error: {error!r}")
+            self.report_to_user('ERROR', f"unexpected error: {error!r}")
+
+    def report_to_user(self, level, message):
+        """Every message goes through here: Blender's report (the render window,
+        and an exception for ERROR in scripts) with the engine's name in front."""
+        self.report({level}, f"GLSLPPM: {message}")
+
+    def should_stop(self):
+        """Between passes: the user cancelled (Esc, closing the render window)."""
+        return self.test_break()
 
     def _render(self, depsgraph):
         scene = depsgraph.scene
@@ -55,25 +64,25 @@ class GlslppmRenderEngine(bpy.types.RenderEngine):
         self.update_stats("", "GLSLPPM | exporting scene")
         try:
             data = export_scene(depsgraph, self.camera_override or scene.camera,
-                                width, height, self.test_break)
+                                width, height, self.should_stop)
         except ExportError as error:
             self._fail(str(error), width, height)
             return
         if data is None:
             return  # cancelled during export
         for warning in data.warnings:
-            self.report({'WARNING'}, f"GLSLPPM: {warning}")
+            self.report_to_user('WARNING', warning)
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
         if data.triangle_count == 0:
-            self.report({'WARNING'}, "GLSLPPM: the scene has no geometry; "
-                        "the image shows only the world")
+            self.report_to_user('WARNING', "the scene has no geometry; the image shows "
+                                "only the world")
             self._fill(width, height, tuple(data.environment) + (1.0,))
             return
         if not data.emits_light():
-            self.report({'WARNING'}, "GLSLPPM: the scene has no lights, emissive "
-                        "materials or world light; the image is black")
+            self.report_to_user('WARNING', "the scene has no lights, emissive materials "
+                                "or world light; the image is black")
             self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
             return
 
@@ -99,7 +108,7 @@ class GlslppmRenderEngine(bpy.types.RenderEngine):
         start = time.perf_counter()
         film_ok = False
         try:
-            while not self.test_break():
+            while not self.should_stop():
                 elapsed = time.perf_counter() - start
                 batch = schedule.next_batch(elapsed)
                 if batch == 0:
@@ -118,8 +127,8 @@ class GlslppmRenderEngine(bpy.types.RenderEngine):
                     self.update_result(result)
             film_ok = self._write_film(renderer, combined)
         except native.GlslppmError as error:
-            self.report({'ERROR'}, f"GLSLPPM: rendering failed after {schedule.done} "
-                        f"passes: {error}")
+            self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "
+                                f"{error}")
         finally:
             if not film_ok:
                 _set_rect(combined, np.zeros((height, width, 4), dtype=np.float32))
@@ -140,7 +149,7 @@ class GlslppmRenderEngine(bpy.types.RenderEngine):
         self.end_result(result)
 
     def _fail(self, message, width, height):
-        self.report({'ERROR'}, f"GLSLPPM: {message}")
+        self.report_to_user('ERROR', message)
         self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
 
 

@@ -2,15 +2,22 @@
 units: point and spot power is light.energy in W, sun strength in W/m².
 
 Area lights become emissive geometry: a one-sided quad or disk facing the light's
--Z, with radiance L = P / (π A) (Cycles: ``eval_fac = M_1_PI_F * invarea``, where
-invarea is 1 / area unless the light's Normalize option is off).
+-Z. Its radiance follows the running Blender's Cycles, whose convention changed in
+4.0: L = P / (π A) from 4.0 on (``eval_fac = M_1_PI_F * invarea``; the emitted power
+is P) and L = P / (4 A) before (``eval_fac = 0.25f * invarea``; measured here: the
+same Cornell box is 4/π brighter in Cycles 4.3 than in 3.4). invarea is 1 / area
+unless the light's Normalize option (4.x) is off.
 """
 
 import math
 
+import bpy
 import numpy as np
 
 from .scene_data import LightData, MaterialData
+
+# Radiance per watt and unit area of an area light: 1/π (Blender 4.0+) or 1/4 (3.x).
+AREA_RADIANCE_PER_WATT = 1.0 / math.pi if bpy.app.version >= (4, 0, 0) else 0.25
 
 # Triangles in the fan of a disk or ellipse area light.
 DISK_SEGMENTS = 64
@@ -76,7 +83,7 @@ def _area(light, matrix, builder):
         builder.warn(f"light '{light.name}': area light spread is not supported; "
                      "emitting into the full hemisphere")
     normalize = getattr(light, "normalize", True)
-    scale = float(light.energy) / (math.pi * (area if normalize else 1.0))
+    scale = float(light.energy) * AREA_RADIANCE_PER_WATT / (area if normalize else 1.0)
     radiance = tuple(c * scale for c in _color(light))
     material = builder.material_id(
         ("area light", light.name_full, radiance),

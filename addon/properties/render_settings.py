@@ -7,46 +7,50 @@ INT_MAX = 2**31 - 1
 
 
 class GlslppmRenderSettings(bpy.types.PropertyGroup):
-    passes: IntProperty(
-        name="Passes", default=64, min=1, max=INT_MAX, soft_max=100000,
-        description="SPPM passes to render (each pass traces one eye ray per pixel "
-                    "and one batch of photons)")
-    time_limit: FloatProperty(
-        name="Time Limit", default=0.0, min=0.0, soft_max=3600.0, precision=1,
-        description="Stop after this many seconds even if passes remain (0 = no limit)")
-    photons_per_pass: IntProperty(
-        name="Photons per Pass", default=65536, min=1, max=INT_MAX, soft_max=1 << 24,
-        description="Photon paths advanced by one bounce in each pass")
-    use_auto_radius: BoolProperty(
-        name="Automatic Radius", default=True,
-        description="Choose the initial gather radius from the scene size and resolution")
-    initial_radius: FloatProperty(
-        name="Initial Radius", default=0.01, min=0.0, soft_max=1.0, precision=4,
-        subtype='DISTANCE', unit='LENGTH',
-        description="Initial photon gather radius in scene units")
-    alpha: FloatProperty(
-        name="Alpha", default=0.7, min=0.01, max=1.0,
-        description="Fraction of new photons kept per pass: lower shrinks the radius "
-                    "faster (less blur, more noise)")
-    max_bounces: IntProperty(
-        name="Max Bounces", default=16, min=1, max=1024,
-        description="Longest eye and photon path")
-    hash_mode: EnumProperty(
-        name="Photon Hash", default='STOCHASTIC',
-        items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "
-                "scale it by the cell's count (fast)"),
-               ('EXACT', "Exact", "Keep every photon (slower, less noise)")))
-    rng: EnumProperty(
-        name="Random Numbers", default='PAPER',
-        items=(('PAPER', "Float (paper)", "The float-only generator of Hachisuka's GLSL "
-                "rendering system"),
-               ('PCG', "PCG", "Integer PCG hash")))
-    device: IntProperty(
-        name="Device", default=-1, min=-1, max=64,
-        description="EGL device index of the GPU to render on (-1 = automatic)")
-    seed: IntProperty(
-        name="Seed", default=0, min=0, max=INT_MAX,
-        description="Random seed; renders with the same seed and settings repeat")
+    # Blender reads properties from the class annotations; a dict keeps flake8 from
+    # parsing the property calls as type hints.
+    __annotations__ = {
+        "passes": IntProperty(
+            name="Passes", default=64, min=1, max=INT_MAX, soft_max=100000,
+            description="SPPM passes to render (each pass traces one eye ray per pixel "
+                        "and one batch of photons)"),
+        "time_limit": FloatProperty(
+            name="Time Limit", default=0.0, min=0.0, soft_max=3600.0, precision=1,
+            description="Stop after this many seconds even if passes remain (0 = no limit)"),
+        "photons_per_pass": IntProperty(
+            name="Photons per Pass", default=65536, min=1, max=INT_MAX, soft_max=1 << 24,
+            description="Photon paths advanced by one bounce in each pass"),
+        "use_auto_radius": BoolProperty(
+            name="Automatic Radius", default=True,
+            description="Choose the initial gather radius from the scene size and resolution"),
+        "initial_radius": FloatProperty(
+            name="Initial Radius", default=0.01, min=0.0, soft_max=1.0, precision=4,
+            subtype='DISTANCE', unit='LENGTH',
+            description="Initial photon gather radius in scene units"),
+        "alpha": FloatProperty(
+            name="Alpha", default=0.7, min=0.01, max=1.0,
+            description="Fraction of new photons kept per pass: lower shrinks the radius "
+                        "faster (less blur, more noise)"),
+        "max_bounces": IntProperty(
+            name="Max Bounces", default=16, min=1, max=1024,
+            description="Longest eye and photon path"),
+        "hash_mode": EnumProperty(
+            name="Photon Hash", default='STOCHASTIC',
+            items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "
+                    "scale it by the cell's count (fast)"),
+                   ('EXACT', "Exact", "Keep every photon (slower, less noise)"))),
+        "rng": EnumProperty(
+            name="Random Numbers", default='PAPER',
+            items=(('PAPER', "Float (paper)", "The float-only generator of Hachisuka's GLSL "
+                    "rendering system"),
+                   ('PCG', "PCG", "Integer PCG hash"))),
+        "device": IntProperty(
+            name="Device", default=-1, min=-1, max=64,
+            description="EGL device index of the GPU to render on (-1 = automatic)"),
+        "seed": IntProperty(
+            name="Seed", default=0, min=0, max=INT_MAX,
+            description="Random seed; renders with the same seed and settings repeat"),
+    }
 
     def radius(self):
         """The module's initial_radius: 0 means automatic."""

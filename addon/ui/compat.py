@@ -11,6 +11,7 @@ EXCLUDED = {
     'VIEWLAYER_PT_filter',
     'VIEWLAYER_PT_layer_passes',
     'RENDER_PT_freestyle',
+    'DATA_PT_area',           # 3.x only; the engine's light panel draws the shape
 }
 
 # EEVEE's and Cycles' panels that draw nothing specific to those engines.

@@ -1,5 +1,5 @@
-"""Light Properties: the light settings GLSLPPM uses (Blender's own panels cover
-type, spot shape and area shape; the colour and power live in engine panels)."""
+"""Light Properties: the light settings GLSLPPM uses. Blender's own panels cover the
+type and the spot cone; colour, power and shape live in engine-specific panels."""
 
 import bpy
 
@@ -26,6 +26,14 @@ class DATA_PT_glslppm_light(bpy.types.Panel):
             column.prop(light, "shadow_soft_size", text="Radius")
         elif light.type == 'SUN':
             column.prop(light, "angle")
+        elif light.type == 'AREA':
+            column.prop(light, "shape")
+            sizes = column.column(align=True)
+            if light.shape in {'SQUARE', 'DISK'}:
+                sizes.prop(light, "size")
+            else:
+                sizes.prop(light, "size", text="Size X")
+                sizes.prop(light, "size_y", text="Y")
 
 
 classes = (DATA_PT_glslppm_light,)

@@ -17,6 +17,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -24,6 +25,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -183,7 +185,19 @@ int bench_rng(int argc, char** argv) {
                                          {{define, ""}, {"RNG_STREAM_SUM", ""}});
 
         const std::size_t count = std::size_t{o.threads} * o.per_thread;
-        const GLuint values = make_buffer(0, count * sizeof(float), nullptr);
+        // The stream needs T*K floats in one SSBO; the summing kernel only T.
+        GLint64 max_block = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+        const bool stream_fits = count * sizeof(float) <= static_cast<std::size_t>(max_block) &&
+                                 count <= UINT32_MAX;
+        if (!stream_fits && (!o.out.empty() || o.passes != 1)) {
+            throw std::runtime_error("a stream of " + std::to_string(count) + " numbers needs " +
+                                     std::to_string(count * 4) + " bytes, over the driver's " +
+                                     std::to_string(max_block) +
+                                     "-byte SSBO limit: lower --threads or --per-thread");
+        }
+        const GLuint values = make_buffer(
+            0, (stream_fits ? count : std::size_t{o.threads}) * sizeof(float), nullptr);
         const GLuint states = make_buffer(kStateBinding, std::size_t{o.threads} * 16, nullptr);
         if (o.generator == "paper") upload_paper_states(states, o);
 
@@ -208,12 +222,13 @@ int bench_rng(int argc, char** argv) {
             }
         }
         const bool u24 = o.format == "u24";
-        std::vector<float> host(count);
-        std::vector<unsigned char> bytes(count * (u24 ? 3 : 4));
+        std::vector<float> host(stream_fits ? count : 0);
+        std::vector<unsigned char> bytes(host.size() * (u24 ? 3 : 4));
         double sum = 0.0;
         std::uint64_t written = 0, ones = 0;
         const auto start = std::chrono::steady_clock::now();
-        const std::uint64_t passes = o.passes == 0 ? UINT64_MAX : o.passes;
+        // Without --out a too-large stream is skipped: only the speed is asked for.
+        const std::uint64_t passes = !stream_fits ? 0 : o.passes == 0 ? UINT64_MAX : o.passes;
         bool closed = false;
         for (std::uint64_t pass = 0; pass < passes && !closed; ++pass) {
             dispatch(stream_program, o, static_cast<std::uint32_t>(o.seed + pass));

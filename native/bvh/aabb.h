@@ -55,4 +55,16 @@ struct Aabb {
     }
 };
 
+// Relative padding of BVH leaf boxes and of the per-triangle hit confirmation (intersect.h):
+// 2^-19 of the box's largest absolute coordinate, i.e. at least 16 float ulps of every
+// coordinate, at any scene scale (no absolute epsilon: scenes span 1e-3 to 1e5 units).
+constexpr float kBoxPadRelative = 1.0f / 524288.0f;
+
+// Grows the box outwards by kBoxPadRelative of its magnitude. Monotone: a box containing
+// another gives a padded box containing the other's padded box, also after rounding.
+inline Aabb pad_box(const Aabb& box) {
+    const float pad = box.magnitude() * kBoxPadRelative;
+    return Aabb{box.lo - pad, box.hi + pad};
+}
+
 }  // namespace glslppm

@@ -1,18 +1,24 @@
 // Ray-triangle and ray-box tests shared by the BVH traversal and the brute-force
 // reference. shaders/common/mtbvh.glsl mirrors these functions line by line; change both.
 //
-// Exactness contract: brute force, TBVH and MTBVH all call intersect_triangle() on the very
-// same float vertices and keep the closest hit by is_closer() (smallest t, ties to the
+// Exactness contract: brute force, TBVH and MTBVH all accept a triangle hit by the same
+// rule on the very same floats and keep the closest by is_closer() (smallest t, ties to the
 // smaller ORIGINAL triangle id), which does not depend on the order triangles are visited.
-// The box test is conservative (padded boxes, pbrt's 1 + 2*gamma(3) on the far distance),
-// so traversal never culls a triangle that the triangle test would accept, and all three
-// agree bit for bit.
+// The rule (hit_triangle) is Moller-Trumbore, confirmed by the slab test of the triangle's
+// own padded box over [tmin, t]. The confirmation is what makes agreement exact rather than
+// likely: for grazing rays Moller-Trumbore's t can be off by far more than any box padding
+// (its error grows as 1/det), putting the "hit" outside the triangle's box. hit_box is
+// monotone in the box and in tmax, every BVH box contains the padded boxes of its triangles
+// (aabb.h, pad_box), and traversal tests boxes against the best t so far (>= the t of any
+// hit that can still win), so no box on the way to an accepted hit can fail its test.
 #pragma once
 
 #include <cstdint>
 #include <limits>
 
 #include <glm/glm.hpp>
+
+#include "bvh/aabb.h"
 
 namespace glslppm {
 
@@ -35,9 +41,13 @@ constexpr float bvh_gamma(int n) {
     constexpr float eps = 0.5f * std::numeric_limits<float>::epsilon();
     return (n * eps) / (1.0f - n * eps);
 }
-// Slack on the far side of a slab test (pbrt 4th ed., section 6.8.4 "Bounding box
-// intersections": tFar *= 1 + 2 * gamma(3)).
-constexpr float kSlabFarScale = 1.0f + 2.0f * bvh_gamma(3);
+// Relative slack on the far side of the slab test. pbrt (4th ed., section 6.8.2) uses
+// tFar *= 1 + 2*gamma(3) to cover the slab arithmetic; we widen it to 2^-14 so that the
+// confirmation of a hit also absorbs Moller-Trumbore's own error in t, down to grazing
+// angles of about half a degree; nearly parallel hits beyond that are dropped rather than
+// returned at a point outside their triangle. The extra boxes this visits are negligible.
+constexpr float kSlabFarScale = 1.0f + 1.0f / 16384.0f;
+static_assert(kSlabFarScale > 1.0f + 2.0f * bvh_gamma(3));
 
 // The MTBVH link set for a ray: axis = largest |dir| component (ties to the lower axis),
 // order = 2*axis + (dir[axis] < 0). Hachisuka 2015, Figure 3, first line.
@@ -94,6 +104,16 @@ inline bool intersect_triangle(const glm::vec3& origin, const glm::vec3& dir, fl
     if (!(v >= 0.0f && u + v <= 1.0f)) return false;
     t = glm::dot(e2, q) * inv_det;
     return t > tmin && t < tmax;
+}
+
+// The hit rule everywhere (see the top of this file): Moller-Trumbore, then the segment
+// [tmin, t] must touch the triangle's padded box. Callers that keep the closest hit check
+// is_closer() between the two steps, so the box test runs only for would-be winners.
+inline bool confirm_triangle_hit(const glm::vec3& origin, const glm::vec3& inv_dir, float tmin,
+                                 float t, const glm::vec3& v0, const glm::vec3& v1,
+                                 const glm::vec3& v2) {
+    const Aabb box = pad_box(Aabb::of_triangle(v0, v1, v2));
+    return hit_box(box.lo, box.hi, origin, inv_dir, tmin, t);
 }
 
 // The closest-hit rule everywhere: smaller t wins, equal t goes to the smaller original id.

@@ -17,11 +17,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-Aabb pad_box(const Aabb& box) {
-    const float pad = box.magnitude() * kBoxPadRelative;
-    return Aabb{box.lo - pad, box.hi + pad};
-}
-
 PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
                    bool parallel) {
     if (threaded.node_count != bvh.nodes.size())

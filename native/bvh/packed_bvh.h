@@ -4,8 +4,8 @@
 //   nodes      2 vec4 per node, node 0 = root, in build preorder:
 //                [2n]   = (lo.xyz, intBitsToFloat(first packed triangle))
 //                [2n+1] = (hi.xyz, intBitsToFloat(triangle count; 0 = inner node))
-//              Boxes are padded outwards relative to their magnitude (pad_box), so a ray
-//              that the triangle test accepts is never culled by float rounding.
+//              Leaf boxes are padded outwards relative to their magnitude (pad_box in
+//              aabb.h), inner boxes are the unions of their children's.
 //   links      ivec2 per node per order: links[order * node_count + node] = (hit, miss),
 //              -1 = end of traversal. order = 2*axis + (dir[axis] < 0) for the MTBVH
 //              (6 orders, see thread_mtbvh.h), always 0 for the TBVH (1 order).
@@ -55,11 +55,6 @@ struct PackedBvh {
     std::vector<glm::vec4> uvs;
     BvhStats stats;
 };
-
-// Relative padding of leaf boxes: 2^-19 of the box's largest absolute coordinate, i.e. at
-// least 16 float ulps of every coordinate, at any scene scale (no absolute epsilon).
-constexpr float kBoxPadRelative = 1.0f / 524288.0f;
-Aabb pad_box(const Aabb& box);
 
 // Packs an already built and threaded BVH (for building the MTBVH and the TBVH of one tree).
 PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,

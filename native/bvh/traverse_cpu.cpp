@@ -39,7 +39,10 @@ Hit closest_hit(const PackedBvh& bvh, const Ray& ray, TraversalCounts* counts) {
                 if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, glm::vec3(a),
                                        glm::vec3(b), glm::vec3(c), t, u, v)) {
                     const std::int32_t id = float_bits(b.w);
-                    if (is_closer(t, id, best)) best = Hit{t, u, v, id};
+                    if (is_closer(t, id, best) &&
+                        confirm_triangle_hit(ray.origin, inv_dir, ray.tmin, t, glm::vec3(a),
+                                             glm::vec3(b), glm::vec3(c)))
+                        best = Hit{t, u, v, id};
                 }
             }
             node = links[node].x;
@@ -64,11 +67,13 @@ bool any_hit(const PackedBvh& bvh, const Ray& ray, TraversalCounts* counts) {
             const std::int32_t first = float_bits(lo.w);
             for (std::int32_t i = first; i < first + count; ++i) {
                 if (counts) ++counts->triangles_tested;
+                const glm::vec3 a(bvh.triangles[3 * i]);
+                const glm::vec3 b(bvh.triangles[3 * i + 1]);
+                const glm::vec3 c(bvh.triangles[3 * i + 2]);
                 float t, u, v;
-                if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax,
-                                       glm::vec3(bvh.triangles[3 * i]),
-                                       glm::vec3(bvh.triangles[3 * i + 1]),
-                                       glm::vec3(bvh.triangles[3 * i + 2]), t, u, v))
+                if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, a, b, c, t, u,
+                                       v) &&
+                    confirm_triangle_hit(ray.origin, inv_dir, ray.tmin, t, a, b, c))
                     return true;
             }
             node = links[node].x;
@@ -82,25 +87,31 @@ bool any_hit(const PackedBvh& bvh, const Ray& ray, TraversalCounts* counts) {
 Hit closest_hit_brute_force(const ValidMesh& mesh, const Ray& ray) {
     Hit best;
     best.t = ray.tmax;
+    const glm::vec3 inv_dir = safe_inverse_dir(ray.dir);
     for (const std::uint32_t id : mesh.kept) {
         const glm::uvec3 tri = mesh.view.triangles[id];
+        const glm::vec3& a = mesh.view.positions[tri.x];
+        const glm::vec3& b = mesh.view.positions[tri.y];
+        const glm::vec3& c = mesh.view.positions[tri.z];
         float t, u, v;
-        if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax,
-                               mesh.view.positions[tri.x], mesh.view.positions[tri.y],
-                               mesh.view.positions[tri.z], t, u, v) &&
-            is_closer(t, static_cast<std::int32_t>(id), best))
+        if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, a, b, c, t, u, v) &&
+            is_closer(t, static_cast<std::int32_t>(id), best) &&
+            confirm_triangle_hit(ray.origin, inv_dir, ray.tmin, t, a, b, c))
             best = Hit{t, u, v, static_cast<std::int32_t>(id)};
     }
     return best;
 }
 
 bool any_hit_brute_force(const ValidMesh& mesh, const Ray& ray) {
+    const glm::vec3 inv_dir = safe_inverse_dir(ray.dir);
     for (const std::uint32_t id : mesh.kept) {
         const glm::uvec3 tri = mesh.view.triangles[id];
+        const glm::vec3& a = mesh.view.positions[tri.x];
+        const glm::vec3& b = mesh.view.positions[tri.y];
+        const glm::vec3& c = mesh.view.positions[tri.z];
         float t, u, v;
-        if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax,
-                               mesh.view.positions[tri.x], mesh.view.positions[tri.y],
-                               mesh.view.positions[tri.z], t, u, v))
+        if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, a, b, c, t, u, v) &&
+            confirm_triangle_hit(ray.origin, inv_dir, ray.tmin, t, a, b, c))
             return true;
     }
     return false;

@@ -10,6 +10,7 @@
 #include "gl/shader_program.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "scenes/cornell_box.h"
 
 namespace py = pybind11;
 using namespace glslppm;
@@ -307,6 +308,15 @@ PYBIND11_MODULE(_glslppm, m) {
             r.close();
         }, "Frees the GL context and every GPU buffer now (also done on garbage collection).")
         .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); });
+
+    m.def("cornell_box", [](bool mirror_sphere, bool glass_sphere, int sphere_rings) {
+        CornellBoxOptions o;
+        o.mirror_sphere = mirror_sphere;
+        o.glass_sphere = glass_sphere;
+        o.sphere_rings = sphere_rings;
+        return make_cornell_box(o);
+    }, py::arg("mirror_sphere") = true, py::arg("glass_sphere") = true, py::arg("sphere_rings") = 48,
+       "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere.");
 
     m.def("list_devices", [] {
         py::list out;

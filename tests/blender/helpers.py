@@ -206,11 +206,13 @@ def setup_cycles(samples=64, bounces=16):
 
 
 def region_means(image, grid):
-    """Mean RGB of each cell of a grid x grid split of the image: (grid, grid, 3)."""
+    """Mean RGB of each cell of a grid x grid split of the image: (grid, grid, 3);
+    NaN pixels (masked out) are left out of the means."""
     height, width = image.shape[:2]
     rows = np.array_split(np.arange(height), grid)
     cols = np.array_split(np.arange(width), grid)
-    return np.array([[image[r[0]:r[-1] + 1, c[0]:c[-1] + 1, :3].reshape(-1, 3).mean(axis=0)
+    return np.array([[np.nanmean(image[r[0]:r[-1] + 1, c[0]:c[-1] + 1, :3].reshape(-1, 3),
+                                 axis=0)
                       for c in cols] for r in rows])
 
 
@@ -234,16 +236,16 @@ def recording_engine_class():
         break_after_passes = None
         last_passes = 0
 
-        def report(self, type, message):
-            GlslppmRecordingEngine.reports.append((sorted(type)[0], message))
-            super().report(type, message)
+        def report_to_user(self, level, message):
+            GlslppmRecordingEngine.reports.append((level, message))
+            super().report_to_user(level, message)
 
-        def test_break(self):
+        def should_stop(self):
             limit = GlslppmRecordingEngine.break_after_passes
             GlslppmRecordingEngine.last_passes = self.passes_done
             if limit is not None and self.passes_done >= limit:
                 return True
-            return super().test_break()
+            return super().should_stop()
 
     return GlslppmRecordingEngine
 

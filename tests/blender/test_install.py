@@ -11,7 +11,7 @@ import helpers
 
 BLENDER_PANELS = ("RENDER_PT_format", "RENDER_PT_output", "RENDER_PT_color_management",
                   "DATA_PT_lens", "DATA_PT_camera", "DATA_PT_camera_dof", "DATA_PT_spot",
-                  "DATA_PT_area", "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
+                  "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
                   "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface", "WORLD_PT_context_world")
 OWN_PANELS = ("RENDER_PT_glslppm_sampling", "RENDER_PT_glslppm_photons",
               "RENDER_PT_glslppm_advanced", "DATA_PT_glslppm_light")
@@ -73,13 +73,21 @@ def test_panels_show_for_engine():
 def test_disable_and_enable_again():
     if helpers.SOURCE_MODE:
         raise helpers.Skip("running from the source tree: not enabled through addon_utils")
+    engine = helpers.ADDON.engine.GlslppmRenderEngine
     addon_utils.disable(helpers.ADDON_NAME, default_set=True)
-    engines = {getattr(cls, "bl_idname", None) for cls in bpy.types.RenderEngine.__subclasses__()}
     try:
-        assert "GLSLPPM" not in engines, "engine still registered after disabling"
+        assert not engine.is_registered, "engine still registered after disabling"
+        try:
+            bpy.context.scene.render.engine = 'GLSLPPM'
+        except TypeError:
+            pass
+        else:
+            raise AssertionError("GLSLPPM still selectable after disabling")
         assert not hasattr(bpy.types.Scene, "glslppm")
         assert 'GLSLPPM' not in bpy.types.RENDER_PT_format.COMPAT_ENGINES
     finally:
         module = addon_utils.enable(helpers.ADDON_NAME, default_set=True)
         assert module is not None
         helpers.ADDON = module
+    assert module.engine.GlslppmRenderEngine.is_registered
+    bpy.context.scene.render.engine = 'GLSLPPM'

@@ -45,8 +45,16 @@ private:
 // Runs this test binary again with a gtest filter and extra environment; returns its output.
 std::string run_child(const std::string& filter, const std::vector<std::string>& extra_env,
                       int& exit_code) {
+    // The child's environment: ours, with the names in extra_env replaced (getenv would
+    // find the first of two entries of one name).
     std::vector<std::string> env_strings;
-    for (char** e = environ; *e != nullptr; ++e) env_strings.emplace_back(*e);
+    for (char** e = environ; *e != nullptr; ++e) {
+        const std::string entry = *e;
+        const std::string name = entry.substr(0, entry.find('='));
+        bool replaced = false;
+        for (const std::string& x : extra_env) replaced |= x.substr(0, x.find('=')) == name;
+        if (!replaced) env_strings.push_back(entry);
+    }
     for (const std::string& e : extra_env) env_strings.push_back(e);
     std::vector<char*> envp;
     for (std::string& e : env_strings) envp.push_back(e.data());

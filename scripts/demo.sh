@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# `make demo`: installs the add-on, builds the demo Cornell box (glass sphere, mirror
+# sphere, ceiling area light; scenes/demo_cornell.py) and renders it with `blender -b`
+# and the GLSLPPM engine into out/demo.png and out/demo.exr, printing progress.
+#
+# Environment: DEMO_BLENDER=3.4|4.3 (default 3.4; 4.3 runs in the Debian 13 chroot),
+# DEMO_SIZE (pixels, default 256), DEMO_PASSES (default 512), DEMO_TIME_LIMIT (seconds,
+# default 240; 0 = none), DEMO_PHOTONS (per pass, default 65536).
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$repo"
+blender_version=${DEMO_BLENDER:-3.4}
+args=(--out out/demo --size "${DEMO_SIZE:-256}" --passes "${DEMO_PASSES:-512}"
+      --time-limit "${DEMO_TIME_LIMIT:-240}" --photons "${DEMO_PHOTONS:-65536}"
+      --save out/demo.blend)
+mkdir -p out
+
+scripts/install-addon.sh --only "$blender_version"
+started=$SECONDS
+if [ "$blender_version" = 4.3 ]; then
+  scripts/blender-chroot.sh run blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
+else
+  blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
+fi 2>&1 | grep --line-buffered -vE "^$|^Blender quit"
+[ -s out/demo.png ] && [ -s out/demo.exr ] || { echo "demo: no image was written" >&2; exit 1; }
+echo "demo: out/demo.png and out/demo.exr in $((SECONDS - started)) s (scene: out/demo.blend)"

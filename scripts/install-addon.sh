@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# `make install`: packages the add-on with the compiled module and shaders and installs
+#   - into Blender 3.4 (host, Python 3.11) as the user add-on "glslppm", and
+#   - into Blender 4.3 (the Debian 13 chroot, Python 3.13) as the extension "glslppm",
+#     built and validated with `blender --command extension build|validate`.
+#
+# Usage: scripts/install-addon.sh [--user-dir DIR] [--only 3.4|4.3]
+#   --user-dir DIR  install into DIR/3.4 and DIR/4.3 (BLENDER_USER_RESOURCES) instead of
+#                   the user's own Blender configuration (the tests do this); DIR must
+#                   lie inside the repository so the chroot sees it.
+# Packages are left in build/dist/: glslppm-blender-3.4.zip and glslppm-<version>.zip.
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+dist=$repo/build/dist
+user_dir=
+only=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --user-dir) user_dir=$(realpath -m "$2"); shift 2 ;;
+    --only) only=$2; shift 2 ;;
+    *) echo "usage: $0 [--user-dir DIR] [--only 3.4|4.3]" >&2; exit 2 ;;
+  esac
+done
+
+# Copies the add-on package, one compiled module and the shaders into $1.
+stage() {
+  local dest=$1 module=$2
+  rm -rf "$dest"
+  mkdir -p "$dest"
+  tar -C "$repo/addon" --exclude=__pycache__ --exclude='*.pyc' -cf - . | tar -C "$dest" -xf -
+  cp "$module" "$dest/"
+  cp -r "$repo/shaders" "$dest/shaders"
+}
+
+install_blender3() {
+  local module
+  module=$(ls "$repo"/build/_glslppm*.so 2>/dev/null | head -1)
+  [ -n "$module" ] || { echo "install: build/_glslppm*.so missing: run make build" >&2; exit 1; }
+  stage "$dist/blender-3.4/glslppm" "$module"
+  local zip=$dist/glslppm-blender-3.4.zip
+  rm -f "$zip"
+  (cd "$dist/blender-3.4" && zip -qr "$zip" glslppm)
+  local env=()
+  [ -z "$user_dir" ] || { mkdir -p "$user_dir/3.4"; env=(BLENDER_USER_RESOURCES="$user_dir/3.4"); }
+  env "${env[@]}" blender -b --python-exit-code 1 --python-expr "
+import addon_utils, bpy
+bpy.ops.preferences.addon_install(filepath='$zip', overwrite=True)
+assert addon_utils.enable('glslppm', default_set=True, handle_error=None) is not None
+bpy.ops.wm.save_userpref()
+print('installed glslppm into Blender', bpy.app.version_string, 'at',
+      bpy.utils.user_resource('SCRIPTS', path='addons'))
+" 2>&1 | grep -E "installed|Error|rror:" || true
+  env "${env[@]}" blender -b --python-exit-code 1 --python-expr \
+    "import bpy; assert 'glslppm' in bpy.context.preferences.addons, 'not enabled'" >/dev/null
+}
+
+install_blender4() {
+  "$repo/scripts/blender-chroot.sh" build >/dev/null
+  local module
+  module=$(ls "$repo"/build-trixie/_glslppm*.so 2>/dev/null | head -1)
+  [ -n "$module" ] || { echo "install: build-trixie/_glslppm*.so was not built" >&2; exit 1; }
+  local src=$dist/extension/glslppm
+  stage "$src" "$module"
+  cp "$repo/blender_manifest.toml" "$src/"
+  local version
+  version=$(sed -n 's/^version = "\(.*\)"/\1/p' "$repo/blender_manifest.toml")
+  local zip=build/dist/glslppm-$version.zip
+  rm -f "$repo/$zip"
+  local user_env=
+  if [ -n "$user_dir" ]; then
+    mkdir -p "$user_dir/4.3"
+    user_env="BLENDER_USER_RESOURCES=/src/${user_dir#"$repo"/}/4.3"
+  fi
+  "$repo/scripts/blender-chroot.sh" run /bin/bash -c "
+set -e
+blender --command extension build --source-dir build/dist/extension/glslppm \
+  --output-filepath $zip
+blender --command extension validate $zip
+env $user_env blender --command extension install-file -r user_default -e $zip
+env $user_env blender -b --python-exit-code 1 --python-expr \"import bpy; \
+assert 'bl_ext.user_default.glslppm' in bpy.context.preferences.addons, 'not enabled'\" >/dev/null
+echo installed extension glslppm into Blender 4.3
+" 2>&1 | grep -v "^$"
+}
+
+[ "$only" = 4.3 ] || install_blender3
+[ "$only" = 3.4 ] || install_blender4

@@ -1,0 +1,169 @@
+// Stackless MTBVH traversal (Hachisuka 2015, "Multiple-Threaded BVH", Figure 3): the ray
+// picks one of six hit/miss link sets by its dominant direction component, then follows hit
+// links while boxes are hit and miss links otherwise. Mirrors native/bvh/intersect.h and
+// native/bvh/traverse_cpu.cpp line by line; the buffer layout is documented in
+// native/bvh/packed_bvh.h. Include after "#version 430". Define GLSLPPM_TBVH when the
+// buffers hold a single-order threaded BVH (the baseline): every ray then uses order 0.
+
+layout(std430, binding = 0) readonly buffer BvhNodes { vec4 bvh_nodes[]; };
+layout(std430, binding = 1) readonly buffer BvhLinks { ivec2 bvh_links[]; };
+layout(std430, binding = 2) readonly buffer Triangles { vec4 triangles[]; };
+uniform uint bvh_node_count;
+
+struct Ray {
+    vec3 origin;
+    vec3 dir;  // need not be normalized; zero components are allowed
+    float tmin;
+    float tmax;
+};
+
+struct Hit {
+    float t;
+    float u;  // barycentrics of v1 and v2
+    float v;
+    int triangle;  // PACKED triangle index (fetch triangles[3 * i + k]), -1 for a miss
+};
+
+// kBoxPadRelative and kSlabFarScale of aabb.h / intersect.h.
+const float BVH_BOX_PAD_RELATIVE = 1.0 / 524288.0;
+const float BVH_SLAB_FAR_SCALE = 1.0 + 1.0 / 16384.0;
+
+// order = 2*axis + (dir[axis] < 0), axis = largest |dir| component, ties to the lower axis.
+int bvh_select_order(vec3 d) {
+    vec3 a = abs(d);
+    int axis = 0;
+    if (a.y > a.x) axis = 1;
+    if (a.z > a[axis]) axis = 2;
+    return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+}
+
+// 1/dir without infinities: zero (or denormal) components become +-1e37, so that slab
+// distances are never 0 * inf = NaN.
+vec3 bvh_safe_inverse_dir(vec3 d) {
+    vec3 tiny = mix(vec3(1e-37), vec3(-1e-37), lessThan(d, vec3(0.0)));
+    vec3 c = mix(tiny, d, greaterThan(abs(d), vec3(1e-37)));
+    return 1.0 / c;
+}
+
+// Slab test of the closed box against [tmin, tmax], inclusive at both ends.
+bool bvh_hit_box(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, float tmax) {
+    vec3 t_lo = (lo - origin) * inv_dir;
+    vec3 t_hi = (hi - origin) * inv_dir;
+    vec3 t_near = min(t_lo, t_hi);
+    vec3 t_far = max(t_lo, t_hi);
+    float t0 = max(max(t_near.x, t_near.y), max(t_near.z, tmin));
+    float t1 = min(min(t_far.x, t_far.y), min(t_far.z, tmax));
+    return t0 <= t1 * BVH_SLAB_FAR_SCALE;
+}
+
+// Moller-Trumbore with inclusive edges; det == 0 is a miss; t in the open (tmin, tmax).
+bool bvh_intersect_triangle(Ray r, vec3 v0, vec3 v1, vec3 v2, out float t, out float u,
+                            out float v) {
+    t = 0.0;
+    u = 0.0;
+    v = 0.0;
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    vec3 p = cross(r.dir, e2);
+    float det = dot(e1, p);
+    if (det == 0.0) return false;
+    float inv_det = 1.0 / det;
+    vec3 s = r.origin - v0;
+    u = dot(s, p) * inv_det;
+    if (!(u >= 0.0 && u <= 1.0)) return false;
+    vec3 q = cross(s, e1);
+    v = dot(r.dir, q) * inv_det;
+    if (!(v >= 0.0 && u + v <= 1.0)) return false;
+    t = dot(e2, q) * inv_det;
+    return t > r.tmin && t < r.tmax;
+}
+
+// A Moller-Trumbore hit counts only if [tmin, t] touches the triangle's padded box: keeps
+// grazing hits with a wildly wrong t from landing outside the boxes that lead to them.
+bool bvh_confirm_triangle_hit(vec3 origin, vec3 inv_dir, float tmin, float t, vec3 v0,
+                              vec3 v1, vec3 v2) {
+    vec3 lo = min(min(v0, v1), v2);
+    vec3 hi = max(max(v0, v1), v2);
+    vec3 m = max(abs(lo), abs(hi));
+    float pad = max(m.x, max(m.y, m.z)) * BVH_BOX_PAD_RELATIVE;
+    return bvh_hit_box(lo - pad, hi + pad, origin, inv_dir, tmin, t);
+}
+
+// Smaller t wins; equal t goes to the smaller ORIGINAL triangle id (stored in v1.w).
+bool bvh_is_closer(float t, int id, float best_t, int best_id) {
+    return t < best_t || (t == best_t && id < best_id);
+}
+
+// Offset of this ray's link set in bvh_links.
+int bvh_link_base(vec3 dir) {
+#ifdef GLSLPPM_TBVH
+    return 0;
+#else
+    return bvh_select_order(dir) * int(bvh_node_count);
+#endif
+}
+
+Hit closest_hit(Ray r) {
+    Hit best = Hit(r.tmax, 0.0, 0.0, -1);
+    int best_id = -1;  // original id of best.triangle, for the tie rule
+    if (bvh_node_count == 0u) return best;
+    vec3 inv_dir = bvh_safe_inverse_dir(r.dir);
+    int link_base = bvh_link_base(r.dir);
+    int node = 0;
+    while (node != -1) {
+        vec4 lo = bvh_nodes[2 * node];
+        vec4 hi = bvh_nodes[2 * node + 1];
+        // Inclusive against the best t so far: an equal-t hit may still win on its id.
+        if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, best.t)) {
+            int count = floatBitsToInt(hi.w);
+            int first = floatBitsToInt(lo.w);
+            for (int i = first; i < first + count; ++i) {
+                vec4 a = triangles[3 * i];
+                vec4 b = triangles[3 * i + 1];
+                vec4 c = triangles[3 * i + 2];
+                float t, u, v;
+                if (bvh_intersect_triangle(r, a.xyz, b.xyz, c.xyz, t, u, v)) {
+                    int id = floatBitsToInt(b.w);
+                    if (bvh_is_closer(t, id, best.t, best_id) &&
+                        bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a.xyz, b.xyz,
+                                                 c.xyz)) {
+                        best = Hit(t, u, v, i);
+                        best_id = id;
+                    }
+                }
+            }
+            node = bvh_links[link_base + node].x;
+        } else {
+            node = bvh_links[link_base + node].y;
+        }
+    }
+    return best;
+}
+
+bool any_hit(Ray r) {
+    if (bvh_node_count == 0u) return false;
+    vec3 inv_dir = bvh_safe_inverse_dir(r.dir);
+    int link_base = bvh_link_base(r.dir);
+    int node = 0;
+    while (node != -1) {
+        vec4 lo = bvh_nodes[2 * node];
+        vec4 hi = bvh_nodes[2 * node + 1];
+        if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, r.tmax)) {
+            int count = floatBitsToInt(hi.w);
+            int first = floatBitsToInt(lo.w);
+            for (int i = first; i < first + count; ++i) {
+                vec3 a = triangles[3 * i].xyz;
+                vec3 b = triangles[3 * i + 1].xyz;
+                vec3 c = triangles[3 * i + 2].xyz;
+                float t, u, v;
+                if (bvh_intersect_triangle(r, a, b, c, t, u, v) &&
+                    bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a, b, c))
+                    return true;
+            }
+            node = bvh_links[link_base + node].x;
+        } else {
+            node = bvh_links[link_base + node].y;
+        }
+    }
+    return false;
+}
