@@ -37,7 +37,7 @@ struct Range {
 };
 
 struct Bin {
-    Aabb box, centroids;
+    Aabb box;
     std::uint32_t count = 0;
 };
 
@@ -157,7 +157,9 @@ private:
         const std::uint32_t n = range.size();
         const bool must_split = n > static_cast<std::uint32_t>(options_.leaf_size);
         if (n <= 1) return false;
-        const int nb = options_.bins;
+        // Small nodes, which are most nodes, need no more bins than triangles: the bin
+        // sweep would otherwise cost more than the binning itself.
+        const int nb = std::min(options_.bins, std::max(4, static_cast<int>(n)));
 
         bins_.assign(3 * static_cast<std::size_t>(nb), Bin{});
         BinMapping mapping[3];
@@ -174,8 +176,8 @@ private:
             const glm::vec3 c2 = centroid2(r);
             for (int a = 0; a < 3; ++a) {
                 Bin& bin = bins_[a * nb + mapping[a](c2, a)];
-                bin.box.grow(Aabb{r.lo, r.hi});
-                bin.centroids.grow(c2);
+                bin.box.lo = glm::min(bin.box.lo, r.lo);
+                bin.box.hi = glm::max(bin.box.hi, r.hi);
                 ++bin.count;
             }
         }
@@ -223,23 +225,25 @@ private:
         } else {
             const BinMapping& m = mapping[best_axis];
             const int axis = best_axis, bin = best_bin;
-            PrimRef* first = refs_.data() + range.begin;
-            PrimRef* last = refs_.data() + range.end;
-            mid = range.begin + static_cast<std::uint32_t>(
-                                    std::partition(first, last,
-                                                   [&](const PrimRef& r) {
-                                                       return m(centroid2(r), axis) < bin;
-                                                   }) -
-                                    first);
-            // The children's bounds are unions of their bins' bounds: no extra pass.
-            const Bin* bins = &bins_[axis * nb];
-            split.left = Range{{}, {}, range.begin, mid, range.depth + 1};
-            split.right = Range{{}, {}, mid, range.end, range.depth + 1};
-            for (int b = 0; b < nb; ++b) {
-                Range& side = b < bin ? split.left : split.right;
-                side.box.grow(bins[b].box);
-                side.centroids.grow(bins[b].centroids);
+            auto goes_left = [&](const PrimRef& r) { return m(centroid2(r), axis) < bin; };
+            // Hoare partition that also gathers each side's centroid bounds on the way.
+            Aabb left_centroids, right_centroids;
+            PrimRef* l = refs_.data() + range.begin;
+            PrimRef* r = refs_.data() + range.end;
+            for (;;) {
+                while (l < r && goes_left(*l)) left_centroids.grow(centroid2(*l++));
+                while (l < r && !goes_left(*(r - 1))) right_centroids.grow(centroid2(*--r));
+                if (l >= r) break;
+                std::swap(*l, *--r);
+                left_centroids.grow(centroid2(*l++));
+                right_centroids.grow(centroid2(*r));
             }
+            mid = static_cast<std::uint32_t>(l - refs_.data());
+            // The children's boxes are unions of their bins' boxes: no extra pass.
+            const Bin* bins = &bins_[axis * nb];
+            split.left = Range{{}, left_centroids, range.begin, mid, range.depth + 1};
+            split.right = Range{{}, right_centroids, mid, range.end, range.depth + 1};
+            for (int b = 0; b < nb; ++b) (b < bin ? split.left : split.right).box.grow(bins[b].box);
         }
         split.axis = best_axis;
         split.bin = best_bin;

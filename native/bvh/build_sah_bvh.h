@@ -15,7 +15,8 @@ namespace glslppm {
 
 struct BvhBuildOptions {
     int leaf_size = 4;     // max triangles per leaf (>= 1)
-    int bins = 16;         // SAH bins per axis (2..256)
+    int bins = 16;         // SAH bins per axis (2..256); a node of n < bins triangles uses
+                           // max(n, 4)
     bool parallel = true;  // build the two subtrees of the top levels on separate threads
 };
 

@@ -7,9 +7,17 @@
 namespace glslppm {
 namespace {
 
+// Per inner node: its children and, per order, whether the right child goes first (bit
+// `order`), so that the six walks read 12 bytes per node instead of 40-byte nodes.
+struct Branch {
+    std::int32_t left = -1, right = -1;  // -1: a leaf
+    std::uint32_t right_first = 0;
+};
+
 // One link set: an iterative preorder walk carrying each node's miss link (the node after
 // its subtree), so no recursion and no parent pointers are needed.
-void thread_order(const Bvh& bvh, int order, int order_count, glm::ivec2* links) {
+void thread_order(const std::vector<Branch>& branches, int order,
+                  glm::ivec2* links) {
     struct Item {
         std::int32_t node, miss;
     };
@@ -17,14 +25,13 @@ void thread_order(const Bvh& bvh, int order, int order_count, glm::ivec2* links)
     while (!stack.empty()) {
         const Item item = stack.back();
         stack.pop_back();
-        const BvhNode& node = bvh.nodes[item.node];
-        if (node.is_leaf()) {
+        const Branch& branch = branches[item.node];
+        if (branch.left < 0) {
             links[item.node] = glm::ivec2(item.miss, item.miss);
             continue;
         }
-        std::int32_t first = node.left, second = node.right;
-        if (order_count > 1 && right_child_first(bvh.nodes[first], bvh.nodes[second], order))
-            std::swap(first, second);
+        std::int32_t first = branch.left, second = branch.right;
+        if (branch.right_first >> order & 1) std::swap(first, second);
         links[item.node] = glm::ivec2(first, item.miss);
         stack.push_back({second, item.miss});
         stack.push_back({first, second});  // popped next: the preorder visits it right away
@@ -49,9 +56,21 @@ ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
     threaded.node_count = static_cast<std::uint32_t>(bvh.nodes.size());
     threaded.links.resize(static_cast<std::size_t>(order_count) * threaded.node_count);
     if (threaded.node_count == 0) return threaded;
+    std::vector<Branch> branches(bvh.nodes.size());
+    for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& node = bvh.nodes[i];
+        if (node.is_leaf()) continue;
+        Branch& b = branches[i];
+        b.left = node.left;
+        b.right = node.right;
+        if (order_count == kMtbvhOrderCount)
+            for (int order = 0; order < kMtbvhOrderCount; ++order)
+                if (right_child_first(bvh.nodes[node.left], bvh.nodes[node.right], order))
+                    b.right_first |= 1u << order;
+    }
     auto run = [&](int begin, int end) {
         for (int order = begin; order < end; ++order)
-            thread_order(bvh, order, order_count,
+            thread_order(branches, order,
                          threaded.links.data() +
                              static_cast<std::size_t>(order) * threaded.node_count);
     };

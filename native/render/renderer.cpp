@@ -10,6 +10,7 @@
 #include <epoxy/gl.h>
 
 #include "bvh/packed_bvh.h"
+#include "bvh/traverse_cpu.h"
 #include "gl/gl_thread.h"
 #include "gl/shader_program.h"
 #include "render/emitters.h"
@@ -271,15 +272,35 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     f.pass_info = glm::uvec4(0, static_cast<std::uint32_t>(settings.seed),
                              static_cast<std::uint32_t>(settings.max_depth),
                              static_cast<std::uint32_t>(g.emitters.count));
-    // Automatic radius: two pixel footprints at the distance of the scene's centre, at
-    // most 5% of the scene's diagonal.
+    // Automatic radius: two pixel footprints at the distance of what the camera sees (the
+    // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
+    // scene's diagonal.
     float radius = settings.initial_radius;
     if (radius <= 0.0f) {
         const glm::vec3 eye(cam.to_world[3]);
-        const float distance =
-            std::max(glm::length(g.bounds.center() - eye), 0.5f * g.bounds.radius());
-        const float footprint = 2.0f * distance * tan_x / static_cast<float>(settings.width);
+        std::vector<float> distances;
+        for (int j = 0; j < 5; ++j) {
+            for (int i = 0; i < 5; ++i) {
+                const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
+                const glm::vec3 d(ndc.x * f.camera_fov.x + f.camera_fov.z,
+                                  ndc.y * f.camera_fov.y + f.camera_fov.w, -1.0f);
+                Ray ray{eye, glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
+                const Hit hit = closest_hit(g.bvh, ray);
+                if (hit.triangle >= 0) distances.push_back(hit.t);
+            }
+        }
+        float distance = glm::length(g.bounds.center() - eye);
+        if (!distances.empty()) {
+            std::nth_element(distances.begin(), distances.begin() + distances.size() / 2,
+                             distances.end());
+            distance = distances[distances.size() / 2];
+        }
+        const float footprint =
+            cam.projection == Projection::Orthographic
+                ? cam.ortho_scale / static_cast<float>(std::max(settings.width, settings.height))
+                : 2.0f * distance * tan_x / static_cast<float>(settings.width);
         radius = std::min(2.0f * footprint, 0.05f * diagonal);
+        if (!(radius > 0.0f)) radius = 0.01f * diagonal;
     }
     g.initial_radius = radius;
     f.sppm = glm::vec4(settings.alpha, 1e-5f * diagonal, 0.0f, 0.0f);
@@ -306,6 +327,11 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.gather = program("gather.comp", nullptr);
             g.end_pass = program("end_pass.comp", nullptr);
             g.resolve = program("resolve_film.comp", nullptr);
+            // The traversal's node count, in every program that traces rays.
+            for (const gl::ComputeProgram* p : {g.eye, g.photon}) {
+                p->use();
+                glUniform1ui(p->uniform("bvh_node_count"), g.bvh.node_count);
+            }
 
             glGenBuffers(1, &g.ubo);
             glBindBuffer(GL_UNIFORM_BUFFER, g.ubo);

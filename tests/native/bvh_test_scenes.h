@@ -17,13 +17,13 @@
 namespace glslppm::bvh_test {
 
 
-// n triangles with independent vertices, random sizes (a few spanning the whole scene) in
+// n triangles with independent vertices, random sizes (a few spanning half the scene) in
 // [-1, 1]^3.
 OwnedMesh make_random_soup(std::size_t n, std::uint32_t seed);
 // The Cornell box (0..555, as in the original measurements): walls, light, two blocks; quads
 // split in two triangles sharing an edge, vertices shared between triangles.
 OwnedMesh make_cornell_box();
-// n slivers: length up to 2, width 1e-4 of that, random orientation.
+// n slivers: length 0.2 to 1 in a [-1, 1]^3 scene, width 1e-4 of that, random orientation.
 OwnedMesh make_thin_triangles(std::size_t n, std::uint32_t seed);
 // A grid in the plane z = 0 with shared edges, overlapping coplanar triangles, exact
 // duplicates of triangles (equal t: the smaller id must win) and a tilted duplicated fan.
@@ -93,7 +93,8 @@ inline OwnedMesh make_random_soup(std::size_t n, std::uint32_t seed) {
     const float size = 3.0f / std::cbrt(static_cast<float>(std::max<std::size_t>(n, 1)));
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3 c(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
-        const float s = (i % 97 == 0) ? 1.0f : size * uniform(rng, 0.2f, 1.0f);
+        // A few (at most 21) span half the scene.
+        const float s = (i % 97 == 0 && i < 2000) ? 1.0f : size * uniform(rng, 0.2f, 1.0f);
         add_triangle(m, c + s * random_unit(rng), c + s * random_unit(rng),
                      c + s * random_unit(rng));
     }
@@ -119,7 +120,7 @@ inline OwnedMesh make_thin_triangles(std::size_t n, std::uint32_t seed) {
     OwnedMesh m;
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3 c(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
-        const glm::vec3 axis = random_unit(rng) * uniform(rng, 0.5f, 1.0f);
+        const glm::vec3 axis = random_unit(rng) * uniform(rng, 0.1f, 0.5f);
         glm::vec3 side = glm::cross(axis, random_unit(rng));
         side *= 1e-4f * glm::length(axis) / std::max(glm::length(side), 1e-20f);
         // Some are axis-aligned slivers (boxes flat in one or two dimensions).
