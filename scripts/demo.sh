@@ -5,14 +5,14 @@
 #
 # Environment: DEMO_BLENDER=3.4|4.3 (default 3.4; 4.3 runs in the Debian 13 chroot),
 # DEMO_SIZE (pixels, default 256), DEMO_PASSES (default 512), DEMO_TIME_LIMIT (seconds,
-# default 240; 0 = none), DEMO_PHOTONS (per pass, default 65536).
+# default 120; 0 = none), DEMO_PHOTONS (per pass, default 65536).
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo"
 blender_version=${DEMO_BLENDER:-3.4}
 args=(--out out/demo --size "${DEMO_SIZE:-256}" --passes "${DEMO_PASSES:-512}"
-      --time-limit "${DEMO_TIME_LIMIT:-240}" --photons "${DEMO_PHOTONS:-65536}"
+      --time-limit "${DEMO_TIME_LIMIT:-120}" --photons "${DEMO_PHOTONS:-65536}"
       --save out/demo.blend)
 mkdir -p out
 

@@ -10,7 +10,8 @@
 #            e.g. "0 15 200:1-12"
 #   THREADS  threads per pass (default 262144: a 512x512 image)
 #   DRAWS    numbers per thread per pass (default 16)
-#   FORMAT   u24 (default: the 24 bits a float in [0,1) carries, packed) or u32
+#   FORMAT   u24 (default: the 24 bits a float in [0,1) carries, packed), u16 (top 16
+#            bits only) or u32 (floor(x * 2^32): low bits always 0, unfair to both)
 #   OUT      where logs go (default out/dieharder)
 # The stream interleaves threads as a renderer uses them: number k of threads 0..T-1, then
 # number k+1; the paper's states carry over between passes, PCG gets a seed per pass. It is

@@ -2,7 +2,7 @@
 // streams read back for dieharder (scripts/dieharder.sh, docs/rng.md).
 //
 //   glslppm-bench rng --generator paper|pcg [--threads T] [--per-thread K] [--passes P]
-//                     [--seed S] [--device I] [--out FILE|-] [--format u24|u32] [--json]
+//                     [--seed S] [--device I] [--out FILE|-] [--format u24|u16|u32] [--json]
 //
 // Speed: a kernel that sums each thread's K numbers (so the compiler cannot drop the work),
 // timed with GL_TIME_ELAPSED queries; numbers/s = T*K / GPU time (best of 5 runs).
@@ -12,6 +12,8 @@
 // sets u_rng_seed per pass. Formats, both little-endian:
 //   u24  floor(x * 2^24), 3 bytes per number, packed: every bit a float in [0,1) can carry
 //        (both generators give at most 24 bits), so a fair dieharder input;
+//   u16  floor(x * 2^16), 2 bytes per number: the top 16 bits only, to see whether a
+//        generator's trouble lies in its lowest bits;
 //   u32  floor(x * 2^32), 4 bytes per number; the low 8 bits are always 0 for PCG and nearly
 //        always for the paper's generator, so dieharder's bit-level tests fail both.
 #include <epoxy/gl.h>
@@ -59,7 +61,7 @@ int usage(const char* why) {
                  "glslppm-bench rng: %s\n"
                  "usage: glslppm-bench rng --generator paper|pcg [--threads T] "
                  "[--per-thread K] [--passes P (0: until the pipe closes)] [--seed S] "
-                 "[--device I] [--out FILE|-] [--format u24|u32] [--json]\n",
+                 "[--device I] [--out FILE|-] [--format u24|u16|u32] [--json]\n",
                  why);
     return 2;
 }
@@ -96,7 +98,9 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
         if (arg == "--format") o.format = v;
     }
     if (o.generator != "paper" && o.generator != "pcg") error = "--generator is paper or pcg";
-    if (o.format != "u24" && o.format != "u32") error = "--format is u24 or u32";
+    if (o.format != "u24" && o.format != "u16" && o.format != "u32") {
+        error = "--format is u24, u16 or u32";
+    }
     if (o.threads == 0 || o.per_thread == 0) error = "--threads and --per-thread must be > 0";
     if (o.threads > 65535u * 64u) error = "--threads is at most 4194240";
     return error.empty();
@@ -221,9 +225,9 @@ int bench_rng(int argc, char** argv) {
                 return 1;
             }
         }
-        const bool u24 = o.format == "u24";
+        const int bits = o.format == "u24" ? 24 : o.format == "u16" ? 16 : 32;
         std::vector<float> host(stream_fits ? count : 0);
-        std::vector<unsigned char> bytes(host.size() * (u24 ? 3 : 4));
+        std::vector<unsigned char> bytes(host.size() * static_cast<std::size_t>(bits / 8));
         double sum = 0.0;
         std::uint64_t written = 0, ones = 0;
         const auto start = std::chrono::steady_clock::now();
@@ -240,15 +244,9 @@ int bench_rng(int argc, char** argv) {
             for (float x : host) {
                 sum += x;
                 if (x >= 1.0f) ++ones;  // rng_next never gives 1; counted to prove it
-                if (u24) {
-                    const auto v = static_cast<std::uint32_t>(std::ldexp(double(x), 24));
-                    b[0] = v & 0xFF, b[1] = (v >> 8) & 0xFF, b[2] = (v >> 16) & 0xFF;
-                    b += 3;
-                } else {
-                    const auto v = static_cast<std::uint32_t>(std::ldexp(double(x), 32));
-                    std::memcpy(b, &v, 4);
-                    b += 4;
-                }
+                // Exact: x has at most 24 significant bits, and x < 1.
+                const auto v = static_cast<std::uint32_t>(std::ldexp(double(x), bits));
+                for (int byte = 0; byte < bits / 8; ++byte) *b++ = (v >> (8 * byte)) & 0xFF;
             }
             written += count;
             if (out != nullptr && std::fwrite(bytes.data(), 1, bytes.size(), out) != bytes.size())

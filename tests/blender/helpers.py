@@ -227,9 +227,9 @@ def assert_close(actual, expected, tolerance=1e-5, what="value"):
 def recording_engine_class():
     """A subclass of the add-on's engine that records its reports and can stop after
     a number of passes (standing in for the user pressing Esc)."""
-    base = ADDON.engine.GlslppmRenderEngine
+    mixin = ADDON.engine.render_engine.GlslppmEngineMixin
 
-    class GlslppmRecordingEngine(base):
+    class GlslppmRecordingEngine(mixin, bpy.types.RenderEngine):
         bl_idname = "GLSLPPM_RECORDING"
         bl_label = "GLSLPPM (test recorder)"
         reports = []

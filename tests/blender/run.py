@@ -62,7 +62,7 @@ def main():
     import helpers
     version = ".".join(map(str, bpy.app.version))
     print(f"== Blender {version} tests ==", flush=True)
-    helpers.OUT = args.out or tempfile.mkdtemp(prefix="glslppm-tests-")
+    helpers.OUT = os.path.abspath(args.out or tempfile.mkdtemp(prefix="glslppm-tests-"))
     os.makedirs(helpers.OUT, exist_ok=True)
     passed, failed, skipped = [], [], []
     started = time.perf_counter()

@@ -2,8 +2,9 @@
 unclamped, no denoising, the same bounce limit).
 
 Tolerances: Cycles' noise at REFERENCE_SAMPLES and SPPM's noise and radius bias at
-the pass counts below both stay well under them on these region sizes; each test
-prints its measured errors so a regression shows as a number, not only a failure.
+the pass counts below both stay well under them on these region sizes (measured
+errors are 0.1-2%, the Cornell box's worst region 5%); each test prints its
+measured errors so a regression shows as a number, not only a failure.
 """
 
 import math
@@ -45,7 +46,8 @@ def _relative_errors(ours, reference, grid):
 
 
 def test_diffuse_cornell_box_matches_cycles():
-    """Mean relative error over a 4x4 grid of regions below 10%, every region below 25%.
+    """Mean relative error over a 4x4 grid of regions below 6%, every region below 15%
+    (measured: 2.0% and 5.3% under both Blenders).
     Pixels showing the ceiling light itself are left out of both images: Cycles does
     not show area lights to the camera, GLSLPPM's emissive stand-in does."""
     helpers.reset_scene(size=(64, 64))
@@ -56,10 +58,11 @@ def test_diffuse_cornell_box_matches_cycles():
     ours[light_pixels] = reference[light_pixels] = np.nan
     errors, a, b = _relative_errors(ours, reference, 4)
     print(f"  cornell: region errors mean {errors.mean():.3f} max {errors.max():.3f}; "
-          f"image mean GLSLPPM {ours[..., :3].mean():.4f} Cycles {reference[..., :3].mean():.4f}")
-    assert errors.mean() < 0.10, (errors.round(3).tolist(), a.round(4).tolist(),
+          f"image mean GLSLPPM {np.nanmean(ours[..., :3]):.4f} "
+          f"Cycles {np.nanmean(reference[..., :3]):.4f}")
+    assert errors.mean() < 0.06, (errors.round(3).tolist(), a.round(4).tolist(),
                                   b.round(4).tolist())
-    assert errors.max() < 0.25, errors.round(3).tolist()
+    assert errors.max() < 0.15, errors.round(3).tolist()
 
 
 def _floor_under_light(kind, energy, **settings):
@@ -81,28 +84,38 @@ def _compare_light(kind, energy, tolerance, **settings):
     errors, a, b = _relative_errors(ours, reference, 2)
     centre = (float(ours[8:24, 8:24, :3].mean()), float(reference[8:24, 8:24, :3].mean()))
     print(f"  {kind.lower()}: centre GLSLPPM {centre[0]:.4f} Cycles {centre[1]:.4f}; "
-          f"quadrant errors {errors.round(3).ravel().tolist()}")
+          f"quadrant errors {[round(float(e), 3) for e in errors.ravel()]}")
     assert abs(centre[0] - centre[1]) < tolerance * centre[1], centre
     return centre
 
 
 def test_point_light_brightness_matches_cycles():
-    _compare_light('POINT', 300.0, 0.10, shadow_soft_size=0.0)
+    _compare_light('POINT', 300.0, 0.05, shadow_soft_size=0.0)
 
 
 def test_spot_light_brightness_matches_cycles():
-    _compare_light('SPOT', 300.0, 0.10, shadow_soft_size=0.0, spot_size=math.radians(120),
-                   spot_blend=0.0)
+    """Inside its cone a spot light is as bright as a point light of the same power
+    (Cycles 4.x). Cycles 3.x also multiplied by the cosine of the angle to the spot's
+    axis (its spot_attenuation, dropped in 4.0), which the module does not model: under
+    3.x the reference is Cycles' point light, and the 3.x spot is only checked on axis."""
+    spot = {"shadow_soft_size": 0.0, "spot_size": math.radians(120), "spot_blend": 0.0}
+    if helpers.BLENDER_4:
+        _compare_light('SPOT', 300.0, 0.05, **spot)
+        return
+    ours, cycles_spot = _compare_light('SPOT', 300.0, 0.15, **spot)
+    point_ours, cycles_point = _compare_light('POINT', 300.0, 0.10, shadow_soft_size=0.0)
+    assert abs(ours - cycles_point) < 0.10 * cycles_point, (ours, cycles_point)
+    assert abs(ours - point_ours) < 0.05 * point_ours, (ours, point_ours)
 
 
 def test_sun_light_brightness_matches_cycles_and_theory():
-    ours, reference = _compare_light('SUN', 3.0, 0.10, angle=math.radians(1))
+    ours, reference = _compare_light('SUN', 3.0, 0.05, angle=math.radians(1))
     # A sun of strength S (W/m^2) straight above a Lambertian floor of albedo 0.8:
     # radiance = 0.8 S / pi.
     expected = 0.8 * 3.0 / math.pi
     assert abs(reference - expected) < 0.05 * expected, (reference, expected)
-    assert abs(ours - expected) < 0.10 * expected, (ours, expected)
+    assert abs(ours - expected) < 0.05 * expected, (ours, expected)
 
 
 def test_area_light_brightness_matches_cycles():
-    _compare_light('AREA', 300.0, 0.10, shape='SQUARE', size=1.0)
+    _compare_light('AREA', 300.0, 0.05, shape='SQUARE', size=1.0)
