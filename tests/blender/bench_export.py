@@ -79,6 +79,7 @@ def main():
     print(f"BENCH export Blender {version}: {data.triangle_count} triangles "
           f"(normals {'yes' if data.normals is not None else 'no'}): "
           f"best {min(times):.3f} s, mean {np.mean(times):.3f} s over {args.runs} runs; "
+          f"runs {[round(t, 2) for t in times]}; "
           f"{'PASS' if min(times) < 2.0 else 'FAIL'} (target < 2 s)", flush=True)
 
 
