@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "gl/egl_context.h"
+#include "image/exr.h"
 #include "gl/shader_program.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -317,6 +318,28 @@ PYBIND11_MODULE(_glslppm, m) {
         return make_cornell_box(o);
     }, py::arg("mirror_sphere") = true, py::arg("glass_sphere") = true, py::arg("sphere_rings") = 48,
        "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere.");
+
+    m.def("read_exr", [](const std::string& path) {
+        std::map<std::string, std::string> attributes;
+        FloatImage image;
+        {
+            py::gil_scoped_release release;
+            image = read_exr(path, &attributes);
+        }
+        py::array_t<float> out({image.height, image.width, 4});
+        std::memcpy(out.mutable_data(), image.rgba.data(), image.rgba.size() * sizeof(float));
+        return py::make_tuple(out, attributes);
+    }, py::arg("path"), "Reads a float RGBA EXR: (H x W x 4 array, glslppm header attributes).");
+
+    m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> rgba,
+                          std::map<std::string, std::string> attributes) {
+        if (rgba.ndim() != 3 || rgba.shape(2) != 4)
+            throw py::value_error("rgba: expected shape (H, W, 4)");
+        FloatImage image{static_cast<int>(rgba.shape(1)), static_cast<int>(rgba.shape(0)),
+                         std::vector<float>(rgba.data(), rgba.data() + rgba.size())};
+        py::gil_scoped_release release;
+        write_exr(path, image, attributes);
+    }, py::arg("path"), py::arg("rgba"), py::arg("attributes") = std::map<std::string, std::string>{});
 
     m.def("list_devices", [] {
         py::list out;

@@ -1,0 +1,53 @@
+"""glslppm-render: the built-in scene, its JSON statistics and its EXR output."""
+import json
+import os
+import subprocess
+
+import numpy as np
+
+from conftest import BUILD
+
+RENDER = os.path.join(BUILD, "glslppm-render")
+
+
+def test_render_writes_exr_with_statistics_in_its_header(glslppm, tmp_path):
+    out = tmp_path / "cornell.exr"
+    result = subprocess.run(
+        [RENDER, "--width", "32", "--height", "24", "--passes", "6", "--photons", "4096",
+         "--hash", "exact", "--rng", "pcg", "--out", str(out), "--json"],
+        capture_output=True, text=True, timeout=300, cwd="/")
+    assert result.returncode == 0, result.stderr
+    stats = json.loads(result.stdout)
+    assert stats["passes"] == 6
+    # Path regeneration: the first pass starts every photon thread's path.
+    assert 4096 <= stats["photons_emitted"] <= 6 * 4096
+    assert stats["photons_per_second"] > 0 and stats["rays_per_second"] > 0
+    assert "hash=exact" in stats["variant"] and "rng=pcg" in stats["variant"]
+    assert stats["renderer"]
+
+    image, header = glslppm.read_exr(str(out))
+    assert image.shape == (24, 32, 4)
+    assert np.isfinite(image).all()
+    assert np.all(image[..., 3] == 1.0)
+    # The ceiling light is seen directly at the top centre of the image: its radiance, 17.
+    assert image[:, :, :3].max() >= 16.9
+    assert int(header["passes"]) == 6
+    assert int(header["photons_emitted"]) == stats["photons_emitted"]
+    assert header["hash"] == "exact" and header["rng"] == "pcg"
+    assert float(header["seconds"]) > 0
+
+
+def test_render_rejects_bad_options():
+    result = subprocess.run([RENDER, "--hash", "fast"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1
+    assert "hash: 'fast' is not a hash mode" in result.stderr
+    result = subprocess.run([RENDER, "--width"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1 and "--width needs a value" in result.stderr
+
+
+def test_exr_round_trip(glslppm, tmp_path):
+    rgba = np.random.default_rng(0).random((5, 7, 4), dtype=np.float32) * 1e4
+    glslppm.write_exr(str(tmp_path / "a.exr"), rgba, {"note": "x"})
+    back, header = glslppm.read_exr(str(tmp_path / "a.exr"))
+    assert np.array_equal(back, rgba)
+    assert header == {"note": "x"}
