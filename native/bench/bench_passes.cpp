@@ -1,4 +1,5 @@
 // glslppm-bench passes: end-to-end SPPM throughput on the built-in Cornell box.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -40,15 +41,28 @@ int bench_passes(int argc, char** argv) {
         const double seconds = after.seconds - before.seconds;
         const double photons = double(after.photons_emitted - before.photons_emitted);
         const double rays = double(after.rays - before.rays);
+        // Stage times come from a second, profiled renderer: timer queries wait every pass.
+        RenderSettings profiled = settings;
+        profiled.profile = true;
+        Renderer timed(make_cornell_box(), profiled);
+        const int profiled_passes = std::max(1, std::min(passes, 16));
+        timed.run(profiled_passes);
+        const RenderStats st = timed.stats();
+        const double ms = 1e3 / profiled_passes;
         if (json) {
             std::printf(
                 "{\"bench\": \"passes\", \"scene\": \"cornell\", \"width\": %d, \"height\": %d, "
                 "\"photons_per_pass\": %u, \"hash\": \"%s\", \"rng\": \"%s\", \"passes\": %d, "
                 "\"seconds\": %.6f, \"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
-                "\"rays_per_second\": %.1f, \"renderer\": \"%s\", \"variant\": \"%s\"}\n",
+                "\"rays_per_second\": %.1f, \"photon_bounces_per_second\": %.1f, "
+                "\"stage_ms\": {\"eye\": %.4f, \"photon\": %.4f, \"hash\": %.4f, \"gather\": %.4f}, "
+                "\"renderer\": \"%s\", \"variant\": \"%s\"}\n",
                 settings.width, settings.height, settings.photons_per_pass,
                 to_string(settings.hash).c_str(), to_string(settings.rng).c_str(), passes, seconds,
-                passes / seconds, photons / seconds, rays / seconds, after.renderer.c_str(),
+                passes / seconds, photons / seconds, rays / seconds,
+                passes * double(settings.photons_per_pass) / seconds, st.eye_seconds * ms,
+                st.photon_seconds * ms, st.hash_seconds * ms, st.gather_seconds * ms,
+                after.renderer.c_str(),
                 after.variant.c_str());
         } else {
             std::printf("%s: %dx%d, %u photons/pass, %s hash, %s rng\n", after.renderer.c_str(),
@@ -56,6 +70,9 @@ int bench_passes(int argc, char** argv) {
                         to_string(settings.hash).c_str(), to_string(settings.rng).c_str());
             std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s\n", passes / seconds,
                         photons / seconds * 1e-6, rays / seconds * 1e-6);
+            std::printf("  per pass: eye %.3f ms, photon %.3f ms, hash %.3f ms, gather %.3f ms\n",
+                        st.eye_seconds * ms, st.photon_seconds * ms, st.hash_seconds * ms,
+                        st.gather_seconds * ms);
         }
         return 0;
     } catch (const std::exception& e) {

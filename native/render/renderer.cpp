@@ -81,6 +81,8 @@ struct Renderer::Gpu {
     std::size_t gpu_bytes = 0;
 
     GLuint ubo = 0;
+    GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling
+    double stage_seconds[4] = {0, 0, 0, 0};
     std::vector<GLuint> buffers;  // every SSBO, deleted together
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
 
@@ -116,6 +118,8 @@ struct Renderer::Gpu {
         buffers.clear();
         if (ubo) glDeleteBuffers(1, &ubo);
         ubo = 0;
+        if (queries[0]) glDeleteQueries(5, queries);
+        queries[0] = 0;
     }
 
     void dispatch(const gl::ComputeProgram& program, std::uint32_t threads) {
@@ -142,16 +146,24 @@ struct Renderer::Gpu {
         glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameBlock), &frame);
     }
 
+    void mark(int stage) {
+        if (settings.profile) glQueryCounter(queries[stage], GL_TIMESTAMP);
+    }
+
     void run_pass() {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
         frame.pass_info.x = static_cast<std::uint32_t>(passes);
         upload_frame();
 
+        mark(0);
         set_rng_seed(*eye, 0);
         dispatch(*eye, pixels);
+        if (settings.profile) glMemoryBarrier(ssbo);
+        mark(1);
         set_rng_seed(*photon, 1);
         dispatch(*photon, photon_threads);
         glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+        mark(2);
 
         // Empty cells: key "infinite", no photons.
         const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
@@ -176,12 +188,19 @@ struct Renderer::Gpu {
         }
         dispatch(*hash_b, photon_threads);
         glMemoryBarrier(ssbo);
+        mark(3);
         dispatch(*gather, pixels);
         glMemoryBarrier(ssbo);
         end_pass->use();
         glDispatchCompute(1, 1, 1);
         glMemoryBarrier(ssbo);
+        mark(4);
         ++passes;
+        if (settings.profile) {
+            GLuint64 t[5];
+            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
+            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+        }
     }
 
     Counters read_counters() {
@@ -333,6 +352,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                 glUniform1ui(p->uniform("bvh_node_count"), g.bvh.node_count);
             }
 
+            if (settings.profile) glGenQueries(5, g.queries);
             glGenBuffers(1, &g.ubo);
             glBindBuffer(GL_UNIFORM_BUFFER, g.ubo);
             glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), &g.frame, GL_DYNAMIC_DRAW);
@@ -461,6 +481,10 @@ RenderStats Renderer::stats() {
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
     s.gpu_bytes = g.gpu_bytes;
+    s.eye_seconds = g.stage_seconds[0];
+    s.photon_seconds = g.stage_seconds[1];
+    s.hash_seconds = g.stage_seconds[2];
+    s.gather_seconds = g.stage_seconds[3];
     return s;
 }
 

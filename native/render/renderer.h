@@ -31,6 +31,8 @@ struct RenderStats {
     double bvh_seconds = 0.0;
     double bvh_bytes_per_triangle = 0.0;
     std::size_t gpu_bytes = 0;          // buffers this renderer allocated
+    // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.
+    double eye_seconds = 0.0, photon_seconds = 0.0, hash_seconds = 0.0, gather_seconds = 0.0;
 };
 
 class Renderer {

@@ -21,6 +21,7 @@ struct RenderSettings {
     int device = -1;              // EGL device index; -1: $GLSLPPM_DEVICE or the first GPU
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)
+    bool profile = false;         // time each stage with GL timer queries (waits every pass)
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
