@@ -39,13 +39,13 @@ RayStats trace_rays(const PackedBvh& bvh, std::size_t rays) {
     std::size_t hits = 0;
     const auto start = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < rays; ++i) {
-        const glm::vec3 origin = glm::normalize(random_point(1.0f)) * (2.0f + 0.5f * (1.0f + uni(rng)));
+        const glm::vec3 origin =
+            glm::normalize(random_point(1.0f)) * (2.0f + 0.5f * (1.0f + uni(rng)));
         const glm::vec3 target = random_point(1.0f);
         const Ray ray{origin, glm::normalize(target - origin), 0.0f, 1e30f};
         hits += closest_hit(bvh, ray, &counts).triangle >= 0 ? 1 : 0;
     }
-    stats.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats.nodes_per_ray = static_cast<double>(counts.nodes_visited) / rays;
     stats.triangles_per_ray = static_cast<double>(counts.triangles_tested) / rays;
     stats.hit_fraction = static_cast<double>(hits) / rays;
@@ -69,31 +69,39 @@ int bench_bvh(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) {
         const std::string_view arg = argv[i];
         const bool has_value = i + 1 < argc;
-        if (arg == "--triangles" && has_value) triangles = std::strtoull(argv[++i], nullptr, 10);
-        else if (arg == "--leaf-size" && has_value) options.leaf_size = std::atoi(argv[++i]);
-        else if (arg == "--bins" && has_value) options.bins = std::atoi(argv[++i]);
-        else if (arg == "--order-count" && has_value) order_count = std::atoi(argv[++i]);
-        else if (arg == "--rays" && has_value) rays = std::strtoull(argv[++i], nullptr, 10);
-        else if (arg == "--serial") options.parallel = false;
-        else if (arg == "--json") json = true;
-        else return usage();
+        if (arg == "--triangles" && has_value)
+            triangles = std::strtoull(argv[++i], nullptr, 10);
+        else if (arg == "--leaf-size" && has_value)
+            options.leaf_size = std::atoi(argv[++i]);
+        else if (arg == "--bins" && has_value)
+            options.bins = std::atoi(argv[++i]);
+        else if (arg == "--order-count" && has_value)
+            order_count = std::atoi(argv[++i]);
+        else if (arg == "--rays" && has_value)
+            rays = std::strtoull(argv[++i], nullptr, 10);
+        else if (arg == "--serial")
+            options.parallel = false;
+        else if (arg == "--json")
+            json = true;
+        else
+            return usage();
     }
     if (order_count != 6 && order_count != 1) return usage();
 
     const OwnedMesh mesh = make_sphere_mesh(triangles);
     ValidMesh valid;
-    PackedBvh packed, mtbvh, tbvh;
+    PackedBvh packed, other;
     try {
         valid = validate_mesh(mesh.view(), 1);
         packed = build_packed_bvh(valid, options, order_count);
         // The other layout, for its storage figure (and the ray comparison).
-        PackedBvh other = build_packed_bvh(valid, options, order_count == 6 ? 1 : 6);
-        mtbvh = order_count == 6 ? packed : std::move(other);
-        tbvh = order_count == 6 ? std::move(other) : packed;
+        other = build_packed_bvh(valid, options, order_count == 6 ? 1 : 6);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench bvh: %s\n", e.what());
         return 1;
     }
+    const PackedBvh& mtbvh = order_count == 6 ? packed : other;
+    const PackedBvh& tbvh = order_count == 6 ? other : packed;
     const RayStats mt_rays = trace_rays(mtbvh, rays);
     const RayStats t_rays = trace_rays(tbvh, rays);
     const BvhStats& s = packed.stats;
@@ -108,11 +116,10 @@ int bench_bvh(int argc, char** argv) {
             "\"mtbvh_bytes_per_triangle\": %.2f, \"tbvh_bytes_per_triangle\": %.2f, "
             "\"mtbvh_vec4_per_triangle\": %.2f, \"tbvh_vec4_per_triangle\": %.2f",
             s.triangles, s.degenerate_dropped, options.leaf_size, options.bins,
-            options.parallel ? "true" : "false", order_count, s.total_seconds(),
-            s.build_seconds, s.thread_seconds, s.pack_seconds, s.nodes, s.leaves, s.max_depth,
-            s.bytes_total, s.bytes_per_triangle, mtbvh.stats.bytes_per_triangle,
-            tbvh.stats.bytes_per_triangle, mtbvh.stats.vec4_per_triangle(),
-            tbvh.stats.vec4_per_triangle());
+            options.parallel ? "true" : "false", order_count, s.total_seconds(), s.build_seconds,
+            s.thread_seconds, s.pack_seconds, s.nodes, s.leaves, s.max_depth, s.bytes_total,
+            s.bytes_per_triangle, mtbvh.stats.bytes_per_triangle, tbvh.stats.bytes_per_triangle,
+            mtbvh.stats.vec4_per_triangle(), tbvh.stats.vec4_per_triangle());
         if (rays > 0)
             std::printf(
                 ", \"rays\": %zu, \"mtbvh_nodes_per_ray\": %.2f, \"tbvh_nodes_per_ray\": %.2f, "

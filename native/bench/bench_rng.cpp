@@ -111,8 +111,7 @@ GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data) {
     GLuint buffer = 0;
     glGenBuffers(1, &buffer);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), data,
-                 GL_DYNAMIC_COPY);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_COPY);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
     return buffer;
 }
@@ -185,23 +184,22 @@ int bench_rng(int argc, char** argv) {
         EglContext context(o.device);
         const std::string define = o.generator == "paper" ? "RNG_PAPER" : "RNG_PCG";
         const ComputeProgram stream_program("rng_stream.comp", {{define, ""}});
-        const ComputeProgram sum_program("rng_stream.comp",
-                                         {{define, ""}, {"RNG_STREAM_SUM", ""}});
+        const ComputeProgram sum_program("rng_stream.comp", {{define, ""}, {"RNG_STREAM_SUM", ""}});
 
         const std::size_t count = std::size_t{o.threads} * o.per_thread;
         // The stream needs T*K floats in one SSBO; the summing kernel only T.
         GLint64 max_block = 0;
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-        const bool stream_fits = count * sizeof(float) <= static_cast<std::size_t>(max_block) &&
-                                 count <= UINT32_MAX;
+        const bool stream_fits =
+            count * sizeof(float) <= static_cast<std::size_t>(max_block) && count <= UINT32_MAX;
         if (!stream_fits && (!o.out.empty() || o.passes != 1)) {
             throw std::runtime_error("a stream of " + std::to_string(count) + " numbers needs " +
                                      std::to_string(count * 4) + " bytes, over the driver's " +
                                      std::to_string(max_block) +
                                      "-byte SSBO limit: lower --threads or --per-thread");
         }
-        const GLuint values = make_buffer(
-            0, (stream_fits ? count : std::size_t{o.threads}) * sizeof(float), nullptr);
+        const GLuint values =
+            make_buffer(0, (stream_fits ? count : std::size_t{o.threads}) * sizeof(float), nullptr);
         const GLuint states = make_buffer(kStateBinding, std::size_t{o.threads} * 16, nullptr);
         if (o.generator == "paper") upload_paper_states(states, o);
 
@@ -269,12 +267,12 @@ int bench_rng(int argc, char** argv) {
                          "\"stream_mean\": %.6f, \"stream_ones\": %llu, "
                          "\"stream_numbers_per_second_with_readback\": %.6g, "
                          "\"format\": \"%s\", \"out\": \"%s\"}\n",
-                         o.generator.c_str(), info.renderer.c_str(), o.threads, o.per_thread,
-                         count, gpu_seconds, timing.clock.c_str(), numbers_per_second,
+                         o.generator.c_str(), info.renderer.c_str(), o.threads, o.per_thread, count,
+                         gpu_seconds, timing.clock.c_str(), numbers_per_second,
                          static_cast<unsigned long long>(written),
                          written ? sum / static_cast<double>(written) : 0.0,
-                         static_cast<unsigned long long>(ones),
-                         static_cast<double>(written) / wall, o.format.c_str(), o.out.c_str());
+                         static_cast<unsigned long long>(ones), static_cast<double>(written) / wall,
+                         o.format.c_str(), o.out.c_str());
         } else {
             std::fprintf(report, "%s on %s: %.4g numbers/s (%s, %zu numbers in %.4g ms)\n",
                          o.generator.c_str(), info.renderer.c_str(), numbers_per_second,

@@ -2,9 +2,8 @@
 #pragma once
 
 #include <cmath>
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 namespace glslppm {
 

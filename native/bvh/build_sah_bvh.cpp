@@ -61,7 +61,7 @@ struct Split {
 };
 
 class Builder {
-public:
+  public:
     Builder(std::vector<PrimRef>& refs, const BvhBuildOptions& options)
         : refs_(refs), options_(options) {
         if (options.parallel) {
@@ -105,7 +105,7 @@ public:
         return depth;
     }
 
-private:
+  private:
     // Iterative (explicit stack), so that unbalanced trees cannot overflow the call stack.
     int build_serial(const Range& root, std::vector<BvhNode>& out) {
         struct Item {
@@ -258,7 +258,7 @@ private:
     std::vector<Bin> bins_;
     std::vector<float> right_area_;
 
-public:
+  public:
     Builder(const Builder& other)
         : refs_(other.refs_), options_(other.options_), spawn_depth_(other.spawn_depth_) {}
 };
@@ -285,8 +285,7 @@ Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
         for (std::uint32_t i = begin; i < end; ++i) {
             const std::uint32_t id = mesh.kept[i];
             const glm::uvec3 tri = mesh.view.triangles[id];
-            const Aabb b = Aabb::of_triangle(mesh.view.positions[tri.x],
-                                             mesh.view.positions[tri.y],
+            const Aabb b = Aabb::of_triangle(mesh.view.positions[tri.x], mesh.view.positions[tri.y],
                                              mesh.view.positions[tri.z]);
             refs[i] = PrimRef{b.lo, id, b.hi, 0.0f};
             r.box.grow(b);

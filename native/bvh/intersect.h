@@ -14,9 +14,8 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 #include "bvh/aabb.h"
 
@@ -31,7 +30,7 @@ struct Ray {
 
 struct Hit {
     float t = std::numeric_limits<float>::infinity();
-    float u = 0.0f, v = 0.0f;  // barycentrics of v1 and v2
+    float u = 0.0f, v = 0.0f;    // barycentrics of v1 and v2
     std::int32_t triangle = -1;  // ORIGINAL triangle id (index into MeshView::triangles)
 };
 

@@ -17,8 +17,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
-                   bool parallel) {
+PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, bool parallel) {
     if (threaded.node_count != bvh.nodes.size())
         throw std::invalid_argument("pack_bvh: the links were threaded from another BVH");
     PackedBvh packed;
@@ -42,7 +41,8 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
     packed.nodes.resize(2 * bvh.nodes.size());
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
         const BvhNode& node = bvh.nodes[i];
-        packed.nodes[2 * i] = glm::vec4(boxes[i].lo, int_bits(static_cast<std::int32_t>(node.first)));
+        packed.nodes[2 * i] =
+            glm::vec4(boxes[i].lo, int_bits(static_cast<std::int32_t>(node.first)));
         packed.nodes[2 * i + 1] =
             glm::vec4(boxes[i].hi, int_bits(static_cast<std::int32_t>(node.count)));
     }
@@ -86,17 +86,15 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
     s.nodes = bvh.nodes.size();
     s.leaves = bvh.leaf_count;
     s.max_depth = bvh.max_depth;
-    s.bytes_total = packed.nodes.size() * sizeof(glm::vec4) +
-                    packed.links.size() * sizeof(glm::ivec2) +
-                    packed.triangles.size() * sizeof(glm::vec4) +
-                    packed.normals.size() * sizeof(glm::vec4) +
-                    packed.uvs.size() * sizeof(glm::vec4);
+    s.bytes_total =
+        packed.nodes.size() * sizeof(glm::vec4) + packed.links.size() * sizeof(glm::ivec2) +
+        packed.triangles.size() * sizeof(glm::vec4) + packed.normals.size() * sizeof(glm::vec4) +
+        packed.uvs.size() * sizeof(glm::vec4);
     s.bytes_per_triangle = n == 0 ? 0.0 : static_cast<double>(s.bytes_total) / n;
     return packed;
 }
 
-PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options,
-                           int order_count) {
+PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options, int order_count) {
     auto start = std::chrono::steady_clock::now();
     const Bvh bvh = build_sah_bvh(mesh, options);
     const double build_seconds = seconds_since(start);

@@ -23,9 +23,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "bvh/build_sah_bvh.h"
 #include "bvh/thread_mtbvh.h"
@@ -61,7 +60,6 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
                    bool parallel = true);
 
 // Builds (binned SAH), threads (order_count 6 or 1) and packs, with timings in stats.
-PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options,
-                           int order_count);
+PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options, int order_count);
 
 }  // namespace glslppm

@@ -16,8 +16,8 @@ OwnedMesh make_sphere_mesh(std::size_t triangle_count) {
     // A grid of `segments` x `rings` quads, two triangles each, trimmed to the count asked.
     const std::size_t segments =
         std::max<std::size_t>(3, static_cast<std::size_t>(std::sqrt(triangle_count)));
-    const std::size_t rings = std::max<std::size_t>(1, (triangle_count + 2 * segments - 1) /
-                                                           (2 * segments));
+    const std::size_t rings =
+        std::max<std::size_t>(1, (triangle_count + 2 * segments - 1) / (2 * segments));
     const double max_lat = 85.0 * std::numbers::pi / 180.0;
     mesh.positions.reserve((segments + 1) * (rings + 1));
     for (std::size_t r = 0; r <= rings; ++r) {
@@ -29,8 +29,8 @@ OwnedMesh make_sphere_mesh(std::size_t triangle_count) {
             const double radius = 1.0 + 0.05 * std::sin(7.0 * lat) * std::sin(5.0 * lon);
             mesh.positions.push_back(glm::vec3(dir * radius));
             mesh.normals.push_back(glm::vec3(dir));
-            mesh.uvs.push_back(glm::vec2(static_cast<float>(s) / segments,
-                                         static_cast<float>(r) / rings));
+            mesh.uvs.push_back(
+                glm::vec2(static_cast<float>(s) / segments, static_cast<float>(r) / rings));
         }
     }
     mesh.triangles.reserve(triangle_count);

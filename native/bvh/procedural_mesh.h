@@ -2,9 +2,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "scene/mesh.h"
 
@@ -14,8 +13,8 @@ namespace glslppm {
 struct OwnedMesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::uvec3> triangles;
-    std::vector<glm::vec3> normals;  // per vertex, or empty
-    std::vector<glm::vec2> uvs;      // per vertex, or empty
+    std::vector<glm::vec3> normals;           // per vertex, or empty
+    std::vector<glm::vec2> uvs;               // per vertex, or empty
     std::vector<std::uint32_t> material_ids;  // per triangle, or empty
     MeshView view() const { return MeshView{positions, triangles, normals, uvs, material_ids}; }
     // Multiplies every position by `factor` (normals and uvs unchanged).

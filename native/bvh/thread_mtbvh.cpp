@@ -16,8 +16,7 @@ struct Branch {
 
 // One link set: an iterative preorder walk carrying each node's miss link (the node after
 // its subtree), so no recursion and no parent pointers are needed.
-void thread_order(const std::vector<Branch>& branches, int order,
-                  glm::ivec2* links) {
+void thread_order(const std::vector<Branch>& branches, int order, glm::ivec2* links) {
     struct Item {
         std::int32_t node, miss;
     };
@@ -70,9 +69,9 @@ ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
     }
     auto run = [&](int begin, int end) {
         for (int order = begin; order < end; ++order)
-            thread_order(branches, order,
-                         threaded.links.data() +
-                             static_cast<std::size_t>(order) * threaded.node_count);
+            thread_order(
+                branches, order,
+                threaded.links.data() + static_cast<std::size_t>(order) * threaded.node_count);
     };
     if (parallel && order_count > 1 && threaded.node_count > 4096) {
         auto upper = std::async(std::launch::async, run, order_count / 2, order_count);

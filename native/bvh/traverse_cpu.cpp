@@ -71,8 +71,7 @@ bool any_hit(const PackedBvh& bvh, const Ray& ray, TraversalCounts* counts) {
                 const glm::vec3 b(bvh.triangles[3 * i + 1]);
                 const glm::vec3 c(bvh.triangles[3 * i + 2]);
                 float t, u, v;
-                if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, a, b, c, t, u,
-                                       v) &&
+                if (intersect_triangle(ray.origin, ray.dir, ray.tmin, ray.tmax, a, b, c, t, u, v) &&
                     confirm_triangle_hit(ray.origin, inv_dir, ray.tmin, t, a, b, c))
                     return true;
             }

@@ -13,8 +13,8 @@ namespace glslppm {
 
 // Work done by one traversal, for benchmarks (MTBVH against TBVH).
 struct TraversalCounts {
-    std::uint64_t nodes_visited = 0;       // slab tests
-    std::uint64_t triangles_tested = 0;    // triangle tests
+    std::uint64_t nodes_visited = 0;     // slab tests
+    std::uint64_t triangles_tested = 0;  // triangle tests
 };
 
 // Closest hit in (ray.tmin, ray.tmax): smallest t, ties to the smaller original triangle id.

@@ -122,8 +122,8 @@ int parse_device_env(const char* value, const std::vector<DeviceInfo>& devices) 
     const long index = std::strtol(value, &end, 10);
     if (end == value || *end != '\0') {
         throw GlError(std::string("GLSLPPM_DEVICE=") + value +
-                      " is not a device index; EGL lists " + device_count(devices.size()) +
-                      ": " + describe(devices));
+                      " is not a device index; EGL lists " + device_count(devices.size()) + ": " +
+                      describe(devices));
     }
     if (index < 0 || index >= static_cast<long>(devices.size())) {
         throw GlError(std::string("GLSLPPM_DEVICE=") + value + " but EGL lists " +
@@ -136,22 +136,38 @@ int parse_device_env(const char* value, const std::vector<DeviceInfo>& devices) 
 
 const char* egl_error_name(EGLint error) {
     switch (error) {
-        case EGL_SUCCESS: return "EGL_SUCCESS";
-        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-        case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-        case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-        case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-        case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-        case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-        default: return "unknown EGL error";
+        case EGL_SUCCESS:
+            return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED:
+            return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS:
+            return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC:
+            return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE:
+            return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG:
+            return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT:
+            return "EGL_BAD_CONTEXT";
+        case EGL_BAD_CURRENT_SURFACE:
+            return "EGL_BAD_CURRENT_SURFACE";
+        case EGL_BAD_DISPLAY:
+            return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH:
+            return "EGL_BAD_MATCH";
+        case EGL_BAD_NATIVE_PIXMAP:
+            return "EGL_BAD_NATIVE_PIXMAP";
+        case EGL_BAD_NATIVE_WINDOW:
+            return "EGL_BAD_NATIVE_WINDOW";
+        case EGL_BAD_PARAMETER:
+            return "EGL_BAD_PARAMETER";
+        case EGL_BAD_SURFACE:
+            return "EGL_BAD_SURFACE";
+        case EGL_CONTEXT_LOST:
+            return "EGL_CONTEXT_LOST";
+        default:
+            return "unknown EGL error";
     }
 }
 
@@ -252,8 +268,8 @@ EglContext::EglContext(int device_index) {
                     throw GlError("EGL device " + std::to_string(index) + " (" +
                                   devices[index].name + "): " + e.what());
                 }
-                tried.push_back("device " + std::to_string(index) + " (" +
-                                devices[index].name + "): " + e.what());
+                tried.push_back("device " + std::to_string(index) + " (" + devices[index].name +
+                                "): " + e.what());
             }
         }
     } else if (devices.empty()) {
@@ -310,8 +326,10 @@ void EglContext::create_on(EGLDisplay display) {
             throw GlError(std::string("no EGL config renders desktop OpenGL (") +
                           egl_error_name(eglGetError()) + ")");
         }
-        const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                          EGL_CONTEXT_MINOR_VERSION, 3,
+        const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                          4,
+                                          EGL_CONTEXT_MINOR_VERSION,
+                                          3,
                                           EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                           EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                           EGL_NONE};
@@ -330,8 +348,8 @@ void EglContext::create_on(EGLDisplay display) {
             }
         }
         if (!eglMakeCurrent(display, surface_, surface_, context_)) {
-            throw GlError(std::string("eglMakeCurrent failed (") +
-                          egl_error_name(eglGetError()) + ")");
+            throw GlError(std::string("eglMakeCurrent failed (") + egl_error_name(eglGetError()) +
+                          ")");
         }
         auto gl_string = [](GLenum name) {
             const auto* s = reinterpret_cast<const char*>(glGetString(name));

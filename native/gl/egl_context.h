@@ -18,7 +18,7 @@ class ProgramCache;
 
 // A GL/EGL failure the user can act on: the message says what is missing and how to get it.
 class GlError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -48,7 +48,7 @@ struct ContextInfo {
 // Construct, use and destroy it on one thread (GlThread does that for callers that have a
 // GL context of their own).
 class EglContext {
-public:
+  public:
     // device_index -1: GLSLPPM_DEVICE if set, else the first hardware device, else the first
     // device, else Mesa's surfaceless platform. Throws GlError when nothing works.
     explicit EglContext(int device_index = -1);
@@ -63,7 +63,7 @@ public:
     // Compiled programs of this context, keyed by (file, defines); destroyed with it.
     ProgramCache& programs();
 
-private:
+  private:
     void create_on(EGLDisplay display);
     void release() noexcept;
 

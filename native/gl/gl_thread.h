@@ -19,7 +19,7 @@
 namespace glslppm::gl {
 
 class GlThread {
-public:
+  public:
     // Starts the thread and creates the context on it (device_index as EglContext's). A
     // GlError from the context's creation is rethrown here.
     explicit GlThread(int device_index = -1);
@@ -44,7 +44,7 @@ public:
     // The context; use it (and its programs()) only inside call().
     EglContext& context() { return *context_; }
 
-private:
+  private:
     void post(std::function<void()> job);
     void run(int device_index, std::promise<void>& started);
 

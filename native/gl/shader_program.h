@@ -19,7 +19,7 @@ namespace glslppm::gl {
 // A shader that failed to load, compile or link; the message names the program, the file
 // (relative to the shader folder) and the line, followed by the driver's message.
 class ShaderError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -50,7 +50,7 @@ std::string format_shader_log(const std::string& program, const std::string& log
                               const std::vector<std::string>& files);
 
 class ComputeProgram {
-public:
+  public:
     // Compiles and links `stage_file` (e.g. "eye_trace.comp") from shader_dir(), or from
     // `root`, with the defines. Needs a current GL 4.3 context. Throws ShaderError.
     ComputeProgram(const std::string& stage_file, const Defines& defines);
@@ -72,7 +72,7 @@ public:
     // Included files, by #line index (0 is the stage file).
     const std::vector<std::string>& files() const { return files_; }
 
-private:
+  private:
     void build(const std::filesystem::path& root, const Defines& defines);
 
     GLuint id_ = 0;
@@ -85,12 +85,12 @@ private:
 // Compiled programs of one context, keyed by (stage file, defines). Lives in EglContext and
 // is destroyed while its context is current.
 class ProgramCache {
-public:
+  public:
     const ComputeProgram& get(const std::string& stage_file, const Defines& defines);
     std::size_t size() const { return programs_.size(); }
     void clear() { programs_.clear(); }
 
-private:
+  private:
     std::map<std::string, std::unique_ptr<ComputeProgram>> programs_;
 };
 

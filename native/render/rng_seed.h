@@ -1,11 +1,10 @@
 // CPU seeding of the paper's float-only generator (shaders/common/rng.glsl, RNG_PAPER).
 #pragma once
 
-#include <glm/vec4.hpp>
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <glm/vec4.hpp>
 #include <vector>
 
 namespace glslppm {
@@ -18,11 +17,11 @@ inline constexpr std::array<std::uint32_t, 4> kPaperRngModuli = {4194287u, 41942
 // seeder the paper names. The seed goes through splitmix64 first so that small or similar
 // seeds (0, 1, 2, ...) start from unrelated, non-zero states.
 class Xorshift64 {
-public:
+  public:
     explicit Xorshift64(std::uint64_t seed);
     std::uint64_t next();
 
-private:
+  private:
     std::uint64_t state_;
 };
 

@@ -50,8 +50,9 @@ TEST(HitBox, AxisParallelRaysNeverProduceNaN) {
         EXPECT_TRUE(hit_box(lo, hi, {0, 0, 0}, inv, 0.0f, kInf));
         EXPECT_TRUE(hit_box(lo, hi, {0.5f, -0.5f, 0.25f}, inv, 0.0f, 1e-3f));
         // Beside the box, parallel to it: miss.
-        EXPECT_FALSE(hit_box(lo, hi, glm::vec3(3, 3, 3) * (glm::vec3(1) - glm::abs(dir)) - dir * 5.0f,
-                             inv, 0.0f, kInf));
+        EXPECT_FALSE(hit_box(lo, hi,
+                             glm::vec3(3, 3, 3) * (glm::vec3(1) - glm::abs(dir)) - dir * 5.0f, inv,
+                             0.0f, kInf));
     }
     // Origin on the lo slab plane of the zero component: the ray lies in the box face.
     EXPECT_TRUE(hit_box(lo, hi, {-5, -1, 0}, safe_inverse_dir({1, 0, 0}), 0.0f, kInf));
@@ -77,8 +78,8 @@ TEST(IntersectTriangle, EdgesAndVerticesAreInclusive) {
     float t, u, v;
     for (const glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(4, 0, 0), glm::vec3(0, 4, 0),
                               glm::vec3(2, 0, 0), glm::vec3(0, 2, 0), glm::vec3(2, 2, 0)}) {
-        EXPECT_TRUE(intersect_triangle(p + glm::vec3(0, 0, 1), {0, 0, -1}, 0.0f, kInf, v0, v1, v2,
-                                       t, u, v))
+        EXPECT_TRUE(
+            intersect_triangle(p + glm::vec3(0, 0, 1), {0, 0, -1}, 0.0f, kInf, v0, v1, v2, t, u, v))
             << p.x << " " << p.y;
         EXPECT_EQ(t, 1.0f);
     }

@@ -45,8 +45,7 @@ std::vector<std::pair<std::string, OwnedMesh>> structure_scenes() {
 std::vector<std::int32_t> subtree_sizes(const Bvh& bvh) {
     std::vector<std::int32_t> size(bvh.nodes.size(), 1);
     for (std::size_t i = bvh.nodes.size(); i-- > 0;)
-        if (!bvh.nodes[i].is_leaf())
-            size[i] += size[bvh.nodes[i].left] + size[bvh.nodes[i].right];
+        if (!bvh.nodes[i].is_leaf()) size[i] += size[bvh.nodes[i].left] + size[bvh.nodes[i].right];
     return size;
 }
 
@@ -213,7 +212,8 @@ TEST(PackedBvh, LayoutMatchesTheTree) {
             EXPECT_TRUE(glm::all(glm::greaterThan(box.hi, node.box.hi)));
         } else {
             for (const std::int32_t c : {node.left, node.right}) {
-                const Aabb child{glm::vec3(packed.nodes[2 * c]), glm::vec3(packed.nodes[2 * c + 1])};
+                const Aabb child{glm::vec3(packed.nodes[2 * c]),
+                                 glm::vec3(packed.nodes[2 * c + 1])};
                 EXPECT_TRUE(box.contains(child));
             }
         }
@@ -230,8 +230,8 @@ TEST(PackedBvh, LayoutMatchesTheTree) {
         EXPECT_EQ(packed.uvs[2 * i], glm::vec4(b.mesh.uvs[t.x], b.mesh.uvs[t.y]));
         EXPECT_EQ(packed.uvs[2 * i + 1], glm::vec4(b.mesh.uvs[t.z], 0, 0));
     }
-    const std::size_t expected_bytes = packed.node_count * (32 + 6 * 8) +
-                                       packed.triangle_count * (48 + 48 + 32);
+    const std::size_t expected_bytes =
+        packed.node_count * (32 + 6 * 8) + packed.triangle_count * (48 + 48 + 32);
     EXPECT_EQ(packed.stats.bytes_total, expected_bytes);
     EXPECT_DOUBLE_EQ(packed.stats.bytes_per_triangle,
                      static_cast<double>(expected_bytes) / packed.triangle_count);
@@ -251,8 +251,7 @@ TEST(PackedBvh, MaterialIdsAndMissingAttributes) {
         const std::int32_t id = bits(packed.triangles[3 * i + 1].w);
         EXPECT_EQ(bits(packed.triangles[3 * i].w), id % 3);
     }
-    EXPECT_EQ(packed.stats.bytes_total,
-              packed.node_count * (32 + 8) + packed.triangle_count * 48);
+    EXPECT_EQ(packed.stats.bytes_total, packed.node_count * (32 + 8) + packed.triangle_count * 48);
 }
 
 TEST(PackedBvh, RejectsBadOptions) {

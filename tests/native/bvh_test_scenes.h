@@ -16,7 +16,6 @@
 
 namespace glslppm::bvh_test {
 
-
 // n triangles with independent vertices, random sizes (a few spanning half the scene) in
 // [-1, 1]^3.
 OwnedMesh make_random_soup(std::size_t n, std::uint32_t seed);
@@ -35,7 +34,6 @@ OwnedMesh make_coplanar_duplicates(std::uint32_t seed);
 // at points on edges (shared edges included) and at triangle interiors; some with tmin > 0
 // or a finite tmax.
 std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count, std::uint32_t seed);
-
 
 // Definitions (header-only: CMake compiles only *_test.cpp from tests/native).
 
@@ -63,7 +61,7 @@ inline void add_triangle(OwnedMesh& m, const glm::vec3& a, const glm::vec3& b, c
 
 // A quad a-b-c-d as two triangles sharing the diagonal a-c and the vertices.
 inline void add_quad(OwnedMesh& m, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
-              const glm::vec3& d) {
+                     const glm::vec3& d) {
     const auto base = static_cast<std::uint32_t>(m.positions.size());
     m.positions.insert(m.positions.end(), {a, b, c, d});
     m.triangles.emplace_back(base, base + 1, base + 2);
@@ -104,14 +102,14 @@ inline OwnedMesh make_random_soup(std::size_t n, std::uint32_t seed) {
 inline OwnedMesh make_cornell_box() {
     OwnedMesh m;
     const float w = 555.0f;
-    add_quad(m, {0, 0, 0}, {w, 0, 0}, {w, 0, w}, {0, 0, w});  // floor
-    add_quad(m, {0, w, 0}, {0, w, w}, {w, w, w}, {w, w, 0});  // ceiling
-    add_quad(m, {0, 0, w}, {w, 0, w}, {w, w, w}, {0, w, w});  // back
-    add_quad(m, {0, 0, 0}, {0, 0, w}, {0, w, w}, {0, w, 0});  // left
-    add_quad(m, {w, 0, 0}, {w, w, 0}, {w, w, w}, {w, 0, w});  // right
+    add_quad(m, {0, 0, 0}, {w, 0, 0}, {w, 0, w}, {0, 0, w});                          // floor
+    add_quad(m, {0, w, 0}, {0, w, w}, {w, w, w}, {w, w, 0});                          // ceiling
+    add_quad(m, {0, 0, w}, {w, 0, w}, {w, w, w}, {0, w, w});                          // back
+    add_quad(m, {0, 0, 0}, {0, 0, w}, {0, w, w}, {0, w, 0});                          // left
+    add_quad(m, {w, 0, 0}, {w, w, 0}, {w, w, w}, {w, 0, w});                          // right
     add_quad(m, {213, 554, 227}, {343, 554, 227}, {343, 554, 332}, {213, 554, 332});  // light
-    add_block(m, {130, 0, 65}, {295, 165, 230});   // short block
-    add_block(m, {265, 0, 295}, {430, 330, 460});  // tall block
+    add_block(m, {130, 0, 65}, {295, 165, 230});                                      // short block
+    add_block(m, {265, 0, 295}, {430, 330, 460});                                     // tall block
     return m;
 }
 
@@ -156,7 +154,9 @@ inline OwnedMesh make_coplanar_duplicates(std::uint32_t seed) {
     for (int i = 0; i < 200; ++i) {
         const float z = i % 2 ? 0.0f : 0.5f;
         const glm::vec3 c(uniform(rng, -1, 1), uniform(rng, -1, 1), z);
-        auto jitter = [&] { return glm::vec3(uniform(rng, -0.3f, 0.3f), uniform(rng, -0.3f, 0.3f), 0.0f); };
+        auto jitter = [&] {
+            return glm::vec3(uniform(rng, -0.3f, 0.3f), uniform(rng, -0.3f, 0.3f), 0.0f);
+        };
         add_triangle(m, c + jitter(), c + jitter(), c + jitter());
     }
     // Exact duplicates: the same vertex indices and copies of the vertices.
@@ -182,7 +182,8 @@ inline OwnedMesh make_coplanar_duplicates(std::uint32_t seed) {
     return m;
 }
 
-inline std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count, std::uint32_t seed) {
+inline std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count,
+                                       std::uint32_t seed) {
     Rng rng(seed);
     Aabb bounds;
     for (const glm::vec3& p : mesh.positions) bounds.grow(p);
@@ -190,8 +191,9 @@ inline std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count,
     const glm::vec3 half = glm::max(bounds.extent() * 0.5f, glm::vec3(bounds.magnitude() * 1e-3f));
     const float size = glm::length(half);  // unit of ray lengths, so tmin/tmax scale too
     auto point_in = [&](float factor) {
-        return centre + half * factor *
-                            glm::vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+        return centre +
+               half * factor *
+                   glm::vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
     };
     auto vertex = [&](std::uint32_t tri, int k) { return mesh.positions[mesh.triangles[tri][k]]; };
     std::uniform_int_distribution<std::uint32_t> pick_tri(
@@ -221,7 +223,9 @@ inline std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count,
         glm::vec3 target;
         bool aimed = true;
         switch (kind) {
-            case 2: target = vertex(pick_tri(rng), static_cast<int>(rng() % 3)); break;
+            case 2:
+                target = vertex(pick_tri(rng), static_cast<int>(rng() % 3));
+                break;
             case 3: {  // a point on an edge: the midpoint (exact for shared edges) or any
                 const std::uint32_t t = pick_tri(rng);
                 const int k = static_cast<int>(rng() % 3);
@@ -238,11 +242,14 @@ inline std::vector<Ray> make_test_rays(const OwnedMesh& mesh, std::size_t count,
                          b * (vertex(t, 2) - vertex(t, 0));
                 break;
             }
-            default: aimed = false; break;  // 0, 1: random; 6, 7: axis-parallel
+            default:
+                aimed = false;
+                break;  // 0, 1: random; 6, 7: axis-parallel
         }
         if (aimed) {
             // From close by (often inside the bounds) or from afar, through the target at t ~ 1.
-            const float distance = size * (rng() % 2 ? uniform(rng, 0.01f, 0.5f) : uniform(rng, 0.5f, 4.0f));
+            const float distance =
+                size * (rng() % 2 ? uniform(rng, 0.01f, 0.5f) : uniform(rng, 0.5f, 4.0f));
             ray.origin = target - class_dir(cls) * distance;
             ray.dir = target - ray.origin;
             if (select_order(ray.dir) != cls) ray.dir = class_dir(cls) * distance;  // rounding

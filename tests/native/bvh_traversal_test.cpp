@@ -13,8 +13,8 @@
 namespace glslppm {
 namespace {
 
-using bvh_test::make_cornell_box;
 using bvh_test::make_coplanar_duplicates;
+using bvh_test::make_cornell_box;
 using bvh_test::make_random_soup;
 using bvh_test::make_test_rays;
 using bvh_test::make_thin_triangles;
@@ -52,8 +52,7 @@ std::vector<SceneCase> scene_cases() {
     for (std::size_t n : {1, 2, 10, 100, 1000, 10000})
         cases.push_back({"soup_" + std::to_string(n),
                          [n] { return make_random_soup(n, static_cast<std::uint32_t>(n)); }});
-    cases.push_back({"soup_100000", [] { return make_random_soup(100000, 100000); }, 100000,
-                     5000});
+    cases.push_back({"soup_100000", [] { return make_random_soup(100000, 100000); }, 100000, 5000});
     const std::vector<std::pair<std::string, std::function<OwnedMesh()>>> base = {
         {"sphere", [] { return make_sphere_mesh(3000); }},
         {"cornell_box", [] { return make_cornell_box(); }},
@@ -63,16 +62,18 @@ std::vector<SceneCase> scene_cases() {
     };
     for (const auto& [name, make] : base) {
         if (name.back() != '_') cases.push_back({name, make});
-        cases.push_back({name + (name.back() == '_' ? "" : "_") + "scaled_1em3", scaled(make, 1e-3f)});
-        cases.push_back({name + (name.back() == '_' ? "" : "_") + "scaled_1e5", scaled(make, 1e5f)});
+        cases.push_back(
+            {name + (name.back() == '_' ? "" : "_") + "scaled_1em3", scaled(make, 1e-3f)});
+        cases.push_back(
+            {name + (name.back() == '_' ? "" : "_") + "scaled_1e5", scaled(make, 1e5f)});
     }
     return cases;
 }
 
 bool same_hit(const Hit& a, const Hit& b) {
-    return a.triangle == b.triangle && std::bit_cast<std::uint32_t>(a.t) ==
-                                           std::bit_cast<std::uint32_t>(b.t) &&
-           a.u == b.u && a.v == b.v;
+    return a.triangle == b.triangle &&
+           std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) && a.u == b.u &&
+           a.v == b.v;
 }
 
 std::string describe(const Ray& r, const Hit& expected, const Hit& got) {
@@ -135,8 +136,8 @@ TEST_P(TraversalTest, MtbvhAndTbvhEqualBruteForce) {
         std::size_t mismatches = 0, any_mismatches = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             if (!same_hit(reference[i], got[i]) && mismatches++ < 5)
-                ADD_FAILURE() << scene.name << " leaf " << leaf_size << " orders "
-                              << order_count << ": " << describe(rays[i], reference[i], got[i]);
+                ADD_FAILURE() << scene.name << " leaf " << leaf_size << " orders " << order_count
+                              << ": " << describe(rays[i], reference[i], got[i]);
             if ((reference[i].triangle >= 0) != (got_any[i] != 0) && any_mismatches++ < 5)
                 ADD_FAILURE() << scene.name << " any_hit leaf " << leaf_size << " orders "
                               << order_count << " ray " << i;
@@ -145,15 +146,14 @@ TEST_P(TraversalTest, MtbvhAndTbvhEqualBruteForce) {
                                   << order_count;
         EXPECT_EQ(any_mismatches, 0u);
     }
-    std::printf("[ scene    ] %-34s %7zu triangles, %6zu rays (%zu vs brute force), %zu hits, "
-                "%zu axis-parallel\n",
-                scene.name.c_str(), valid.kept.size(), rays.size(), brute_n, hits, axis_parallel);
+    std::printf(
+        "[ scene    ] %-34s %7zu triangles, %6zu rays (%zu vs brute force), %zu hits, "
+        "%zu axis-parallel\n",
+        scene.name.c_str(), valid.kept.size(), rays.size(), brute_n, hits, axis_parallel);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, TraversalTest, ::testing::ValuesIn(scene_cases()),
-                         [](const ::testing::TestParamInfo<SceneCase>& p) {
-                             return p.param.name;
-                         });
+                         [](const ::testing::TestParamInfo<SceneCase>& p) { return p.param.name; });
 
 // Rays through shared vertices and edge midpoints of a mesh with exact coordinates hit
 // several triangles at the same t: the smaller original id must win everywhere.
@@ -171,7 +171,7 @@ TEST(TraversalTies, SharedEdgesAndDuplicatesGoToSmallerId) {
     };
     // Diagonal 0-2 (triangles 0 and 1): 0. Edge 1-2 (0 and 3): 0. Vertex 2 (0, 1, 3, 4): 0.
     // Inside triangle 1 (and its duplicate 4): 1. Inside triangle 3: 3.
-    const Case cases[] = {{{0.5f, 0.5f, 0}, 0}, {{1, 0.5f, 0}, 0}, {{1, 1, 0}, 0},
+    const Case cases[] = {{{0.5f, 0.5f, 0}, 0},   {{1, 0.5f, 0}, 0},     {{1, 1, 0}, 0},
                           {{0.25f, 0.75f, 0}, 1}, {{1.75f, 0.5f, 0}, 2}, {{1.25f, 0.75f, 0}, 3}};
     for (const Case& c : cases) {
         for (const glm::vec3 dir : {glm::vec3(0, 0, -1), glm::vec3(0, 0, 1),

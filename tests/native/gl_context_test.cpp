@@ -29,14 +29,14 @@ long resident_bytes() {
 
 // Sets an environment variable for one scope.
 class ScopedEnv {
-public:
+  public:
     ScopedEnv(const char* name, const char* value) : name_(name) {
         if (const char* old = std::getenv(name)) old_ = old, had_ = true;
         setenv(name, value, 1);
     }
     ~ScopedEnv() { had_ ? (void)setenv(name_, old_.c_str(), 1) : (void)unsetenv(name_); }
 
-private:
+  private:
     const char* name_;
     std::string old_;
     bool had_ = false;
@@ -165,8 +165,7 @@ TEST(GlContext, BadDeviceIndexArgumentNamesTheDevices) {
         EglContext context;
         FAIL() << "no error for GLSLPPM_DEVICE=gpu0";
     } catch (const GlError& e) {
-        EXPECT_NE(std::string(e.what()).find("not a device index"), std::string::npos)
-            << e.what();
+        EXPECT_NE(std::string(e.what()).find("not a device index"), std::string::npos) << e.what();
     }
 }
 
@@ -208,8 +207,8 @@ TEST(GlThread, RunsTasksOnItsOwnThreadWithItsContext) {
     EXPECT_NE(thread_id, std::this_thread::get_id());
     EXPECT_NE(current, EGL_NO_CONTEXT);
     EXPECT_EQ(eglGetCurrentContext(), caller_context);  // the caller's state is untouched
-    const std::string renderer =
-        gl.call([] { return std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))); });
+    const std::string renderer = gl.call(
+        [] { return std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))); });
     EXPECT_EQ(renderer, gl.info().renderer);
     // Nested call from the GL thread runs inline instead of deadlocking.
     EXPECT_EQ(gl.call([&gl] { return gl.call([] { return 42; }); }), 42);
@@ -217,16 +216,13 @@ TEST(GlThread, RunsTasksOnItsOwnThreadWithItsContext) {
 
 TEST(GlThread, PropagatesExceptionsAndKeepsWorking) {
     GlThread gl;
-    EXPECT_THROW(gl.call([]() -> int { throw std::logic_error("task failed"); }),
-                 std::logic_error);
+    EXPECT_THROW(gl.call([]() -> int { throw std::logic_error("task failed"); }), std::logic_error);
     int ran = 0;
     gl.call([&ran] { ran = 1; });
     EXPECT_EQ(ran, 1);
 }
 
-TEST(GlThread, ConstructionErrorReachesTheCaller) {
-    EXPECT_THROW(GlThread gl(1000), GlError);
-}
+TEST(GlThread, ConstructionErrorReachesTheCaller) { EXPECT_THROW(GlThread gl(1000), GlError); }
 
 TEST(GlThread, TwoContextsOnOneDisplayCoexist) {
     // eglTerminate of one display must not break the other context on it.

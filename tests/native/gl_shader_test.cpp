@@ -21,7 +21,7 @@ GlThread& gl() {
 
 // A throwaway shader folder with the files a test writes.
 class TempShaderDir {
-public:
+  public:
     TempShaderDir() {
         std::string pattern = (fs::temp_directory_path() / "glslppm-shaders-XXXXXX").string();
         root_ = mkdtemp(pattern.data());
@@ -33,7 +33,7 @@ public:
     }
     const fs::path& root() const { return root_; }
 
-private:
+  private:
     fs::path root_;
 };
 
@@ -91,8 +91,7 @@ TEST(GlShader, MissingIncludeNamesTheLine) {
     TempShaderDir dir;
     dir.write("stage.comp", "\n\n#include \"common/nothere.glsl\"\n");
     const std::string message = compile_error(dir.root(), "stage.comp");
-    EXPECT_NE(message.find("stage.comp: stage.comp:3: cannot open include file"),
-              std::string::npos)
+    EXPECT_NE(message.find("stage.comp: stage.comp:3: cannot open include file"), std::string::npos)
         << message;
 }
 
@@ -119,11 +118,10 @@ TEST(GlShader, NvidiaAndMesaLogsMapToFiles) {
     EXPECT_EQ(format_shader_log("eye_trace.comp",
                                 "1(12) : error C0000: syntax error, unexpected '*'", files),
               "eye_trace.comp: common/rng.glsl:12: error C0000: syntax error, unexpected '*'");
-    EXPECT_EQ(format_shader_log("eye_trace.comp", "1:12(3): error: syntax error, unexpected '*'",
-                                files),
-              "eye_trace.comp: common/rng.glsl:12: error: syntax error, unexpected '*'");
-    EXPECT_EQ(format_shader_log("eye_trace.comp", "ERROR: 0:7: 'x' : undeclared identifier",
-                                files),
+    EXPECT_EQ(
+        format_shader_log("eye_trace.comp", "1:12(3): error: syntax error, unexpected '*'", files),
+        "eye_trace.comp: common/rng.glsl:12: error: syntax error, unexpected '*'");
+    EXPECT_EQ(format_shader_log("eye_trace.comp", "ERROR: 0:7: 'x' : undeclared identifier", files),
               "eye_trace.comp: eye_trace.comp:7: error: 'x' : undeclared identifier");
 }
 
@@ -146,7 +144,8 @@ TEST(GlShader, RngIncludeRejectsNoOrBothGenerators) {
     const std::string none = compile_error(root, "rng_stream.comp");
     EXPECT_NE(none.find("common/rng.glsl:"), std::string::npos) << none;
     EXPECT_NE(none.find("define exactly one of RNG_PAPER and RNG_PCG"), std::string::npos) << none;
-    const std::string both = compile_error(root, "rng_stream.comp", {{"RNG_PAPER", ""}, {"RNG_PCG", ""}});
+    const std::string both =
+        compile_error(root, "rng_stream.comp", {{"RNG_PAPER", ""}, {"RNG_PCG", ""}});
     EXPECT_NE(both.find("not both"), std::string::npos) << both;
 }
 

@@ -64,9 +64,9 @@ GlThread& gl_thread() {
 }
 
 struct Stream {
-    std::vector<float> values;                // values[k * threads + t]
-    std::vector<float> paper_states;          // 4 per entry, RNG_PAPER
-    std::vector<std::uint32_t> pcg_states;    // RNG_PCG
+    std::vector<float> values;              // values[k * threads + t]
+    std::vector<float> paper_states;        // 4 per entry, RNG_PAPER
+    std::vector<std::uint32_t> pcg_states;  // RNG_PCG
 };
 
 // Runs rng_stream.comp with RNG_STREAM_STATES and reads everything back.
@@ -139,8 +139,8 @@ void expect_uniform(const std::vector<float>& values, std::uint32_t threads, con
         for (float x : values) v += (x - mean) * (x - mean);
         return c / v;
     };
-    const double neighbours = lag_correlation(1);       // thread t and t+1, same draw
-    const double sequence = lag_correlation(threads);   // draws k and k+1 of one thread
+    const double neighbours = lag_correlation(1);      // thread t and t+1, same draw
+    const double sequence = lag_correlation(threads);  // draws k and k+1 of one thread
     EXPECT_LT(std::abs(neighbours), 5.0 / std::sqrt(n)) << what;
     EXPECT_LT(std::abs(sequence), 5.0 / std::sqrt(n)) << what;
     std::printf("%s: n %.0f, mean %.6f, chi2(255) %.1f, lag-1 corr %.2e (threads) %.2e (draws)\n",
@@ -219,9 +219,10 @@ TEST(RngPaper, EveryFloatStepIsExactForAllStates) {
                 ASSERT_EQ(next_low, static_cast<float>(expected)) << "generator " << i;
             }
         }
-        std::printf("generator %d: reciprocal division floors one low for %ld of %llu states, "
-                    "state still exact\n",
-                    i, reciprocal_floor_off, static_cast<unsigned long long>(mi - 1));
+        std::printf(
+            "generator %d: reciprocal division floors one low for %ld of %llu states, "
+            "state still exact\n",
+            i, reciprocal_floor_off, static_cast<unsigned long long>(mi - 1));
     }
 }
 
@@ -259,10 +260,11 @@ TEST(RngPaper, GpuStatesMatchCpuBitExactlyAndOutputsWithinRounding) {
     // GLSL allows 2.5 ulp for division; four quotients below 1 plus three sums below 2
     // round to at most about 13 * 2^-24.
     EXPECT_LE(max_error, 16.0 / 16777216.0);
-    std::printf("paper: %u threads x %u draws: states bit-exact; output max error %.2f * 2^-24, "
-                "%.4f%% bit-equal to a CPU float evaluation, %zu clamped\n",
-                kThreads, kDraws, max_error * 16777216.0,
-                100.0 * bit_equal_to_float / (double(kThreads) * kDraws), clamped);
+    std::printf(
+        "paper: %u threads x %u draws: states bit-exact; output max error %.2f * 2^-24, "
+        "%.4f%% bit-equal to a CPU float evaluation, %zu clamped\n",
+        kThreads, kDraws, max_error * 16777216.0,
+        100.0 * bit_equal_to_float / (double(kThreads) * kDraws), clamped);
     expect_uniform(gpu.values, kThreads, "paper");
 }
 
@@ -292,7 +294,8 @@ TEST(RngPcg, DifferentSeedsGiveUnrelatedStreams) {
     both.insert(both.end(), b.values.begin(), b.values.end());
     expect_uniform(both, kThreads, "pcg seeds 1000+1001");
     double c = 0.0;
-    for (std::size_t i = 0; i < a.values.size(); ++i) c += (a.values[i] - 0.5) * (b.values[i] - 0.5);
+    for (std::size_t i = 0; i < a.values.size(); ++i)
+        c += (a.values[i] - 0.5) * (b.values[i] - 0.5);
     c /= static_cast<double>(a.values.size()) / 12.0;
     EXPECT_LT(std::abs(c), 5.0 / std::sqrt(static_cast<double>(a.values.size())));
 }
