@@ -15,8 +15,24 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     // Film coordinates in [-1, 1], y up; row 0 is the top of the image.
     vec2 ndc = vec2(2.0 * (float(x) + jx) / float(sizes.x) - 1.0,
                     1.0 - 2.0 * (float(y) + jy) / float(sizes.y));
-    vec3 origin = vec3(0.0);
-    vec3 dir = vec3(ndc * camera_fov.xy + camera_fov.zw, -1.0);
+    // camera_fov: the film's half extent and shift, on the z = -1 plane (perspective) or in
+    // world units (orthographic).
+    vec2 film = ndc * camera_fov.xy + camera_fov.zw;
+    vec3 origin, dir;
+    if (camera_lens.x > 0.5) {
+        origin = vec3(film, 0.0);
+        dir = vec3(0.0, 0.0, -1.0);
+    } else {
+        origin = vec3(0.0);
+        dir = vec3(film, -1.0);
+#ifdef HAS_DEPTH_OF_FIELD
+        // Thin lens: rays through the lens disc meet on the plane at the focus distance.
+        vec3 focus = dir * camera_lens.w;
+        vec2 lens = camera_lens.z * sample_disc(rng_next(rng), rng_next(rng));
+        origin = vec3(lens, 0.0);
+        dir = focus - origin;
+#endif
+    }
     return make_ray((camera_to_world * vec4(origin, 1.0)).xyz,
                     normalize((camera_to_world * vec4(dir, 0.0)).xyz));
 }

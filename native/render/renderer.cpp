@@ -253,6 +253,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         features.push_back(name);
     };
     feature(!g.bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
+            "HAS_DEPTH_OF_FIELD", "depth-of-field");
+    feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
     feature(conductor, "HAS_CONDUCTOR", "conductor");
     feature(dielectric, "HAS_DIELECTRIC", "dielectric");
     feature(g.emitters.has[0], "HAS_TRIANGLE_EMITTERS", "area-lights");
@@ -280,8 +283,16 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     const float tan_larger = settings.width >= settings.height ? tan_x : tan_x * aspect;
     FrameBlock& f = g.frame;
     f.camera_to_world = cam.to_world;
-    f.camera_fov = glm::vec4(tan_x, tan_x * aspect, 2.0f * cam.shift_x * tan_larger,
-                             2.0f * cam.shift_y * tan_larger);
+    if (cam.projection == Projection::Orthographic) {
+        // Blender's ortho_scale spans the larger image side.
+        const float half_larger = 0.5f * cam.ortho_scale;
+        const float half_x = settings.width >= settings.height ? half_larger : half_larger / aspect;
+        f.camera_fov = glm::vec4(half_x, half_x * aspect, 2.0f * cam.shift_x * half_larger,
+                                 2.0f * cam.shift_y * half_larger);
+    } else {
+        f.camera_fov = glm::vec4(tan_x, tan_x * aspect, 2.0f * cam.shift_x * tan_larger,
+                                 2.0f * cam.shift_y * tan_larger);
+    }
     f.camera_lens = glm::vec4(static_cast<float>(cam.projection), 0.5f * cam.ortho_scale,
                               cam.aperture_radius, cam.focus_distance);
     f.scene_lo = glm::vec4(g.bounds.lo, 1e-3f * diagonal);
@@ -301,9 +312,13 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         for (int j = 0; j < 5; ++j) {
             for (int i = 0; i < 5; ++i) {
                 const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec3 d(ndc.x * f.camera_fov.x + f.camera_fov.z,
-                                  ndc.y * f.camera_fov.y + f.camera_fov.w, -1.0f);
-                Ray ray{eye, glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
+                const glm::vec2 film(ndc.x * f.camera_fov.x + f.camera_fov.z,
+                                     ndc.y * f.camera_fov.y + f.camera_fov.w);
+                const bool ortho = cam.projection == Projection::Orthographic;
+                const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
+                const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
+                Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
+                        glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
                 const Hit hit = closest_hit(g.bvh, ray);
                 if (hit.triangle >= 0) distances.push_back(hit.t);
             }

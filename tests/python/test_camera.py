@@ -1,0 +1,89 @@
+"""Camera models: orthographic size, shift, thin-lens focus."""
+import math
+
+import numpy as np
+import pytest
+
+from conftest import look_at, quad
+
+
+def emitter_scene(g, z, camera, size=1.0, radiance=2.0):
+    h = size / 2
+    p, t = quad((-h, -h, z), (h, -h, z), (h, h, z), (-h, h, z))  # faces +z, the camera
+    return g.Scene(p, t, materials=[g.Material("diffuse", color=(0, 0, 0), emission=(radiance,) * 3)],
+                   camera=camera)
+
+
+def covered_pixels(g, scene, width=32):
+    r = g.Renderer(scene, g.Settings(width=width, height=width, photons_per_pass=256))
+    r.run(16)
+    return r.film()[..., 0].sum() / 2.0, r.stats()["variant"]
+
+
+def test_orthographic_image_size_is_independent_of_distance(glslppm):
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0)
+    near, variant = covered_pixels(g, emitter_scene(g, -2.0, camera))
+    far, _ = covered_pixels(g, emitter_scene(g, -8.0, camera))
+    assert "orthographic" in variant
+    # A 1 x 1 square in a 4 x 4 view of 32 x 32 pixels covers 64 pixels, at any distance
+    # (jittered samples: the edge pixels are fractions).
+    assert near == pytest.approx(64.0, rel=0.03)
+    assert far == pytest.approx(64.0, rel=0.03)
+
+
+def test_perspective_image_size_falls_with_distance_squared(glslppm):
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), fov_x=math.radians(60))
+    near, _ = covered_pixels(g, emitter_scene(g, -2.0, camera))
+    far, _ = covered_pixels(g, emitter_scene(g, -4.0, camera))
+    # Image-plane size of a 1 x 1 square at distance d: (1 / (2 d tan 30deg) * 32)^2 pixels.
+    for d, got in ((2.0, near), (4.0, far)):
+        expected = (32.0 / (2.0 * d * math.tan(math.radians(30)))) ** 2
+        assert got == pytest.approx(expected, rel=0.04)
+
+
+def test_shift_moves_the_image_by_the_fraction_of_the_larger_side(glslppm):
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0,
+                      shift_x=0.25)
+    r = g.Renderer(emitter_scene(g, -2.0, camera), g.Settings(width=32, height=32, photons_per_pass=256))
+    r.run(16)
+    image = r.film()[..., 0]
+    cols = np.nonzero(image.sum(axis=0) > 0)[0]
+    # Shift 0.25 of a 4-unit view moves the view 1 unit right: the square (centre 0) appears
+    # 8 pixels left of the centre column.
+    centre = (image.sum(axis=0) * np.arange(32)).sum() / image.sum()
+    assert centre == pytest.approx(15.5 - 8.0, abs=0.3), cols
+
+
+def test_focus_plane_stays_sharp_and_defocus_blurs(glslppm):
+    """Thin lens: an edge on the focus plane keeps a one-pixel transition; off the plane it
+    spreads over the circle of confusion, of diameter D = 2 A |d - f| / d on the focus plane.
+    A disc blur takes an edge from 10% to 90% over 0.69 D (the disc's area fraction left
+    of a line reaches 0.9 at 0.69 of its radius)."""
+    g = glslppm
+    width, fov = 48, math.radians(40)
+    def edge_profile(z, focus, aperture):
+        camera = g.Camera(np.eye(4, dtype=np.float32), fov_x=fov, aperture_radius=aperture,
+                          focus_distance=focus)
+        # An emitting half-plane x >= 0 (a 6 x 6 square with its left edge on the axis).
+        p, t = quad((0, -3, z), (6, -3, z), (6, 3, z), (0, 3, z))
+        scene = g.Scene(p, t, camera=camera,
+                        materials=[g.Material("diffuse", color=(0, 0, 0), emission=(2.0,) * 3)])
+        r = g.Renderer(scene, g.Settings(width=width, height=width, photons_per_pass=256))
+        r.run(64)
+        assert "depth-of-field" in r.stats()["variant"]
+        return r.film()[width // 2 - 4: width // 2 + 4, :, 0].mean(axis=0) / 2.0
+
+    def transition_width(profile):
+        return np.sum((profile > 0.1) & (profile < 0.9))
+
+    sharp = edge_profile(-5.0, 5.0, 0.2)
+    blurred = edge_profile(-5.0, 2.5, 0.2)
+    assert transition_width(sharp) <= 2
+    # Circle of confusion on the focus plane: diameter 2 A |d - f| / d = 0.2 at f = 2.5,
+    # seen in pixels: 0.2 / (2 f tan(fov/2)) * width.
+    coc_pixels = 0.2 / (2 * 2.5 * math.tan(fov / 2)) * width
+    expected = 0.69 * coc_pixels
+    assert abs(transition_width(blurred) - expected) <= 1.5, (transition_width(blurred), expected)
