@@ -39,6 +39,9 @@ struct SceneCase {
     std::size_t brute_force_rays = 100000;
 };
 
+// gtest prints the case by name rather than as raw bytes.
+void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.name; }
+
 std::function<OwnedMesh()> scaled(std::function<OwnedMesh()> make, float factor) {
     return [make, factor] {
         OwnedMesh m = make();
