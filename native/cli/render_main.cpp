@@ -36,7 +36,7 @@ const char* kUsage =
     "  --radius R                initial radius (default: automatic)\n"
     "  --max-depth N             eye and photon bounces (default 16)\n"
     "  --hash stochastic|exact   photon hashing (default stochastic)\n"
-    "  --rng paper|pcg           generator (default paper)\n"
+    "  --rng pcg|paper           generator (default pcg; docs/rng.md says why)\n"
     "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
     "  --seed N                  random seed\n"
     "  --out FILE.exr            write the image\n"

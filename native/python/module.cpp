@@ -259,7 +259,7 @@ PYBIND11_MODULE(_glslppm, m) {
              }),
              py::arg("width") = 256, py::arg("height") = 256, py::arg("photons_per_pass") = 65536,
              py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
-             py::arg("hash") = "stochastic", py::arg("rng") = "paper", py::arg("device") = -1,
+             py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
              py::arg("seed") = 0, py::arg("leaf_size") = 4)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);

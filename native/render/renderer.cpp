@@ -95,6 +95,18 @@ struct Renderer::Gpu {
     const gl::ComputeProgram* end_pass = nullptr;
     const gl::ComputeProgram* resolve = nullptr;
 
+    // Before anything is allocated for it: a buffer larger than the driver allows is an
+    // error that says what to lower (llvmpipe allows 128 MiB).
+    static void require_fits(std::size_t bytes, const char* what) {
+        GLint64 largest = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
+        if (largest > 0 && bytes > static_cast<std::size_t>(largest))
+            throw gl::GlError(std::string(what) + " needs " + std::to_string(bytes >> 20) +
+                              " MiB, more than this GPU's largest storage buffer (" +
+                              std::to_string(largest >> 20) +
+                              " MiB): lower the resolution or the photons per pass");
+    }
+
     GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {
         GLuint id = 0;
         glGenBuffers(1, &id);
@@ -102,6 +114,7 @@ struct Renderer::Gpu {
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
         while (glGetError() != GL_NO_ERROR) {
         }
+        require_fits(bytes, what);
         glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
                      data, GL_DYNAMIC_COPY);
         if (glGetError() == GL_OUT_OF_MEMORY)
@@ -391,6 +404,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.counters = g.make_buffer(kCounters, sizeof(counters), &counters, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
+            Gpu::require_fits(px * 3 * 16, "visible points");
+            Gpu::require_fits(ph * 3 * 16, "photons");
+            Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
             g.make_buffer(kVisiblePoints, px * 3 * 16, nullptr, "visible points");
             std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
             for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;

@@ -17,7 +17,7 @@ struct RenderSettings {
     float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
     int max_depth = 16;           // eye and photon bounces
     HashMode hash = HashMode::Stochastic;
-    RngKind rng = RngKind::Paper;
+    RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
     int device = -1;              // EGL device index; -1: $GLSLPPM_DEVICE or the first GPU
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)

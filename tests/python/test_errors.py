@@ -89,3 +89,14 @@ def test_many_renderers_in_one_process(glslppm):
         assert r.film().shape == (8, 8, 4)
         r.close()
         assert r.closed
+
+
+def test_too_large_a_render_is_a_clear_error_and_the_next_one_works(glslppm):
+    """Photons the GPU cannot hold: a GlslppmError that says what to lower, nothing kept,
+    and the next renderer works."""
+    scene = small_scene(glslppm)
+    with pytest.raises(glslppm.GlslppmError, match="photons per pass"):
+        glslppm.Renderer(scene, glslppm.Settings(width=8, height=8, photons_per_pass=1 << 26))
+    r = glslppm.Renderer(scene, glslppm.Settings(width=8, height=8, photons_per_pass=256))
+    r.run(1)
+    assert np.isfinite(r.film()).all()
