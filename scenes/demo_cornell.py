@@ -24,16 +24,7 @@ GREEN = (0.14, 0.45, 0.091)
 
 
 def _diffuse(name, color):
-    material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    tree = material.node_tree
-    for node in list(tree.nodes):
-        if node.type != 'OUTPUT_MATERIAL':
-            tree.nodes.remove(node)
-    shader = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    shader.inputs["Color"].default_value = tuple(color) + (1.0,)
-    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
-    tree.links.new(shader.outputs[0], output.inputs["Surface"])
+    material = _shader_material(name, "ShaderNodeBsdfDiffuse", Color=tuple(color) + (1.0,))
     material.diffuse_color = tuple(color) + (1.0,)
     return material
 
