@@ -22,12 +22,31 @@ struct Material {
     glm::vec3 color{0.8f};     // albedo (diffuse), reflectance (conductor), tint (dielectric)
     float ior = 1.5f;          // dielectric only
     glm::vec3 emission{0.0f};  // emitted radiance, one-sided along the geometric normal
+    std::int32_t color_texture = -1;  // index into Scene::textures: colour = color * texel
+};
+
+enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
+
+// An RGBA image. Texel (x, y) covers uv ([x, x+1] / width, [y, y+1] / height): row 0 is the
+// bottom row (v = 0), as in Blender's pixel arrays. Exactly one of `srgb8` (8-bit, sRGB
+// encoded, decoded to linear by the renderer) and `linear` (float, linear) holds
+// width * height * 4 values.
+struct Texture {
+    std::string name;  // for messages: the file or image it came from
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> srgb8;
+    std::vector<float> linear;
+    TextureWrap wrap = TextureWrap::Repeat;
 };
 
 // Lights use Blender's units, so that the add-on hands them over unchanged:
 // point and spot: power in watts (radiant intensity power / (4 pi) W/sr, spots not
-// concentrated into their cone, as in Cycles); sun: strength = irradiance in W/m^2.
-enum class LightKind : std::uint32_t { Point = 0, Spot = 1, Sun = 2 };
+// concentrated into their cone, as in Cycles); sun: strength = irradiance in W/m^2;
+// area: power in watts, radiance power / (pi * area) over one side (Cycles 4.x; Blender 3.x
+// lights are converted by the add-on).
+enum class LightKind : std::uint32_t { Point = 0, Spot = 1, Sun = 2, Area = 3 };
+enum class AreaShape : std::uint32_t { Square = 0, Rectangle = 1, Disk = 2, Ellipse = 3 };
 
 struct Light {
     LightKind kind = LightKind::Point;
@@ -37,8 +56,16 @@ struct Light {
     glm::vec3 direction{0.0f, 0.0f, -1.0f};  // the direction light travels (spot, sun)
     float spot_size = 0.785398f;             // full cone angle, radians (Blender's spot_size)
     float spot_blend = 0.15f;                // Blender's spot_blend
-    float radius = 0.0f;                     // point/spot soft size (later)
-    float angle = 0.0f;                      // sun angular diameter (later)
+    float radius = 0.0f;  // point/spot: radius of the emitting sphere (Blender's soft size)
+    float angle = 0.0f;   // sun: angular diameter, radians
+    bool spot_cosine = false;  // Blender 3.x: the spot's intensity also falls with cos(angle)
+    // Area: the light's frame (its origin is the centre; it emits along local -Z from the
+    // shape in its XY plane, sizes being full extents; square and disk use size_x for both).
+    glm::mat4 to_world{1.0f};
+    AreaShape shape = AreaShape::Square;
+    float size_x = 1.0f;
+    float size_y = 1.0f;
+    bool visible_to_camera = true;  // area: seen by camera rays (and specular chains)
 };
 
 enum class Projection : std::uint32_t { Perspective = 0, Orthographic = 1 };
@@ -61,7 +88,13 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights;
     Camera camera;
-    glm::vec3 environment{0.0f};  // constant radiance of the world
+    std::vector<Texture> textures;
+    glm::vec3 environment{0.0f};  // radiance of the world (multiplies the map when there is one)
+    // An equirectangular map (index into textures, -1 for none) in Blender's mapping: in the
+    // map's frame, +Z is up and u = atan2(y, -x) / 2 pi + 0.5, v = atan2(z, hypot(x, y)) / pi +
+    // 0.5. environment_to_world rotates that frame into the scene (identity for Z-up scenes).
+    std::int32_t environment_texture = -1;
+    glm::mat3 environment_to_world{1.0f};
 };
 
 // A scene that owns its arrays (procedural scenes, loaders, tests).
