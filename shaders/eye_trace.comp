@@ -9,6 +9,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sampling.glsl"
 #include "common/surface.glsl"
 #include "common/bsdf.glsl"
+#include "common/environment.glsl"
 
 Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     float jx = rng_next(rng), jy = rng_next(rng);
@@ -49,26 +50,37 @@ void main() {
     vec3 normal = vec3(0.0);
     vec3 weight = vec3(0.0);
     uint rays = 0u;
+    bool camera_ray = true;  // until the first specular bounce
     for (uint depth = 0u; depth < pass_info.z; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {
-            direct += throughput * environment.rgb;
+            direct += throughput * environment_radiance(ray.dir);
             break;
         }
         Surface s = surface_at(ray, hit);
         bool front = dot(ray.dir, s.geometric_normal) < 0.0;
+        int flags = material_flags(s.material);
+        if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
+            // An area light: seen (unless hidden from the camera), then passed through.
+            bool hidden = camera_ray && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
+            if (front && !hidden) direct += throughput * material_emission(s.material);
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
         if (front) direct += throughput * material_emission(s.material);
         int kind = material_kind(s.material);
+        vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
-            weight = throughput * material_color(s.material) / PI;
+            weight = throughput * color / PI;
             break;
         }
-        vec3 dir = scatter_specular(s.material, ray.dir, s.normal, s.geometric_normal,
+        vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
                                     rng_next(rng), throughput);
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
+        camera_ray = false;
     }
 
     visible_points[3 * i + 0] = point;

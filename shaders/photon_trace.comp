@@ -40,13 +40,17 @@ void main() {
         Surface s = surface_at(make_ray(origin, dir), hit);
         int kind = material_kind(s.material);
         bounces += 1.0;
-        if (kind == MATERIAL_DIFFUSE) {
+        if ((material_flags(s.material) & MATERIAL_LIGHT_SURFACE) != 0) {
+            // Lights cast no shadow: go on through, next pass.
+            origin = offset_origin(s.position, s.geometric_normal, dir);
+            if (bounces >= float(pass_info.z)) bounces = -1.0;
+        } else if (kind == MATERIAL_DIFFUSE) {
             // Store, then continue by Russian roulette on the albedo.
             uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
             stored = vec4(flux, 1.0);
-            vec3 albedo = material_color(s.material);
+            vec3 albedo = surface_color(s);
             float q = min(1.0, max(albedo.r, max(albedo.g, albedo.b)));
             vec3 n = dot(dir, s.geometric_normal) < 0.0 ? s.normal : -s.normal;
             if (bounces >= float(pass_info.z) || rng_next(rng) >= q) {
@@ -59,8 +63,8 @@ void main() {
         } else if (bounces >= float(pass_info.z)) {
             bounces = -1.0;
         } else {
-            dir = scatter_specular(s.material, dir, s.normal, s.geometric_normal,
-                                   rng_next(rng), flux);
+            dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
+                                   s.geometric_normal, rng_next(rng), flux);
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
     }

@@ -57,7 +57,7 @@ py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_
 }
 
 Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
-                       std::array<float, 3> emission) {
+                       std::array<float, 3> emission, int color_texture) {
     Material m;
     if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
     else if (kind == "conductor") m.kind = MaterialKind::Conductor;
@@ -66,15 +66,55 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.color = {color[0], color[1], color[2]};
     m.ior = ior;
     m.emission = {emission[0], emission[1], emission[2]};
+    m.color_texture = color_texture;
     return m;
 }
 
 glm::vec3 vec3_of(std::array<float, 3> v) { return {v[0], v[1], v[2]}; }
 
+// A 4x4 row-major numpy matrix (Blender's matrix_world) as column-major glm.
+glm::mat4 mat4_of(const py::array_t<float, py::array::c_style | py::array::forcecast>& a,
+                  const char* name) {
+    if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+        throw py::value_error(std::string(name) + ": expected a 4x4 matrix");
+    glm::mat4 out;
+    for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) out[k][r] = a.at(r, k);
+    return out;
+}
+
+// An image from a (height, width, 4) uint8 (sRGB) or float32 (linear) array, row 0 at the
+// bottom as in Blender's pixels.
+Texture make_texture(const py::array& pixels, const std::string& wrap, const std::string& name) {
+    Texture t;
+    t.name = name;
+    if (pixels.ndim() != 3 || pixels.shape(2) != 4)
+        throw py::value_error("Texture '" + name + "' pixels: expected shape (height, width, 4), "
+                              "got " + describe(pixels));
+    t.height = static_cast<int>(pixels.shape(0));
+    t.width = static_cast<int>(pixels.shape(1));
+    if (pixels.dtype().is(py::dtype::of<std::uint8_t>())) {
+        auto a = py::array_t<std::uint8_t, py::array::c_style>::ensure(pixels);
+        t.srgb8.assign(a.data(), a.data() + a.size());
+    } else if (pixels.dtype().is(py::dtype::of<float>())) {
+        auto a = py::array_t<float, py::array::c_style>::ensure(pixels);
+        t.linear.assign(a.data(), a.data() + a.size());
+    } else {
+        throw py::value_error("Texture '" + name + "' pixels: expected uint8 (sRGB) or float32 "
+                              "(linear), got " + describe(pixels));
+    }
+    if (wrap == "repeat") t.wrap = TextureWrap::Repeat;
+    else if (wrap == "clip") t.wrap = TextureWrap::Clip;
+    else throw py::value_error("Texture wrap: '" + wrap + "' is not repeat or clip");
+    return t;
+}
+
 Scene make_py_scene(const py::object& positions, const py::object& indices,
                     const py::object& normals, const py::object& uvs,
                     const py::object& material_ids, std::vector<Material> materials,
-                    std::vector<Light> lights, Camera camera, std::array<float, 3> environment) {
+                    std::vector<Light> lights, Camera camera, std::array<float, 3> environment,
+                    std::vector<Texture> textures, int environment_texture,
+                    const py::object& environment_to_world) {
     auto owner = std::make_shared<ArrayOwner>();
     Scene scene;
     auto p = take_array<float>(positions, "positions", 3, "float32");
@@ -102,6 +142,14 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
     scene.lights = std::move(lights);
     scene.camera = camera;
     scene.environment = vec3_of(environment);
+    scene.textures = std::move(textures);
+    scene.environment_texture = environment_texture;
+    if (!environment_to_world.is_none()) {
+        const glm::mat4 m = mat4_of(
+            py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(environment_to_world),
+            "environment_to_world");
+        scene.environment_to_world = glm::mat3(m);
+    }
     if (scene.materials.empty()) scene.materials.push_back(Material{});
     // Validate now, so that a bad array fails where the user passed it.
     validate_mesh(scene.mesh, static_cast<std::uint32_t>(scene.materials.size()));
@@ -143,6 +191,11 @@ py::dict stats_dict(const RenderStats& s) {
     d["bvh_seconds"] = s.bvh_seconds;
     d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
     d["gpu_bytes"] = s.gpu_bytes;
+    d["warnings"] = s.warnings;
+    d["eye_seconds"] = s.eye_seconds;
+    d["photon_seconds"] = s.photon_seconds;
+    d["hash_seconds"] = s.hash_seconds;
+    d["gather_seconds"] = s.gather_seconds;
     return d;
 }
 
@@ -165,17 +218,42 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<Material>(m, "Material")
         .def(py::init(&make_material), py::arg("kind") = "diffuse",
              py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
-             py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f});
+             py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
+             py::arg("color_texture") = -1);
+
+    py::class_<Texture>(m, "Texture")
+        .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
+             py::arg("name") = "image")
+        .def_readonly("width", &Texture::width)
+        .def_readonly("height", &Texture::height);
 
     py::class_<Light>(m, "Light")
         .def(py::init([](const std::string& kind, std::array<float, 3> color, float power,
                          std::array<float, 3> position, std::array<float, 3> direction,
-                         float spot_size, float spot_blend, float radius, float angle) {
+                         float spot_size, float spot_blend, float radius, float angle,
+                         bool spot_cosine, const py::object& to_world, const std::string& shape,
+                         float size_x, float size_y, bool visible_to_camera) {
                  Light l;
                  if (kind == "point") l.kind = LightKind::Point;
                  else if (kind == "spot") l.kind = LightKind::Spot;
                  else if (kind == "sun") l.kind = LightKind::Sun;
-                 else throw py::value_error("Light kind: '" + kind + "' is not one of point, spot, sun");
+                 else if (kind == "area") l.kind = LightKind::Area;
+                 else throw py::value_error("Light kind: '" + kind + "' is not one of point, spot, sun, area");
+                 if (shape == "square") l.shape = AreaShape::Square;
+                 else if (shape == "rectangle") l.shape = AreaShape::Rectangle;
+                 else if (shape == "disk") l.shape = AreaShape::Disk;
+                 else if (shape == "ellipse") l.shape = AreaShape::Ellipse;
+                 else throw py::value_error("Light shape: '" + shape + "' is not one of square, rectangle, disk, ellipse");
+                 if (!to_world.is_none())
+                     l.to_world = mat4_of(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(to_world),
+                                          "Light to_world");
+                 l.spot_cosine = spot_cosine;
+                 l.size_x = size_x;
+                 l.size_y = size_y;
+                 l.visible_to_camera = visible_to_camera;
+                 if (!(radius >= 0.0f)) throw py::value_error("Light radius: must be >= 0");
+                 if (!(angle >= 0.0f && angle < 3.14159f))
+                     throw py::value_error("Light angle: must be in [0, pi) radians");
                  if (!(power >= 0.0f)) throw py::value_error("Light power: must be >= 0");
                  l.color = vec3_of(color);
                  l.power = power;
@@ -193,7 +271,10 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("power") = 1.0f, py::arg("position") = std::array<float, 3>{0, 0, 0},
              py::arg("direction") = std::array<float, 3>{0, 0, -1},
              py::arg("spot_size") = 0.785398f, py::arg("spot_blend") = 0.15f,
-             py::arg("radius") = 0.0f, py::arg("angle") = 0.0f);
+             py::arg("radius") = 0.0f, py::arg("angle") = 0.0f, py::arg("spot_cosine") = false,
+             py::arg("to_world") = py::none(), py::arg("shape") = "square",
+             py::arg("size_x") = 1.0f, py::arg("size_y") = 1.0f,
+             py::arg("visible_to_camera") = true);
 
     py::class_<Camera>(m, "Camera")
         .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
@@ -229,7 +310,9 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("material_ids") = py::none(),
              py::arg("materials") = std::vector<Material>{},
              py::arg("lights") = std::vector<Light>{}, py::arg("camera") = Camera{},
-             py::arg("environment") = std::array<float, 3>{0, 0, 0})
+             py::arg("environment") = std::array<float, 3>{0, 0, 0},
+             py::arg("textures") = std::vector<Texture>{}, py::arg("environment_texture") = -1,
+             py::arg("environment_to_world") = py::none())
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def_property_readonly("shares_memory_with_input", [](const Scene& s) {
             // True: the MeshView points into the numpy arrays given (no copy was made).
@@ -241,7 +324,8 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<RenderSettings>(m, "Settings")
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
                          float initial_radius, int max_depth, const std::string& hash,
-                         const std::string& rng, int device, std::uint64_t seed, int leaf_size) {
+                         const std::string& rng, int device, std::uint64_t seed, int leaf_size,
+                         bool profile, bool full_variant, int max_texture_size) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -254,13 +338,17 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.device = device;
                  s.seed = seed;
                  s.leaf_size = leaf_size;
+                 s.profile = profile;
+                 s.full_variant = full_variant;
+                 s.max_texture_size = max_texture_size;
                  validate(s);
                  return s;
              }),
              py::arg("width") = 256, py::arg("height") = 256, py::arg("photons_per_pass") = 65536,
              py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
              py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
-             py::arg("seed") = 0, py::arg("leaf_size") = 4)
+             py::arg("seed") = 0, py::arg("leaf_size") = 4, py::arg("profile") = false,
+             py::arg("full_variant") = false, py::arg("max_texture_size") = 0)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);
 
@@ -346,4 +434,5 @@ PYBIND11_MODULE(_glslppm, m) {
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));
         return out;
     });
+
 }

@@ -21,7 +21,9 @@ SceneBounds scene_bounds(const PackedBvh& bvh) {
     return b;
 }
 
-EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const SceneBounds& bounds) {
+EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& materials,
+                            const PackedBvh& bvh, const SceneBounds& bounds,
+                            const EnvironmentMap* environment) {
     EmitterTable table;
     std::vector<std::array<glm::vec4, 4>> list;
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power) {
@@ -35,7 +37,7 @@ EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const Scen
     // Emissive triangles radiate L one-sided over their area: power pi L A.
     for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
         const int material = std::bit_cast<int>(bvh.triangles[3 * t].w);
-        const glm::vec3 emission = scene.materials[static_cast<std::size_t>(material)].emission;
+        const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
         if (weight_of(emission) <= 0.0f) continue;
         const glm::vec3 v0(bvh.triangles[3 * t]), v1(bvh.triangles[3 * t + 1]),
             v2(bvh.triangles[3 * t + 2]);
@@ -47,7 +49,9 @@ EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const Scen
         const glm::vec3 color = light.color * light.power;
         switch (light.kind) {
             case LightKind::Point:
-                add(EmitterKind::Point, light.position, glm::vec4(0.0f), glm::vec3(0.0f), color);
+                // A sphere of the light's radius (0: a point), radiating the power evenly.
+                add(EmitterKind::Point, light.position, glm::vec4(0.0f, 0.0f, 0.0f, light.radius),
+                    glm::vec3(0.0f), color);
                 break;
             case LightKind::Spot: {
                 // Intensity power / 4 pi inside the cone (not concentrated, as in Cycles);
@@ -57,20 +61,30 @@ EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const Scen
                 const float smooth = (1.0f - cos_half) * light.spot_blend;
                 add(EmitterKind::Spot, light.position,
                     glm::vec4(glm::normalize(light.direction), cos_half),
-                    glm::vec3(smooth, 0.0f, 0.0f), color * (solid_angle / (4.0f * kPi)));
+                    glm::vec3(smooth, light.radius, light.spot_cosine ? 1.0f : 0.0f),
+                    color * (solid_angle / (4.0f * kPi)));
                 break;
             }
             case LightKind::Sun:
+                // Irradiance E through the bounding disc, from directions within half the
+                // angular diameter of the sun's direction.
                 add(EmitterKind::Sun, glm::vec3(0.0f),
-                    glm::vec4(glm::normalize(light.direction), 0.0f), glm::vec3(0.0f),
-                    color * (kPi * r * r));
+                    glm::vec4(glm::normalize(light.direction), std::cos(0.5f * light.angle)),
+                    glm::vec3(0.0f), color * (kPi * r * r));
                 break;
+            case LightKind::Area:
+                break;  // emissive triangles (render/area_lights.h), listed above
         }
     }
-    // A constant environment radiates L onto the bounding disc from every direction:
-    // power 4 pi * pi r^2 * L.
-    add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
-        scene.environment * (4.0f * kPi * kPi * r * r));
+    // The environment radiates onto the bounding disc from every direction: power
+    // pi r^2 * (integral of L over the sphere); a constant L gives 4 pi * pi r^2 * L.
+    if (environment) {
+        add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
+            environment->integral * (kPi * r * r));
+    } else {
+        add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
+            scene.environment * (4.0f * kPi * kPi * r * r));
+    }
 
     if (list.empty())
         throw SceneError(

@@ -2,8 +2,10 @@
 // emissive triangles, point, spot and sun lights and the environment, each with its
 // emitted power, picked in proportion to it. Four vec4 per emitter:
 //   [0] (a.xyz, intBitsToFloat(kind))
-//   [1] (b.xyz, b.w)       triangle: v1; spot: axis, cos(half angle); sun: direction
-//   [2] (c.xyz, cdf)       triangle: v2; spot: (smooth width, 0, 0); cdf: cumulative pick
+//   [1] (b.xyz, b.w)       triangle: v1; point: (0, radius); spot: axis, cos(half angle);
+//                          sun: direction, cos(half the angular diameter)
+//   [2] (c.xyz, cdf)       triangle: v2; spot: (smooth width, radius, cosine falloff 0/1);
+//                          cdf: cumulative pick
 //                          probability up to and including this emitter
 //   [3] (power.rgb, pick probability)
 // with a = v0 (triangle) or position (point, spot). A photon carries power / probability, so
@@ -15,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "bvh/packed_bvh.h"
+#include "render/environment_map.h"
 #include "scene/scene.h"
 
 namespace glslppm {
@@ -37,7 +40,10 @@ struct SceneBounds {
 
 SceneBounds scene_bounds(const PackedBvh& bvh);
 
-// Throws SceneError when nothing emits light.
-EmitterTable build_emitters(const Scene& scene, const PackedBvh& bvh, const SceneBounds& bounds);
+// Throws SceneError when nothing emits light. `materials` is the scene's table with the area
+// lights' appended (render/area_lights.h); `environment` is the map's distribution, if any.
+EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& materials,
+                            const PackedBvh& bvh, const SceneBounds& bounds,
+                            const EnvironmentMap* environment);
 
 }  // namespace glslppm

@@ -13,7 +13,10 @@
 #include "bvh/traverse_cpu.h"
 #include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "render/area_lights.h"
 #include "render/emitters.h"
+#include "render/environment_map.h"
+#include "render/texture_atlas.h"
 #include "render/rng_seed.h"
 
 namespace glslppm {
@@ -33,8 +36,10 @@ struct FrameBlock {
     glm::uvec4 sizes;
     glm::uvec4 pass_info;
     glm::vec4 sppm;
+    glm::mat4 environment_from_world;
+    glm::ivec4 environment_map;
 };
-static_assert(sizeof(FrameBlock) == 64 + 8 * 16);
+static_assert(sizeof(FrameBlock) == 2 * 64 + 9 * 16);
 
 // Mirrors `buffer Counters` in shaders/common/sppm_buffers.glsl.
 struct Counters {
@@ -46,7 +51,8 @@ struct Counters {
 enum Binding : GLuint {
     kNodes = 0, kLinks = 1, kTriangles = 2, kEmitters = 3, kMaterials = 4, kCounters = 5,
     kVisiblePoints = 6, kPixelStats = 7, kDirectLight = 8, kPhotonPaths = 9, kPhotons = 10,
-    kRngStates = 11, kFilm = 12, kHashCells = 13, kHashSorted = 14, kNormals = 15,
+    kRngStates = 11, kFilm = 12, kHashCells = 13, kHashSorted = 14, kNormals = 15, kUvs = 16,
+    kTextureInfo = 17, kEnvironmentCdf = 18,
 };
 
 std::uint32_t next_power_of_two(std::uint64_t v) {
@@ -61,6 +67,43 @@ std::uint32_t mix_seed(std::uint64_t seed, std::uint64_t pass, std::uint32_t sta
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return static_cast<std::uint32_t>(z ^ (z >> 31));
+}
+
+// Which images the render needs: base-colour textures of materials on triangles that have
+// uvs, and the environment map. Bad indices are errors; a texture without uvs is a warning.
+struct TextureUse {
+    bool materials = false, environment = false;
+    std::vector<bool> used;  // per scene texture
+};
+
+TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
+                       std::vector<std::string>& warnings) {
+    TextureUse use;
+    use.used.assign(scene.textures.size(), false);
+    const int count = static_cast<int>(scene.textures.size());
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+        const int t = scene.materials[k].color_texture;
+        if (t < 0) continue;
+        if (t >= count)
+            throw SceneError("materials[" + std::to_string(k) + "].color_texture: " +
+                             std::to_string(t) + " is not one of the scene's " +
+                             std::to_string(count) + " textures");
+        if (geometry.mesh.uvs.empty()) {
+            warnings.push_back("materials[" + std::to_string(k) + "] has a texture but the mesh "
+                               "has no uvs: its colour is used instead");
+            continue;
+        }
+        use.used[static_cast<std::size_t>(t)] = true;
+        use.materials = true;
+    }
+    if (scene.environment_texture >= 0) {
+        if (scene.environment_texture >= count)
+            throw SceneError("environment_texture: " + std::to_string(scene.environment_texture) +
+                             " is not one of the scene's " + std::to_string(count) + " textures");
+        use.used[static_cast<std::size_t>(scene.environment_texture)] = true;
+        use.environment = true;
+    }
+    return use;
 }
 
 }  // namespace
@@ -84,6 +127,8 @@ struct Renderer::Gpu {
     GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling
     double stage_seconds[4] = {0, 0, 0, 0};
     std::vector<GLuint> buffers;  // every SSBO, deleted together
+    GLuint atlases[2] = {0, 0};   // sRGB8 and float array textures
+    std::vector<std::string> warnings;
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
 
     const gl::ComputeProgram* eye = nullptr;
@@ -133,6 +178,40 @@ struct Renderer::Gpu {
         ubo = 0;
         if (queries[0]) glDeleteQueries(5, queries);
         queries[0] = 0;
+        if (atlases[0]) glDeleteTextures(2, atlases);
+        atlases[0] = atlases[1] = 0;
+    }
+
+    // The images as two array textures on units 0 (sRGB8) and 1 (float); 1x1 placeholders
+    // when a kind is absent, so that every sampler is complete.
+    void upload_atlas(const TextureAtlas& atlas) {
+        glGenTextures(2, atlases);
+        for (int e = 0; e < 2; ++e) {
+            const bool has = atlas.layers[e] > 0;
+            const glm::ivec2 size = has ? atlas.layer_size[e] : glm::ivec2(1);
+            const int layers = has ? atlas.layers[e] : 1;
+            glActiveTexture(GL_TEXTURE0 + e);
+            glBindTexture(GL_TEXTURE_2D_ARRAY, atlases[e]);
+            while (glGetError() != GL_NO_ERROR) {
+            }
+            glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, e == 0 ? GL_SRGB8_ALPHA8 : GL_RGBA32F, size.x,
+                           size.y, layers);
+            if (glGetError() != GL_NO_ERROR)
+                throw gl::GlError("out of GPU memory for the scene's images (" +
+                                  std::to_string(layers) + " layers of " + std::to_string(size.x) +
+                                  "x" + std::to_string(size.y) + "): use fewer or smaller images");
+            glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            if (has) {
+                glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+                glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, size.x, size.y, layers, GL_RGBA,
+                                e == 0 ? GL_UNSIGNED_BYTE : GL_FLOAT,
+                                e == 0 ? static_cast<const void*>(atlas.srgb8.data())
+                                       : static_cast<const void*>(atlas.linear.data()));
+                gpu_bytes += std::size_t(size.x) * size.y * layers * (e == 0 ? 4 : 16);
+            }
+        }
+        glActiveTexture(GL_TEXTURE0);
     }
 
     void dispatch(const gl::ComputeProgram& program, std::uint32_t threads) {
@@ -237,8 +316,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     Gpu& g = *gpu_;
     g.settings = settings;
 
+    // Area lights join the geometry; textures count only where the mesh has uvs for them.
+    SceneGeometry geometry = with_area_lights(scene);
+    const TextureUse use = texture_use(scene, geometry, g.warnings);
+    if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
     const ValidMesh mesh =
-        validate_mesh(scene.mesh, static_cast<std::uint32_t>(scene.materials.size()));
+        validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
     if (mesh.kept.empty())
         throw SceneError("the scene has no geometry: nothing to render (" +
                          std::to_string(mesh.stats.degenerate_dropped) +
@@ -247,13 +330,19 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     options.leaf_size = settings.leaf_size;
     g.bvh = build_packed_bvh(mesh, options, 6);
     g.bounds = scene_bounds(g.bvh);
-    g.emitters = build_emitters(scene, g.bvh, g.bounds);
+    std::unique_ptr<EnvironmentMap> environment;
+    if (use.environment) {
+        environment = std::make_unique<EnvironmentMap>(build_environment_map(
+            scene.textures[static_cast<std::size_t>(scene.environment_texture)],
+            scene.environment));
+    }
+    g.emitters = build_emitters(scene, geometry.materials, g.bvh, g.bounds, environment.get());
 
     // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
     // scene requires").
     bool conductor = false, dielectric = false;
     for (std::uint32_t t = 0; t < g.bvh.triangle_count; ++t) {
-        const auto kind = scene.materials[static_cast<std::size_t>(
+        const auto kind = geometry.materials[static_cast<std::size_t>(
                                               std::bit_cast<int>(g.bvh.triangles[3 * t].w))]
                               .kind;
         conductor |= kind == MaterialKind::Conductor;
@@ -261,7 +350,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     }
     std::vector<std::string> features;
     auto feature = [&](bool on, const char* define, const char* name) {
-        if (!on) return;
+        if (!on && !settings.full_variant) return;
         g.defines.push_back({define, "1"});
         features.push_back(name);
     };
@@ -277,6 +366,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     feature(g.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
     feature(g.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
+    feature(use.materials, "HAS_TEXTURES", "textures");
+    feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
     g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
     g.defines.push_back({"RNG_STATE_BINDING", "11"});
     g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
@@ -311,6 +402,10 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     f.scene_lo = glm::vec4(g.bounds.lo, 1e-3f * diagonal);
     f.scene_sphere = glm::vec4(g.bounds.center(), g.bounds.radius());
     f.environment = glm::vec4(scene.environment, 0.0f);
+    f.environment_from_world = glm::mat4(glm::transpose(scene.environment_to_world));
+    f.environment_map = environment ? glm::ivec4(scene.environment_texture, environment->width,
+                                                 environment->height, 0)
+                                    : glm::ivec4(-1, 0, 0, 0);
     f.sizes = glm::uvec4(settings.width, settings.height, g.photon_threads, g.hash_cells);
     f.pass_info = glm::uvec4(0, static_cast<std::uint32_t>(settings.seed),
                              static_cast<std::uint32_t>(settings.max_depth),
@@ -392,12 +487,41 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.make_buffer(kTriangles, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
             if (!g.bvh.normals.empty())
                 g.make_buffer(kNormals, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
+            else if (settings.full_variant)
+                g.make_buffer(kNormals, 16, nullptr, "normals");
+            if (!g.bvh.uvs.empty())
+                g.make_buffer(kUvs, bytes(g.bvh.uvs), g.bvh.uvs.data(), "uvs");
+            else if (settings.full_variant)
+                g.make_buffer(kUvs, 16, nullptr, "uvs");
+            if (use.materials || use.environment || settings.full_variant) {
+                GLint max_size = 0, max_layers = 0;
+                glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+                glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+                if (settings.max_texture_size > 0)
+                    max_size = std::min(max_size, settings.max_texture_size);
+                const TextureAtlas atlas = pack_textures(scene.textures, use.used, max_size,
+                                                         max_layers);
+                for (const std::string& w : atlas.warnings) g.warnings.push_back(w);
+                const std::vector<glm::ivec4> records = atlas.records();
+                g.make_buffer(kTextureInfo, bytes(records), records.data(), "texture records");
+                g.upload_atlas(atlas);
+            }
+            if (environment) {
+                g.make_buffer(kEnvironmentCdf, bytes(environment->cdf), environment->cdf.data(),
+                              "environment distribution");
+            } else if (settings.full_variant) {
+                g.make_buffer(kEnvironmentCdf, 16, nullptr, "environment distribution");
+            }
             g.make_buffer(kEmitters, bytes(g.emitters.records), g.emitters.records.data(),
                           "lights");
             std::vector<glm::vec4> materials;
-            for (const Material& m : scene.materials) {
+            for (std::size_t k = 0; k < geometry.materials.size(); ++k) {
+                const Material& m = geometry.materials[k];
+                const int texture = use.materials ? m.color_texture : -1;
                 materials.emplace_back(m.color, static_cast<float>(m.kind));
                 materials.emplace_back(m.emission, m.ior);
+                materials.emplace_back(std::bit_cast<float>(texture),
+                                       std::bit_cast<float>(geometry.flags[k]), 0.0f, 0.0f);
             }
             g.make_buffer(kMaterials, bytes(materials), materials.data(), "materials");
             Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
@@ -516,6 +640,7 @@ RenderStats Renderer::stats() {
     s.photon_seconds = g.stage_seconds[1];
     s.hash_seconds = g.stage_seconds[2];
     s.gather_seconds = g.stage_seconds[3];
+    s.warnings = g.warnings;
     return s;
 }
 

@@ -33,6 +33,7 @@ struct RenderStats {
     std::size_t gpu_bytes = 0;          // buffers this renderer allocated
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.
     double eye_seconds = 0.0, photon_seconds = 0.0, hash_seconds = 0.0, gather_seconds = 0.0;
+    std::vector<std::string> warnings;  // what was approximated (downscaled images, ...)
 };
 
 class Renderer {

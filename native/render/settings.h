@@ -22,6 +22,10 @@ struct RenderSettings {
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)
     bool profile = false;         // time each stage with GL timer queries (waits every pass)
+    // Compile every feature whether the scene uses it or not (the specialization
+    // benchmark's baseline); off, programs model only what the scene requires.
+    bool full_variant = false;
+    int max_texture_size = 0;     // 0: the GPU's GL_MAX_TEXTURE_SIZE; smaller tests downscaling
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"

@@ -3,11 +3,31 @@
 #define BSDF_GLSL
 
 #include "common/scene_buffers.glsl"
+#include "common/surface.glsl"
+#ifdef HAS_TEXTURES
+#include "common/textures.glsl"
+#endif
 
-vec3 material_color(int m) { return materials[2 * m].xyz; }
-int material_kind(int m) { return int(materials[2 * m].w); }
-vec3 material_emission(int m) { return materials[2 * m + 1].xyz; }
-float material_ior(int m) { return materials[2 * m + 1].w; }
+vec3 material_color(int m) { return materials[3 * m].xyz; }
+int material_kind(int m) { return int(materials[3 * m].w); }
+vec3 material_emission(int m) { return materials[3 * m + 1].xyz; }
+float material_ior(int m) { return materials[3 * m + 1].w; }
+int material_texture(int m) { return floatBitsToInt(materials[3 * m + 2].x); }
+int material_flags(int m) { return floatBitsToInt(materials[3 * m + 2].y); }
+
+// Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
+// through; some are hidden from camera rays.
+const int MATERIAL_LIGHT_SURFACE = 1;
+const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
+
+// The surface's colour: the material's, times its base-colour texture at the hit's uv.
+vec3 surface_color(Surface s) {
+#ifdef HAS_TEXTURES
+    int k = material_texture(s.material);
+    if (k >= 0) return material_color(s.material) * sample_texture(k, s.uv).rgb;
+#endif
+    return material_color(s.material);
+}
 
 // Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
 float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
@@ -26,8 +46,7 @@ float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
 // refraction by Fresnel with probability equal to the reflectance, so the weight is the
 // colour alone. `n` is the shading normal on the geometric normal's side; returns the new
 // direction and multiplies `weight`.
-vec3 scatter_specular(int m, vec3 dir, vec3 n, vec3 ng, float u, inout vec3 weight) {
-    vec3 color = material_color(m);
+vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, inout vec3 weight) {
 #ifdef HAS_DIELECTRIC
     if (material_kind(m) == MATERIAL_DIELECTRIC) {
         bool entering = dot(dir, ng) < 0.0;

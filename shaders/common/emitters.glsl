@@ -7,6 +7,7 @@
 
 #include "common/scene_buffers.glsl"
 #include "common/sampling.glsl"
+#include "common/environment.glsl"
 
 uint pick_emitter(float u) {
     uint lo = 0u, hi = pass_info.w - 1u;
@@ -52,31 +53,53 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
 #endif
 #ifdef HAS_POINT_LIGHTS
     if (kind == EMITTER_POINT) {
-        origin = a.xyz;
-        dir = sample_sphere(u1, u2);
+        // A sphere of radius b.w radiating evenly: a uniform point on it, a cosine-weighted
+        // direction about its normal (flux = power / p); a point light when b.w = 0.
+        vec3 n = sample_sphere(u1, u2);
+        origin = a.xyz + b.w * n;
+        dir = b.w > 0.0 ? sample_cosine_hemisphere(n, u3, u4) : n;
         flux = power;
         return;
     }
 #endif
 #ifdef HAS_SPOT_LIGHTS
     if (kind == EMITTER_SPOT) {
-        // Uniform in the cone; the smooth edge weights the flux (its power in d assumes a
-        // hard edge, the cone's solid angle times the intensity).
-        origin = a.xyz;
+        // Uniform in the cone; the smooth edge (and Blender 3.x's cosine falloff, c.z = 1)
+        // weights the flux (its power in d assumes a hard edge, the cone's solid angle times
+        // the intensity). A radius c.y spreads the origins over a disc facing the axis.
+        vec3 t, bt;
+        orthonormal_basis(b.xyz, t, bt);
+        vec2 q = c.y * sample_disc(u3, u4);
+        origin = a.xyz + q.x * t + q.y * bt;
         dir = sample_cone(b.xyz, b.w, u1, u2);
         flux = power * spot_attenuation(b.xyz, dir, b.w, c.x);
+        if (c.z > 0.5) flux *= dot(b.xyz, dir);
         return;
     }
 #endif
 #if defined(HAS_SUN_LIGHTS) || defined(HAS_ENVIRONMENT)
     if (kind == EMITTER_SUN || kind == EMITTER_ENVIRONMENT) {
-        // Distant light through the scene's bounding disc facing the light.
-        dir = kind == EMITTER_SUN ? b.xyz : -sample_sphere(u3, u4);
+        // Distant light through the scene's bounding disc facing the light: the sun from
+        // within its angular radius (cos in b.w), the world by its radiance.
+        flux = power;
+        if (kind == EMITTER_SUN) {
+            dir = b.w < 1.0 ? sample_cone(b.xyz, b.w, u3, u4) : b.xyz;
+        } else {
+#ifdef HAS_ENVIRONMENT_MAP
+            // flux = L(w) pi r^2 / (pdf(w) p_pick); power = pi r^2 * integral of L.
+            float pdf;
+            vec3 from = sample_environment(u3, u4, rng_next(rng), rng_next(rng), pdf);
+            dir = -from;
+            float disc = PI * scene_sphere.w * scene_sphere.w;
+            flux = pdf > 0.0 ? environment_radiance(from) * (disc / (pdf * d.w)) : vec3(0.0);
+#else
+            dir = -sample_sphere(u3, u4);
+#endif
+        }
         vec3 t, bt;
         orthonormal_basis(dir, t, bt);
         vec2 q = sample_disc(u1, u2) * scene_sphere.w;
         origin = scene_sphere.xyz - dir * (1.01 * scene_sphere.w) + q.x * t + q.y * bt;
-        flux = power;
         return;
     }
 #endif

@@ -13,6 +13,8 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 sizes;         // image width, height, photon threads, hash cells
     uvec4 pass_info;     // pass index, seed, max depth, emitter count
     vec4 sppm;           // alpha, radius floor, 1 / passes, 1 / photons emitted
+    mat4 environment_from_world;  // rotation into the environment map's frame
+    ivec4 environment_map;        // texture index, distribution width and height, 0
 };
 
 const float PI = 3.14159265358979;

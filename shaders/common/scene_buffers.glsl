@@ -6,12 +6,18 @@
 // pick probability), (power or radiance rgb, pick probability). See native/render/emitters.h.
 layout(std430, binding = 3) readonly buffer Emitters { vec4 emitters[]; };
 
-// Materials, 2 per material: (colour, kind), (emission, ior).
+// Materials, 3 per material: (colour, kind), (emission, ior),
+// (intBitsToFloat(base-colour texture or -1), intBitsToFloat(flags), 0, 0).
 layout(std430, binding = 4) readonly buffer Materials { vec4 materials[]; };
 
 #ifdef HAS_NORMALS
 // Vertex normals, 3 per packed triangle (n.xyz, 0).
 layout(std430, binding = 15) readonly buffer Normals { vec4 vertex_normals[]; };
+#endif
+
+#ifdef HAS_TEXTURES
+// Texture coordinates, 2 per packed triangle: (uv0, uv1), (uv2, 0, 0).
+layout(std430, binding = 16) readonly buffer Uvs { vec4 vertex_uvs[]; };
 #endif
 
 const int MATERIAL_DIFFUSE = 0;

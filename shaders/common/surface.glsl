@@ -10,6 +10,7 @@ struct Surface {
     vec3 geometric_normal;  // from the winding: emitters face this way
     vec3 normal;            // shading normal, on the same side as the geometric one
     int material;
+    vec2 uv;                // texture coordinates (HAS_TEXTURES only)
 };
 
 Surface surface_at(Ray ray, Hit hit) {
@@ -31,6 +32,13 @@ Surface surface_at(Ray ray, Hit hit) {
     s.normal = s.geometric_normal;
 #endif
     s.material = floatBitsToInt(a.w);
+#ifdef HAS_TEXTURES
+    vec4 uv01 = vertex_uvs[2 * t + 0];
+    vec2 uv2 = vertex_uvs[2 * t + 1].xy;
+    s.uv = (1.0 - hit.u - hit.v) * uv01.xy + hit.u * uv01.zw + hit.v * uv2;
+#else
+    s.uv = vec2(0.0);
+#endif
     return s;
 }
 

@@ -1,0 +1,214 @@
+"""Each light kind's irradiance on a diffuse plane against its closed form.
+
+The plane z = 0 (albedo a) is seen by an orthographic camera looking straight down, so each
+pixel shows one plane point and its radiance is a E / pi. Blocks of pixels are compared with
+the closed form averaged over the same pixels; the tolerances are the noise of the block
+means at the pass and photon counts used (measured: rms well under half the bound). Exact
+hashing keeps every photon, so the noise is the photons' alone.
+"""
+import math
+
+import numpy as np
+import pytest
+
+ALBEDO = 0.5
+HALF = 1.5  # the camera sees [-HALF, HALF]^2 of the plane
+
+
+def plane_irradiance(g, lights, size=48, passes=24, photons=65536, radius=0.08, seed=3):
+    """The irradiance the renderer gives on the plane, per pixel, and the pixel centres."""
+    e = HALF * 1.05
+    p = np.array([(-e, -e, 0), (e, -e, 0), (e, e, 0), (-e, e, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 3.0
+    camera = g.Camera(to_world, projection="orthographic", ortho_scale=2 * HALF)
+    scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(ALBEDO,) * 3)],
+                    lights=lights, camera=camera)
+    r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=photons,
+                                     initial_radius=radius, seed=seed, hash="exact"))
+    r.run(passes)
+    film = r.film()
+    assert np.isfinite(film).all()
+    c = ((np.arange(size) + 0.5) / size * 2.0 - 1.0) * HALF
+    x, y = np.meshgrid(c, -c)  # row 0 is the top of the image: +y
+    return film[..., 0] * math.pi / ALBEDO, x, y, r.stats()
+
+
+def block_errors(measured, expected, step=6, floor=0.05):
+    """Relative errors of 3x3 block means where the expected irradiance is substantial."""
+    errors = []
+    top = expected.max()
+    for row in range(1, measured.shape[0] - 1, step):
+        for col in range(1, measured.shape[1] - 1, step):
+            want = expected[row - 1:row + 2, col - 1:col + 2].mean()
+            if want < floor * top:
+                continue
+            got = measured[row - 1:row + 2, col - 1:col + 2].mean()
+            errors.append((got - want) / want)
+    return np.array(errors)
+
+
+def test_point_light_with_radius_lights_like_a_point(glslppm):
+    """A Lambertian sphere light wholly above the plane gives the point light's I cos / d^2
+    (I = P / 4 pi) at every plane point; only its shadows are soft."""
+    g = glslppm
+    power, h = 100.0, 1.0
+    light = g.Light("point", power=power, position=(0.0, 0.0, h), radius=0.5)
+    e, x, y, stats = plane_irradiance(g, [light])
+    assert "point-lights" in stats["variant"]
+    expected = power / (4 * math.pi) * h / (h * h + x * x + y * y) ** 1.5
+    errors = block_errors(e, expected)
+    assert np.sqrt(np.mean(errors ** 2)) < 0.05, errors
+    assert abs(np.mean(errors)) < 0.02
+
+
+def spot_expected(x, y, h, power, size, blend, cosine):
+    """Blender's spot: I = P / 4 pi inside the cone, times smoothstep over the blend width
+    (1 - cos(size / 2)) * blend below the cone's edge (Cycles' spot_attenuation)."""
+    d2 = x * x + y * y + h * h
+    cos_t = h / np.sqrt(d2)
+    cos_half = math.cos(size / 2)
+    smooth = (1 - cos_half) * blend
+    s = np.clip((cos_t - cos_half) / smooth, 0.0, 1.0)
+    attenuation = np.where(cos_t > cos_half, s * s * (3 - 2 * s), 0.0)
+    if cosine:
+        attenuation = attenuation * cos_t
+    return power / (4 * math.pi) * attenuation * cos_t / d2
+
+
+@pytest.mark.parametrize("cosine", [False, True])
+def test_spot_light_centre_edge_and_outside(glslppm, cosine):
+    """The spot's falloff at the cone's centre, through its smooth edge and outside it,
+    compared ring by ring about the axis; Blender 3.x's extra cos(angle) factor when asked.
+    The closed form is averaged over each pixel's gather disc, as the estimate is."""
+    g = glslppm
+    power, h, size, blend = 100.0, 1.0, math.radians(90), 0.4
+    light = g.Light("spot", power=power, position=(0.0, 0.0, h), direction=(0, 0, -1),
+                    spot_size=size, spot_blend=blend, spot_cosine=cosine)
+    e, x, y, stats = plane_irradiance(g, [light], size=64, passes=32)
+    assert "spot-lights" in stats["variant"]
+    radius = 0.5 * (stats["initial_radius"] + stats["mean_radius"])
+    disc = np.random.default_rng(1).uniform(-1, 1, (600, 2))
+    disc = disc[(disc ** 2).sum(1) <= 1.0][:300] * radius
+    expected = np.mean([spot_expected(x + dx, y + dy, h, power, size, blend, cosine)
+                        for dx, dy in disc], axis=0)
+    r = np.sqrt(x * x + y * y)
+    edge = h * math.tan(size / 2)   # the cone's edge on the plane
+    inner = h * math.tan(math.acos(math.cos(size / 2) + (1 - math.cos(size / 2)) * blend))
+    rings = [(0.0, 0.2), (0.2, 0.4), (inner, 0.5 * (inner + edge)), (0.5 * (inner + edge), edge)]
+    for lo, hi in rings:
+        ring = (r >= lo) & (r < hi)
+        assert ring.sum() > 20
+        got, want = e[ring].mean(), expected[ring].mean()
+        assert got == pytest.approx(want, rel=0.06), (lo, hi)
+    outside = r > edge + 0.1   # beyond the gather radius and a pixel from the edge
+    assert e[outside].mean() < 0.005 * expected.max()
+
+
+@pytest.mark.parametrize("angle", [0.0, math.radians(10)])
+def test_sun_gives_uniform_irradiance_times_cosine(glslppm, angle):
+    """A sun of strength E (W/m^2) at 30 degrees from the zenith: E cos 30 everywhere on the
+    open plane, also when its disc is 10 degrees wide."""
+    g = glslppm
+    strength, tilt = 3.0, math.radians(30)
+    light = g.Light("sun", power=strength, direction=(math.sin(tilt), 0, -math.cos(tilt)),
+                    angle=angle)
+    e, _, _, stats = plane_irradiance(g, [light])
+    assert "sun-lights" in stats["variant"]
+    inner = e[4:-4, 4:-4]
+    assert inner.mean() == pytest.approx(strength * math.cos(tilt), rel=0.03)
+    # 6x6 blocks: no structure beyond noise.
+    blocks = inner.reshape(10, 4, 10, 4).mean(axis=(1, 3))
+    assert blocks.std() / blocks.mean() < 0.06
+
+
+def area_irradiance_brute_force(to_world, shape, sx, sy, radiance, points, n=400):
+    """E at plane points below a downward-facing light: sum of L cos cos' / d^2 dA over a
+    fine grid on the shape (the 64-gon's area for disks and ellipses is within 0.2%)."""
+    a, b = sx / 2, (sx if shape in ("square", "disk") else sy) / 2
+    u = (np.arange(n) + 0.5) / n * 2 - 1
+    uu, vv = np.meshgrid(u * a, u * b)
+    keep = np.ones_like(uu, dtype=bool)
+    if shape in ("disk", "ellipse"):
+        keep = (uu / a) ** 2 + (vv / b) ** 2 <= 1.0
+    da = (2 * a / n) * (2 * b / n)
+    q = np.stack([uu[keep], vv[keep], np.zeros(keep.sum())], axis=1) + to_world[:3, 3]
+    out = []
+    for p in points:
+        d = q - p
+        d2 = (d * d).sum(1)
+        cos = d[:, 2] / np.sqrt(d2)  # both normals are vertical
+        out.append(radiance * (cos * cos / d2).sum() * da)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("shape,sx,sy", [("square", 1.0, 1.0), ("rectangle", 1.2, 0.5),
+                                         ("disk", 1.0, 1.0), ("ellipse", 1.2, 0.6)])
+def test_area_light_shapes_against_brute_force(glslppm, shape, sx, sy):
+    """Area lights of every Blender shape, one-sided (facing the plane), hidden from the
+    camera: block means against the irradiance integrated over the shape."""
+    g = glslppm
+    power, h = 40.0, 0.8
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = h
+    light = g.Light("area", power=power, to_world=to_world, shape=shape, size_x=sx, size_y=sy,
+                    visible_to_camera=False)
+    e, x, y, stats = plane_irradiance(g, [light])
+    assert "area-lights" in stats["variant"]
+    if shape in ("square", "disk"):
+        sy = sx
+    area = sx * sy * (math.pi / 4 if shape in ("disk", "ellipse") else 1.0)
+    radiance = power / (math.pi * area)
+    rows = range(4, 48, 8)
+    points = [(x[r, c], y[r, c], 0.0) for r in rows for c in rows]
+    want = area_irradiance_brute_force(to_world, shape, sx, sy, radiance, points)
+    got = np.array([e[r - 1:r + 2, c - 1:c + 2].mean() for r in rows for c in rows])
+    errors = (got - want) / want
+    assert np.sqrt(np.mean(errors ** 2)) < 0.06, errors
+    assert abs(np.mean(errors)) < 0.025
+
+
+def test_disk_light_on_axis_closed_form(glslppm):
+    """A disk light of radius b and radiance L at height h: E = pi L b^2 / (h^2 + b^2) on
+    its axis."""
+    g = glslppm
+    power, h, b = 40.0, 0.8, 0.5
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = h
+    light = g.Light("area", power=power, to_world=to_world, shape="disk", size_x=2 * b,
+                    visible_to_camera=False)
+    e, _, _, _ = plane_irradiance(g, [light], passes=32, radius=0.05)
+    polygon_area = 32 * math.sin(2 * math.pi / 64) * b * b   # the 64-gon the renderer uses
+    radiance = power / (math.pi * polygon_area)
+    expected = math.pi * radiance * b * b / (h * h + b * b)
+    centre = e[23:25, 23:25].mean()  # the 4 pixels within 0.09 of the axis: 1% below it
+    assert centre == pytest.approx(0.995 * expected, rel=0.03)
+
+
+def test_area_light_is_one_sided_and_seen_from_the_front(glslppm):
+    """Seen from below (its front), a visible area light shows its radiance L = P / (pi A);
+    from above (its back) nothing; hidden from the camera, nothing either."""
+    g = glslppm
+    power, side = 10.0, 2.0
+    to_world = np.eye(4, dtype=np.float32)
+    p = np.array([(-5, -5, -3), (5, -5, -3), (5, 5, -3), (-5, 5, -3)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    black = g.Material("diffuse", color=(0, 0, 0))
+    results = {}
+    for name, cam_z, flip, visible in [("front", -2.0, True, True), ("back", 2.0, False, True),
+                                       ("hidden", -2.0, True, False)]:
+        cam = np.eye(4, dtype=np.float32)
+        if flip:   # look up +Z
+            cam[:3, :3] = np.diag([1.0, -1.0, -1.0])
+        cam[2, 3] = cam_z
+        light = g.Light("area", power=power, to_world=to_world, size_x=side,
+                        visible_to_camera=visible)
+        scene = g.Scene(p, t, materials=[black], lights=[light],
+                        camera=g.Camera(cam, projection="orthographic", ortho_scale=1.0))
+        r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=1024))
+        r.run(2)
+        results[name] = r.film()[..., 0].mean()
+    assert results["front"] == pytest.approx(power / (math.pi * side * side), rel=1e-4)
+    assert results["back"] == 0.0
+    assert results["hidden"] == 0.0
