@@ -4,6 +4,7 @@
 // non-specular surface becomes the pixel's visible point (Hachisuka 2015, section 2).
 layout(local_size_x = LOCAL_SIZE) in;
 
+#define USES_PIXEL_STATE
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/sampling.glsl"

@@ -6,6 +6,9 @@
 // and Phi stay unbiased.
 layout(local_size_x = LOCAL_SIZE) in;
 
+#define USES_PIXEL_STATE
+#define USES_PHOTONS
+#define USES_HASH
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"

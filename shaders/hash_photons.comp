@@ -5,6 +5,8 @@
 // Exact: a counting sort keeps every photon (PHASE_COUNT, prefix_sum.comp, PHASE_SCATTER).
 layout(local_size_x = LOCAL_SIZE) in;
 
+#define USES_PHOTONS
+#define USES_HASH
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"

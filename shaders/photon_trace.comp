@@ -6,6 +6,9 @@
 // stochastic hash.
 layout(local_size_x = LOCAL_SIZE) in;
 
+#define USES_PHOTON_PATHS
+#define USES_PHOTONS
+#define USES_EMITTERS
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/sampling.glsl"

@@ -7,6 +7,7 @@
 #define CELLS_PER_BLOCK (SCAN_THREADS * CELLS_PER_THREAD)
 layout(local_size_x = 256) in;
 
+#define USES_HASH
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 

@@ -2,6 +2,7 @@
 // directly, averaged over the passes.
 layout(local_size_x = LOCAL_SIZE) in;
 
+#define USES_PIXEL_STATE
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 

@@ -1,5 +1,7 @@
 #include "gl/shader_program.h"
 
+#include "gl/program_binaries.h"
+
 #include <dlfcn.h>
 
 #include <cstdlib>
@@ -214,6 +216,18 @@ void ComputeProgram::build(const fs::path& root, const Defines& defines) {
     const ResolvedSource resolved = resolve_includes(root, name_);
     files_ = resolved.files;
     const std::string source = assemble_source(resolved, defines);
+    const std::string key = std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) +
+                             '\n' + reinterpret_cast<const char*>(glGetString(GL_VERSION)) +
+                             '\n' + source;
+    id_ = glCreateProgram();
+    if (load_program_binary(id_, key)) {
+        reused_ = true;
+        glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, local_size_.data());
+        return;
+    }
+    glDeleteProgram(id_);
+    id_ = 0;
+    count_compiled_program();
 
     const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
     const char* text = source.c_str();
@@ -227,6 +241,7 @@ void ComputeProgram::build(const fs::path& root, const Defines& defines) {
         throw ShaderError(format_shader_log(name_, log, files_));
     }
     id_ = glCreateProgram();
+    glProgramParameteri(id_, GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
     glAttachShader(id_, shader);
     glLinkProgram(id_);
     glDetachShader(id_, shader);
@@ -247,6 +262,7 @@ void ComputeProgram::build(const fs::path& root, const Defines& defines) {
         throw ShaderError(message.empty() ? name_ + ": link error" : message);
     }
     glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, local_size_.data());
+    keep_program_binary(id_, key);
 }
 
 ComputeProgram::~ComputeProgram() {
@@ -258,6 +274,7 @@ ComputeProgram::ComputeProgram(ComputeProgram&& other) noexcept
       name_(std::move(other.name_)),
       files_(std::move(other.files_)),
       local_size_(other.local_size_),
+      reused_(other.reused_),
       uniforms_(std::move(other.uniforms_)) {}
 
 ComputeProgram& ComputeProgram::operator=(ComputeProgram&& other) noexcept {
@@ -267,6 +284,7 @@ ComputeProgram& ComputeProgram::operator=(ComputeProgram&& other) noexcept {
         name_ = std::move(other.name_);
         files_ = std::move(other.files_);
         local_size_ = other.local_size_;
+        reused_ = other.reused_;
         uniforms_ = std::move(other.uniforms_);
     }
     return *this;

@@ -69,6 +69,9 @@ class ComputeProgram {
     // layout(local_size_x, _y, _z) as linked.
     std::array<GLint, 3> local_size() const { return local_size_; }
     const std::string& name() const { return name_; }
+    // True when it was loaded from a binary kept by an earlier context (program_binaries.h)
+    // rather than compiled.
+    bool reused() const { return reused_; }
     // Included files, by #line index (0 is the stage file).
     const std::vector<std::string>& files() const { return files_; }
 
@@ -79,6 +82,7 @@ class ComputeProgram {
     std::string name_;
     std::vector<std::string> files_;
     std::array<GLint, 3> local_size_{0, 0, 0};
+    bool reused_ = false;
     mutable std::unordered_map<std::string, GLint> uniforms_;
 };
 

@@ -192,6 +192,9 @@ py::dict stats_dict(const RenderStats& s) {
     d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
     d["gpu_bytes"] = s.gpu_bytes;
     d["warnings"] = s.warnings;
+    d["programs_compiled"] = s.programs_compiled;
+    d["programs_reused"] = s.programs_reused;
+    d["compile_seconds"] = s.compile_seconds;
     d["eye_seconds"] = s.eye_seconds;
     d["photon_seconds"] = s.photon_seconds;
     d["hash_seconds"] = s.hash_seconds;
@@ -314,6 +317,34 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("textures") = std::vector<Texture>{}, py::arg("environment_texture") = -1,
              py::arg("environment_to_world") = py::none())
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
+        .def("arrays", [](const Scene& s) {
+            // Copies for rebuilding the scene elsewhere (scripts/cycles_reference.py).
+            using namespace pybind11::literals;
+            auto copy = [](const auto& span, py::ssize_t columns) {
+                using T = typename std::decay_t<decltype(span[0][0])>;
+                py::array_t<T> a({static_cast<py::ssize_t>(span.size()), columns});
+                std::memcpy(a.mutable_data(), span.data(), span.size_bytes());
+                return a;
+            };
+            py::list materials;
+            const char* kinds[] = {"diffuse", "conductor", "dielectric"};
+            for (const Material& mat : s.materials)
+                materials.append(py::dict(
+                    "kind"_a = kinds[static_cast<int>(mat.kind)],
+                    "color"_a = std::array<float, 3>{mat.color.x, mat.color.y, mat.color.z},
+                    "ior"_a = mat.ior,
+                    "emission"_a = std::array<float, 3>{mat.emission.x, mat.emission.y, mat.emission.z}));
+            py::array_t<float> to_world({4, 4});  // row-major, like Blender's matrix_world
+            for (int r = 0; r < 4; ++r)
+                for (int k = 0; k < 4; ++k) to_world.mutable_at(r, k) = s.camera.to_world[k][r];
+            py::array_t<std::uint32_t> ids(static_cast<py::ssize_t>(s.mesh.material_ids.size()));
+            std::memcpy(ids.mutable_data(), s.mesh.material_ids.data(), s.mesh.material_ids.size_bytes());
+            return py::dict("positions"_a = copy(s.mesh.positions, 3),
+                            "indices"_a = copy(s.mesh.triangles, 3),
+                            "normals"_a = copy(s.mesh.normals, 3), "material_ids"_a = ids,
+                            "materials"_a = materials, "camera_to_world"_a = to_world,
+                            "camera_fov_x"_a = s.camera.fov_x);
+        }, "The scene's arrays, materials and camera as numpy copies and dicts.")
         .def_property_readonly("shares_memory_with_input", [](const Scene& s) {
             // True: the MeshView points into the numpy arrays given (no copy was made).
             auto owner = std::static_pointer_cast<const ArrayOwner>(s.keepalive);

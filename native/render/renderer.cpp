@@ -129,6 +129,8 @@ struct Renderer::Gpu {
     std::vector<GLuint> buffers;  // every SSBO, deleted together
     GLuint atlases[2] = {0, 0};   // sRGB8 and float array textures
     std::vector<std::string> warnings;
+    int programs_compiled = 0, programs_reused = 0;
+    double compile_seconds = 0.0;
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
 
     const gl::ComputeProgram* eye = nullptr;
@@ -450,6 +452,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     g.thread = std::make_unique<gl::GlThread>(settings.device);
     g.thread->call([&] {
         try {
+            const auto compile_start = std::chrono::steady_clock::now();
             gl::ProgramCache& cache = g.thread->context().programs();
             auto program = [&](const char* file, const char* phase) -> const gl::ComputeProgram* {
                 gl::Defines d = g.defines;
@@ -469,6 +472,13 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.gather = program("gather.comp", nullptr);
             g.end_pass = program("end_pass.comp", nullptr);
             g.resolve = program("resolve_film.comp", nullptr);
+            for (const gl::ComputeProgram* p : {g.eye, g.photon, g.hash_a, g.hash_b, g.scan[0],
+                                                g.scan[1], g.scan[2], g.gather, g.end_pass,
+                                                g.resolve}) {
+                if (p) ++(p->reused() ? g.programs_reused : g.programs_compiled);
+            }
+            g.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                              compile_start).count();
             // The traversal's node count, in every program that traces rays.
             for (const gl::ComputeProgram* p : {g.eye, g.photon}) {
                 p->use();
@@ -641,6 +651,9 @@ RenderStats Renderer::stats() {
     s.hash_seconds = g.stage_seconds[2];
     s.gather_seconds = g.stage_seconds[3];
     s.warnings = g.warnings;
+    s.programs_compiled = g.programs_compiled;
+    s.programs_reused = g.programs_reused;
+    s.compile_seconds = g.compile_seconds;
     return s;
 }
 

@@ -34,6 +34,11 @@ struct RenderStats {
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.
     double eye_seconds = 0.0, photon_seconds = 0.0, hash_seconds = 0.0, gather_seconds = 0.0;
     std::vector<std::string> warnings;  // what was approximated (downscaled images, ...)
+    // Programs of this renderer's variant compiled from source, and loaded from binaries an
+    // earlier renderer of the same variant left (gl/program_binaries.h); the time both took.
+    int programs_compiled = 0;
+    int programs_reused = 0;
+    double compile_seconds = 0.0;
 };
 
 class Renderer {

@@ -4,9 +4,7 @@
 
 #include "common/scene_buffers.glsl"
 #include "common/surface.glsl"
-#ifdef HAS_TEXTURES
 #include "common/textures.glsl"
-#endif
 
 vec3 material_color(int m) { return materials[3 * m].xyz; }
 int material_kind(int m) { return int(materials[3 * m].w); }

@@ -5,12 +5,9 @@
 #define ENVIRONMENT_GLSL
 
 #include "common/frame.glsl"
-
-#ifdef HAS_ENVIRONMENT_MAP
 #include "common/textures.glsl"
 
-// Marginal CDF over rows (height + 1 values), then per row a conditional CDF (width + 1).
-layout(std430, binding = 18) readonly buffer EnvironmentCdf { float environment_cdf[]; };
+#ifdef HAS_ENVIRONMENT_MAP
 
 // Blender's equirectangular mapping (u = atan2(y, -x) / 2 pi + 0.5, v = atan2(z, r) / pi + 0.5)
 // in the map's frame.
@@ -26,6 +23,10 @@ vec3 environment_direction(vec2 uv) {
     vec3 d = vec3(-cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta));
     return normalize(transpose(mat3(environment_from_world)) * d);
 }
+
+#ifdef USES_EMITTERS
+// Marginal CDF over rows (height + 1 values), then per row a conditional CDF (width + 1).
+layout(std430, binding = 18) readonly buffer EnvironmentCdf { float environment_cdf[]; };
 
 // The largest i in [lo, hi) with cdf[i] <= u.
 uint search_cdf(uint first, uint count, float u) {
@@ -52,6 +53,7 @@ vec3 sample_environment(float u1, float u2, float u3, float u4, out float pdf) {
     pdf = p_row * p_col * float(w * h) / (2.0 * PI * PI * max(sin_theta, 1e-7));
     return environment_direction(uv);
 }
+#endif
 #endif
 
 // Radiance arriving along -world_dir from the world (world_dir points away from the scene).

@@ -4,7 +4,9 @@
 
 // Lights photons start from, 4 per emitter: (a.xyz, kind), (b.xyz, b.w), (c.xyz, cumulative
 // pick probability), (power or radiance rgb, pick probability). See native/render/emitters.h.
+#ifdef USES_EMITTERS
 layout(std430, binding = 3) readonly buffer Emitters { vec4 emitters[]; };
+#endif
 
 // Materials, 3 per material: (colour, kind), (emission, ior),
 // (intBitsToFloat(base-colour texture or -1), intBitsToFloat(flags), 0, 0).

@@ -16,6 +16,12 @@ layout(std430, binding = 5) coherent buffer Counters {
     uint rays_lo, rays_hi;
 };
 
+// GL guarantees only 16 storage blocks per compute program, and drivers count every
+// declared one, so each stage declares just the groups it uses, by defining before its
+// includes: USES_PIXEL_STATE (visible points, statistics, direct light), USES_PHOTON_PATHS,
+// USES_PHOTONS, USES_HASH (and USES_EMITTERS in common/scene_buffers.glsl).
+
+#ifdef USES_PIXEL_STATE
 // Visible points, 3 per pixel: (position, material id or -1), (normal facing the
 // eye, 0), (eye-path weight = throughput * albedo / pi, 0).
 layout(std430, binding = 6) buffer VisiblePoints { vec4 visible_points[]; };
@@ -25,21 +31,28 @@ layout(std430, binding = 7) buffer PixelStats { vec4 pixel_stats[]; };
 
 // Emission seen directly, 2 per pixel: compensated (Kahan) sum and its compensation.
 layout(std430, binding = 8) buffer DirectLight { vec4 direct_light[]; };
+#endif
 
+#ifdef USES_PHOTON_PATHS
 // Photon paths, 3 per photon thread: (origin, bounces so far or -1 = start anew),
 // (direction, 0), (flux, 0).
 layout(std430, binding = 9) buffer PhotonPaths { vec4 photon_paths[]; };
+#endif
 
+#ifdef USES_PHOTONS
 // Photons stored this pass, 3 per photon thread: (position, random key bits),
 // (direction towards where it came from, 0), (flux, 1 if stored). Keys are normal floats
 // (2^24 + 29 random bits) so that no driver may flush or canonicalise them.
 layout(std430, binding = 10) buffer Photons { vec4 photons[]; };
+#endif
 
+#ifdef USES_HASH
 // Hash cells. Stochastic: (smallest key, photon count, surviving photon, 0).
 // Exact: (photon count, first sorted slot, scatter cursor, 0).
 layout(std430, binding = 13) coherent buffer HashCells { uvec4 hash_cells[]; };
 
 // Exact hash only: photon indices sorted by cell, then the scan's block sums.
 layout(std430, binding = 14) buffer HashSorted { uint hash_sorted[]; };
+#endif
 
 #endif

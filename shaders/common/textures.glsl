@@ -4,6 +4,9 @@
 // image's rectangle and never bleed into a neighbour.
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
+// (The include resolver splices each file once, wherever it is first named, so includes
+// are never placed inside #ifdef; the guard is here.)
+#if defined(HAS_TEXTURES) || defined(HAS_ENVIRONMENT_MAP)
 
 // 2 per texture: (x, y, width, height) in its layer, (layer, float 0/1, wrap, 0).
 layout(std430, binding = 17) readonly buffer TextureInfo { ivec4 texture_info[]; };
@@ -41,4 +44,5 @@ vec4 sample_texture(int k, vec2 uv) {
     return mix(a, b, f.y);
 }
 
+#endif
 #endif

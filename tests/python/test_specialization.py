@@ -1,0 +1,45 @@
+"""Programs model only what a scene requires, render what the full variant renders, and are
+not compiled again for the next renderer of the same kind of scene."""
+import numpy as np
+import pytest
+
+
+def cornell(g, **settings):
+    scene = g.cornell_box(mirror_sphere=False, glass_sphere=False)
+    return g.Renderer(scene, g.Settings(width=32, height=32, photons_per_pass=16384, seed=11,
+                                        **settings))
+
+
+def test_plain_scene_variant_leaves_out_what_it_does_not_use(glslppm):
+    r = cornell(glslppm)
+    variant = r.stats()["variant"].split(",")
+    for feature in ("textures", "dielectric", "conductor", "environment-map", "spot-lights",
+                    "sun-lights", "depth-of-field"):
+        assert feature not in variant, variant
+    full = cornell(glslppm, full_variant=True).stats()["variant"].split(",")
+    for feature in ("textures", "dielectric", "conductor", "environment-map", "spot-lights",
+                    "sun-lights", "depth-of-field", "normals"):
+        assert feature in full, full
+
+
+def test_specialized_and_full_variants_render_the_same_image(glslppm):
+    """Same seed, same random numbers: the features the full variant adds are never taken
+    for this scene, so the images agree to float rounding (far inside the noise)."""
+    a = cornell(glslppm)
+    b = cornell(glslppm, full_variant=True)
+    a.run(6)
+    b.run(6)
+    fa, fb = a.film(), b.film()
+    assert np.isfinite(fa).all() and fa.mean() > 0.01
+    assert np.abs(fa - fb).max() <= 1e-4 * fa.max()
+
+
+def test_second_renderer_of_a_variant_reuses_the_compiled_programs(glslppm):
+    """A new renderer has a new GL context; programs of a variant built before in this
+    process are loaded from the driver's binaries instead of being compiled."""
+    first = cornell(glslppm, alpha=0.71).stats()   # a variant no other test has built here
+    second = cornell(glslppm, alpha=0.71).stats()
+    assert first["programs_compiled"] + first["programs_reused"] == \
+        second["programs_compiled"] + second["programs_reused"]
+    assert second["programs_compiled"] == 0, second
+    assert second["programs_reused"] >= 7

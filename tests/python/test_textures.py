@@ -1,0 +1,170 @@
+"""Base-colour textures: sRGB decoding, bilinear filtering, wrapping, downscaling, and a
+variant that leaves texture lookups (and uvs) out when nothing is textured.
+
+A textured diffuse quad alone under a uniform environment of radiance L sees the whole sky
+above it, so its radiance is texel * L; an orthographic camera looks straight at it.
+"""
+import math
+
+import numpy as np
+import pytest
+
+L = 2.0
+SIZE = 48
+
+
+def srgb_to_linear(byte):
+    c = byte / 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def textured_quad(g, texture, uv_scale=1.0, uv_offset=0.0, uvs=True, textured=True, seed=2):
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    # u runs from uv_offset to uv_offset + uv_scale across the quad; v from 0 to 1.
+    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
+    uv[:, 0] = uv[:, 0] * uv_scale + uv_offset
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    camera = g.Camera(to_world, projection="orthographic", ortho_scale=2.0)
+    material = g.Material("diffuse", color=(1, 1, 1), color_texture=0 if textured else -1)
+    scene = g.Scene(p, t, uvs=uv.astype(np.float32) if uvs else None, materials=[material],
+                    camera=camera, environment=(L, L, L), textures=[texture])
+    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=65536, seed=seed,
+                                     hash="exact"))
+    r.run(16)
+    return r.film()[..., 0], r.stats()
+
+
+def stripes(values, texels_each=4, dtype=np.uint8):
+    """A 1-row image of vertical stripes, texels_each texels per value."""
+    row = np.repeat(np.asarray(values), texels_each)
+    pixels = np.zeros((1, len(row), 4), dtype=dtype)
+    pixels[0, :, 0] = pixels[0, :, 1] = pixels[0, :, 2] = row
+    pixels[0, :, 3] = 255 if dtype == np.uint8 else 1.0
+    return pixels
+
+
+def stripe_means(film, count):
+    """Mean of each stripe's central half (away from the bilinear blend and the gather disc)."""
+    width = SIZE // count
+    return [film[4:-4, k * width + width // 4:(k + 1) * width - width // 4].mean()
+            for k in range(count)]
+
+
+def test_srgb_texture_decoded_exactly_at_0_half_and_1(glslppm):
+    g = glslppm
+    texture = g.Texture(stripes([0, 128, 255]), name="stripes")
+    film, stats = textured_quad(g, texture)
+    assert "textures" in stats["variant"]
+    got = stripe_means(film, 3)
+    assert got[0] == pytest.approx(0.0, abs=1e-6)
+    # sRGB 128/255 is linear 0.2158605; the noise of a stripe mean is below 1.5%.
+    assert got[1] == pytest.approx(srgb_to_linear(128) * L, rel=0.03)
+    assert got[2] == pytest.approx(1.0 * L, rel=0.03)
+
+
+def test_float_texture_and_bilinear_blend_between_texels(glslppm):
+    """Two float texels 0.2 and 1.0 with clip wrapping: flat halves, and between the texel
+    centres a linear ramp (bilinear filtering) from one value to the other."""
+    g = glslppm
+    texture = g.Texture(stripes([0.2, 1.0], texels_each=1, dtype=np.float32), wrap="clip")
+    film, _ = textured_quad(g, texture)
+    profile = film[4:-4].mean(axis=0) / L
+    x = (np.arange(SIZE) + 0.5) / SIZE  # u of each pixel column
+    expected = 0.2 + 0.8 * np.clip((x - 0.25) / 0.5, 0.0, 1.0)
+    inner = slice(3, SIZE - 3)  # away from the quad's edges, where the gather disc spills
+    assert np.abs(profile[inner] - expected[inner]).max() < 0.04
+
+
+def test_repeat_and_clip_wrapping(glslppm):
+    """uv from -0.5 to 1.5: repeat shows the two-stripe image twice over, clip shows it once
+    in the middle and black around it."""
+    g = glslppm
+    image = stripes([0, 255], texels_each=8)
+    repeat, _ = textured_quad(g, g.Texture(image, wrap="repeat"), uv_scale=2.0, uv_offset=-0.5)
+    clip, _ = textured_quad(g, g.Texture(image, wrap="clip"), uv_scale=2.0, uv_offset=-0.5)
+    quarters_repeat = stripe_means(repeat, 8)   # u: -0.5..1.5 in quarter-units of 0.25
+    quarters_clip = stripe_means(clip, 8)
+    # u in [-0.5, 0): second half of the image (white); [0, 0.5): black; [0.5, 1): white ...
+    want_repeat = [1, 1, 0, 0, 1, 1, 0, 0]
+    want_clip = [0, 0, 0, 0, 1, 1, 0, 0]
+    for got, want in ((quarters_repeat, want_repeat), (quarters_clip, want_clip)):
+        for value, w in zip(got, want):
+            assert value == pytest.approx(w * L, abs=0.06 * L), (got, want)
+
+
+def test_oversized_image_is_downscaled_with_a_warning(glslppm):
+    """An image wider than the texture limit is halved until it fits, with a warning, and
+    still shows its mean colour."""
+    g = glslppm
+    image = stripes([255] * 12, texels_each=1)
+    r_film, stats = None, None
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    scene = g.Scene(p, t, uvs=uv, materials=[g.Material(color=(1, 1, 1), color_texture=0)],
+                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
+                    environment=(L, L, L), textures=[g.Texture(image, name="wide.png")])
+    r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=16384,
+                                     max_texture_size=4))
+    r.run(8)
+    r_film, stats = r.film()[..., 0], r.stats()
+    assert any("wide.png" in w and "12x1" in w and "downscaled to 3x1" in w
+               for w in stats["warnings"]), stats["warnings"]
+    assert r_film[3:-3, 3:-3].mean() == pytest.approx(L, rel=0.05)
+
+
+def test_untextured_scene_compiles_no_texture_lookups_and_uploads_no_uvs(glslppm):
+    """The same quad with uvs but no texture: the variant has no textures and the packed
+    triangles carry no uv records (fewer bytes per triangle than the textured scene)."""
+    g = glslppm
+    texture = g.Texture(stripes([255, 255, 255]))
+    _, plain = textured_quad(g, texture, textured=False)
+    _, textured = textured_quad(g, texture)
+    assert "textures" not in plain["variant"].split(",")
+    assert "textures" in textured["variant"].split(",")
+    # 2 vec4 of uvs per triangle are left out.
+    assert textured["bvh_bytes_per_triangle"] - plain["bvh_bytes_per_triangle"] == \
+        pytest.approx(32.0)
+
+
+def test_texture_without_uvs_is_a_warning_and_uses_the_colour(glslppm):
+    g = glslppm
+    film, stats = textured_quad(g, g.Texture(stripes([0, 0, 0])), uvs=False)
+    assert any("no uvs" in w for w in stats["warnings"]), stats["warnings"]
+    assert film[8:-8, 8:-8].mean() == pytest.approx(L, rel=0.03)
+
+
+@pytest.mark.parametrize("bad,message", [
+    (np.zeros((2, 2, 3), dtype=np.uint8), "expected shape (height, width, 4)"),
+    (np.zeros((2, 2, 4), dtype=np.float64), "expected uint8 (sRGB) or float32"),
+])
+def test_malformed_images_are_rejected_with_their_name(glslppm, bad, message):
+    with pytest.raises(ValueError, match=r"Texture 'sky\.png'.*" + __import__("re").escape(message)):
+        glslppm.Texture(bad, name="sky.png")
+
+
+def test_texture_index_out_of_range_names_the_material(glslppm):
+    g = glslppm
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2]], dtype=np.uint32)
+    scene = g.Scene(p, t, uvs=np.zeros((3, 2), dtype=np.float32),
+                    materials=[g.Material(color_texture=3)], environment=(1, 1, 1))
+    with pytest.raises(ValueError, match=r"materials\[0\]\.color_texture: 3 is not one of"):
+        g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=1024))
+
+
+def test_nan_in_a_float_texture_is_rejected(glslppm):
+    g = glslppm
+    pixels = np.ones((2, 2, 4), dtype=np.float32)
+    pixels[1, 0, 2] = math.nan
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2]], dtype=np.uint32)
+    scene = g.Scene(p, t, uvs=np.zeros((3, 2), dtype=np.float32),
+                    materials=[g.Material(color_texture=0)], environment=(1, 1, 1),
+                    textures=[g.Texture(pixels, name="bad.exr")])
+    with pytest.raises(ValueError, match=r"textures\[0\] 'bad\.exr': holds NaN or Inf"):
+        g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=1024))
