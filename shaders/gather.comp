@@ -65,7 +65,8 @@ void main() {
             if (m > 0.0) {
                 float n_old = stats0.w;
                 float n_new = n_old + sppm.x * m;
-                float r_new = max(r * sqrt(n_new / (n_old + m)), sppm.y);
+                // Shrinks to the floor, never grows (a radius already below the floor stays).
+                float r_new = max(r * sqrt(n_new / (n_old + m)), min(r, sppm.y));
                 float shrink = (r_new * r_new) / r2;
                 vec3 tau = (stats0.xyz + weight * phi) * shrink;
                 pixel_stats[2 * i + 0] = vec4(tau, n_new);

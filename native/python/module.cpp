@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <cstring>
+#include <mutex>
 
 #include "gl/egl_context.h"
 #include "image/exr.h"
@@ -157,19 +158,33 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
 }
 
 // The Python-facing renderer: close() frees the GPU now rather than at garbage collection.
+// Each call holds its own reference, so close() on one thread while run() goes on in another
+// cancels that run and frees the GPU when it returns, never under it.
 class PyRenderer {
 public:
     PyRenderer(const Scene& scene, const RenderSettings& settings)
-        : renderer_(std::make_unique<Renderer>(scene, settings)) {}
-    Renderer& get() {
+        : renderer_(std::make_shared<Renderer>(scene, settings)) {}
+    std::shared_ptr<Renderer> get() {
+        std::lock_guard lock(mutex_);
         if (!renderer_) throw std::runtime_error("this Renderer was closed");
-        return *renderer_;
+        return renderer_;
     }
-    void close() { renderer_.reset(); }
-    bool closed() const { return !renderer_; }
+    void close() {
+        std::shared_ptr<Renderer> last;
+        {
+            std::lock_guard lock(mutex_);
+            last = std::move(renderer_);
+        }
+        if (last) last->cancel();
+    }
+    bool closed() const {
+        std::lock_guard lock(mutex_);
+        return !renderer_;
+    }
 
 private:
-    std::unique_ptr<Renderer> renderer_;
+    mutable std::mutex mutex_;
+    std::shared_ptr<Renderer> renderer_;
 };
 
 py::dict stats_dict(const RenderStats& s) {
@@ -392,15 +407,23 @@ PYBIND11_MODULE(_glslppm, m) {
         .def("run", [](PyRenderer& r, int passes) {
             if (passes < 0) throw py::value_error("passes: must be >= 0");
             py::gil_scoped_release release;
-            r.get().run(passes);
-        }, py::arg("passes") = 1)
+            return r.get()->run(passes);
+        }, py::arg("passes") = 1,
+        "Runs that many passes; returns how many ran (fewer after cancel() or close()).")
+        .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
+             "Stops a run in progress (on another thread) after its current pass.")
+        .def("_debug_set_photons_emitted", [](PyRenderer& r, std::uint64_t count) {
+            py::gil_scoped_release release;
+            r.get()->debug_set_photons_emitted(count);
+        }, "Tests only: sets the 64-bit count of photon paths started.")
         .def("film", [](PyRenderer& r) {
             std::vector<float> film;
+            const std::shared_ptr<Renderer> renderer = r.get();
             {
                 py::gil_scoped_release release;
-                film = r.get().film();
+                film = renderer->film();
             }
-            const auto& s = r.get().settings();
+            const RenderSettings& s = renderer->settings();
             py::array_t<float> out({s.height, s.width, 4});
             std::memcpy(out.mutable_data(), film.data(), film.size() * sizeof(float));
             return out;
@@ -409,7 +432,7 @@ PYBIND11_MODULE(_glslppm, m) {
             std::vector<float> photons;
             {
                 py::gil_scoped_release release;
-                photons = r.get().photons();
+                photons = r.get()->photons();
             }
             py::array_t<float> out({static_cast<py::ssize_t>(photons.size() / 12), py::ssize_t(12)});
             std::memcpy(out.mutable_data(), photons.data(), photons.size() * sizeof(float));
@@ -419,7 +442,7 @@ PYBIND11_MODULE(_glslppm, m) {
             RenderStats s;
             {
                 py::gil_scoped_release release;
-                s = r.get().stats();
+                s = r.get()->stats();
             }
             return stats_dict(s);
         })

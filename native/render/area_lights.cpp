@@ -70,7 +70,8 @@ SceneGeometry with_area_lights(const Scene& scene) {
         float area = 0.0f;
         for (std::uint32_t k = 1; k + 1 < p.size(); ++k) {
             t.emplace_back(0u, k, k + 1);
-            area += 0.5f * glm::length(glm::cross(p[k] - p[0], p[k + 1] - p[0]));
+            area += static_cast<float>(0.5 * glm::length(glm::cross(glm::dvec3(p[k] - p[0]),
+                                                                     glm::dvec3(p[k + 1] - p[0]))));
         }
         if (!(area > 0.0f)) throw SceneError("lights[" + std::to_string(index) + "]: zero area");
         Material m;

@@ -41,7 +41,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         if (weight_of(emission) <= 0.0f) continue;
         const glm::vec3 v0(bvh.triangles[3 * t]), v1(bvh.triangles[3 * t + 1]),
             v2(bvh.triangles[3 * t + 2]);
-        const float area = 0.5f * glm::length(glm::cross(v1 - v0, v2 - v0));
+        // In double: the cross product squares the edges (float overflows at 1e10 scale).
+        const float area = static_cast<float>(
+            0.5 * glm::length(glm::cross(glm::dvec3(v1 - v0), glm::dvec3(v2 - v0))));
         add(EmitterKind::Triangle, v0, glm::vec4(v1, 0.0f), v2, emission * (kPi * area));
     }
     const float r = bounds.radius();

@@ -1,8 +1,10 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
+#include <cstddef>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -120,6 +122,7 @@ struct Renderer::Gpu {
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     std::uint64_t passes = 0;
     double seconds = 0.0;
+    std::atomic<bool> cancel{false};
     float initial_radius = 0.0f;
     std::size_t gpu_bytes = 0;
 
@@ -569,17 +572,43 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 }
 
 Renderer::~Renderer() {
-    if (gpu_ && gpu_->thread) gpu_->thread->call([this] { gpu_->release(); });
+    if (!gpu_ || !gpu_->thread) return;
+    gpu_->cancel = true;  // a run in progress stops after its current pass
+    gpu_->thread->call([this] { gpu_->release(); });
 }
 
-void Renderer::run(int passes) {
+void Renderer::cancel() { gpu_->cancel = true; }
+
+int Renderer::run(int passes) {
     Gpu& g = *gpu_;
-    const auto start = std::chrono::steady_clock::now();
-    g.thread->call([&] {
-        for (int i = 0; i < passes; ++i) g.run_pass();
+    // Runs queue on the GL thread one after another (two callers never interleave); the
+    // time counted is this run's own, measured on that thread.
+    return g.thread->call([&] {
+        const auto start = std::chrono::steady_clock::now();
+        g.cancel = false;
+        int done = 0;
+        for (; done < passes && !g.cancel; ++done) {
+            g.run_pass();
+            // Let a cancel or a film read in between interrupt long runs (the GPU queue is
+            // flushed every few passes so that a cancel takes effect quickly).
+            if ((done & 7) == 7) glFlush();
+        }
         glFinish();
+        g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return done;
     });
-    g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Renderer::debug_set_photons_emitted(std::uint64_t count) {
+    Gpu& g = *gpu_;
+    g.thread->call([&] {
+        const std::uint32_t words[2] = {static_cast<std::uint32_t>(count),
+                                        static_cast<std::uint32_t>(count >> 32)};
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.counters);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, offsetof(Counters, emitted_lo), sizeof(words),
+                        words);
+    });
 }
 
 std::vector<float> Renderer::film() {
@@ -618,6 +647,9 @@ RenderStats Renderer::stats() {
     std::vector<glm::vec4> pixel_stats(std::size_t(g.pixels) * 2);
     Counters c{};
     g.thread->call([&] {
+        // One consistent snapshot: runs change these on this thread only.
+        s.passes = g.passes;
+        s.seconds = g.seconds;
         c = g.read_counters();
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.pixel_stats);
         glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
@@ -629,10 +661,8 @@ RenderStats Renderer::stats() {
         sum += pixel_stats[2 * i + 1].x;
         largest = std::max(largest, static_cast<double>(pixel_stats[2 * i + 1].x));
     }
-    s.passes = g.passes;
     s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
     s.rays = Gpu::total(c.rays_lo, c.rays_hi);
-    s.seconds = g.seconds;
     s.photons_per_second = g.seconds > 0 ? static_cast<double>(s.photons_emitted) / g.seconds : 0;
     s.rays_per_second = g.seconds > 0 ? static_cast<double>(s.rays) / g.seconds : 0;
     s.mean_radius = g.pixels ? sum / g.pixels : 0.0;

@@ -51,8 +51,14 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Runs `passes` SPPM passes and waits for the GPU to finish them.
-    void run(int passes);
+    // Runs `passes` SPPM passes and waits for the GPU to finish them; returns how many ran
+    // (fewer when cancel() was called meanwhile).
+    int run(int passes);
+    // Stops a run in progress after its current pass; safe from any thread.
+    void cancel();
+    // Tests only: sets the 64-bit count of photon paths started, so that a short test can
+    // carry it past 2^32.
+    void debug_set_photons_emitted(std::uint64_t count);
     // Linear RGBA, height x width x 4 floats, row 0 at the top.
     std::vector<float> film();
     RenderStats stats();

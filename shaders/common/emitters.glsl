@@ -7,6 +7,7 @@
 
 #include "common/scene_buffers.glsl"
 #include "common/sampling.glsl"
+#include "common/surface.glsl"
 #include "common/environment.glsl"
 
 uint pick_emitter(float u) {
@@ -44,7 +45,7 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
         // Uniform on the triangle, cosine-weighted about its front face: flux = pi L A / p.
         vec2 bc = sample_triangle(u1, u2);
         vec3 p = a.xyz + bc.x * (b.xyz - a.xyz) + bc.y * (c.xyz - a.xyz);
-        vec3 n = normalize(cross(b.xyz - a.xyz, c.xyz - a.xyz));
+        vec3 n = triangle_normal(a.xyz, b.xyz, c.xyz);
         dir = sample_cosine_hemisphere(n, u3, u4);
         origin = offset_origin(p, n, dir);
         flux = power;

@@ -5,6 +5,16 @@
 #include "common/mtbvh.glsl"
 #include "common/scene_buffers.glsl"
 
+// The unit normal of a triangle's winding. The edges are scaled by their largest component
+// first: the cross product squares them, which overflows or underflows a float for
+// triangles far larger or smaller than unit size.
+vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
+    vec3 e1 = b - a, e2 = c - a;
+    float m = max(max(max(abs(e1.x), abs(e1.y)), max(abs(e1.z), abs(e2.x))),
+                  max(abs(e2.y), abs(e2.z)));
+    return normalize(cross(e1 / m, e2 / m));
+}
+
 struct Surface {
     vec3 position;
     vec3 geometric_normal;  // from the winding: emitters face this way
@@ -21,7 +31,7 @@ Surface surface_at(Ray ray, Hit hit) {
     Surface s;
     // Interpolating the vertices is more accurate than origin + t * dir far from the origin.
     s.position = a.xyz + hit.u * (b.xyz - a.xyz) + hit.v * (c.xyz - a.xyz);
-    s.geometric_normal = normalize(cross(b.xyz - a.xyz, c.xyz - a.xyz));
+    s.geometric_normal = triangle_normal(a.xyz, b.xyz, c.xyz);
 #ifdef HAS_NORMALS
     vec3 n = (1.0 - hit.u - hit.v) * vertex_normals[3 * t + 0].xyz +
              hit.u * vertex_normals[3 * t + 1].xyz + hit.v * vertex_normals[3 * t + 2].xyz;
