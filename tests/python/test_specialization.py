@@ -1,7 +1,6 @@
 """Programs model only what a scene requires, render what the full variant renders, and are
 not compiled again for the next renderer of the same kind of scene."""
 import numpy as np
-import pytest
 
 
 def cornell(g, **settings):

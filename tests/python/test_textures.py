@@ -5,6 +5,7 @@ A textured diffuse quad alone under a uniform environment of radiance L sees the
 above it, so its radiance is texel * L; an orthographic camera looks straight at it.
 """
 import math
+import re
 
 import numpy as np
 import pytest
@@ -143,7 +144,7 @@ def test_texture_without_uvs_is_a_warning_and_uses_the_colour(glslppm):
     (np.zeros((2, 2, 4), dtype=np.float64), "expected uint8 (sRGB) or float32"),
 ])
 def test_malformed_images_are_rejected_with_their_name(glslppm, bad, message):
-    with pytest.raises(ValueError, match=r"Texture 'sky\.png'.*" + __import__("re").escape(message)):
+    with pytest.raises(ValueError, match=r"Texture 'sky\.png'.*" + re.escape(message)):
         glslppm.Texture(bad, name="sky.png")
 
 
