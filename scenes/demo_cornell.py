@@ -81,6 +81,7 @@ def build_cornell_box(glass=True, mirror=True, light_power=40.0, lens=38.0):
     light.energy = light_power
     light_object = bpy.data.objects.new("CeilingLight", light)
     light_object.location = (0, 0, 1.98)
+    light_object.visible_camera = True  # lights are hidden from the camera by default
     scene.collection.objects.link(light_object)
 
     if glass:

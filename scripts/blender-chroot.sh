@@ -18,6 +18,7 @@ stamp=$root/.glslppm-ready
 mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
 packages=(blender g++ cmake ninja-build pkg-config python3-dev python3-numpy pybind11-dev
           libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+          libtinygltf-dev nlohmann-json3-dev libtinyobjloader-dev libstb-dev
           zip ca-certificates)
 
 need_root() {
@@ -48,7 +49,8 @@ EOF
 }
 
 create() {
-  if [ -f "$stamp" ]; then
+  # The stamp holds the package list, so a chroot made for an older list gets the rest.
+  if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "${packages[*]}" ]; then
     echo "chroot: $root is ready (remove $stamp to recreate)"
     return 0
   fi
@@ -73,7 +75,7 @@ create() {
   chmod +x "$root/usr/sbin/policy-rc.d"
   CHROOT_WORKDIR=/ in_chroot /bin/bash -c \
     "apt-get update -qq && apt-get install -y -qq --no-install-recommends ${packages[*]} >/dev/null && apt-get clean"
-  touch "$stamp"
+  echo "${packages[*]}" >"$stamp"
   echo "chroot: ready in $((SECONDS - t0)) s"
 }
 

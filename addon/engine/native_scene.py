@@ -8,21 +8,49 @@ def native_scene(native, data):
     materials = [native.Material(**asdict(material)) for material in data.materials]
     lights = [native.Light(**asdict(light)) for light in data.lights]
     camera = native.Camera(**asdict(data.camera))
+    # Fields, not asdict(): asdict would deep-copy every texture's pixels.
+    textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name)
+                for texture in data.textures]
     return native.Scene(
         positions=data.positions, indices=data.indices, normals=data.normals,
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
-        lights=lights, camera=camera, environment=tuple(data.environment))
+        lights=lights, camera=camera, environment=tuple(data.environment),
+        textures=textures, environment_texture=data.environment_texture,
+        environment_to_world=data.environment_to_world)
 
 
-def native_settings(native, settings, width, height, seed_offset=0):
-    """settings is scene.glslppm; seed_offset varies the noise per animation frame."""
+def native_settings(native, settings, width, height, seed_offset=0, initial_radius=None):
+    """settings is scene.glslppm; seed_offset varies the noise per animation frame;
+    initial_radius (absolute) overrides the settings' own radius."""
     return native.Settings(
         width=width, height=height,
         photons_per_pass=settings.photons_per_pass,
         alpha=settings.alpha,
-        initial_radius=settings.radius(),
+        initial_radius=settings.radius() if initial_radius is None else initial_radius,
         max_depth=settings.max_bounces,
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         device=settings.device,
         seed=(settings.seed + seed_offset) % (2**31))
+
+
+def native_renderer(native, scene, settings, width, height, seed_offset=0):
+    """A Renderer for scene (a native Scene) with settings (scene.glslppm).
+
+    A radius scale other than 1 multiplies the module's automatic radius, which only the
+    module can compute (median camera-ray hit distance through its BVH): a first
+    renderer reports it in stats()["initial_radius"] and a second one renders with the
+    scaled value. Rendering settings are unchanged otherwise; the cost is one more BVH
+    build and GL set-up (the compiled programs are reused).
+    """
+    renderer = native.Renderer(scene, native_settings(native, settings, width, height,
+                                                      seed_offset))
+    scale = settings.automatic_radius_scale()
+    if scale is None:
+        return renderer
+    try:
+        automatic = float(renderer.stats()["initial_radius"])
+    finally:
+        renderer.close()
+    return native.Renderer(scene, native_settings(native, settings, width, height,
+                                                  seed_offset, scale * automatic))

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import native_module
 from ..export import ExportError, export_scene
-from .native_scene import native_scene, native_settings
+from .native_scene import native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
 
 
@@ -70,7 +70,7 @@ class GlslppmEngineMixin:
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
-        if data.triangle_count == 0:
+        if not data.has_surfaces():
             self.report_to_user('WARNING', "the scene has no geometry; the image shows "
                                 "only the world")
             self._fill(width, height, tuple(data.environment) + (1.0,))
@@ -84,12 +84,13 @@ class GlslppmEngineMixin:
         self.update_stats("", "GLSLPPM | building BVH and GL programs")
         settings = scene.glslppm
         try:
-            renderer = native.Renderer(
-                native_scene(native, data),
-                native_settings(native, settings, width, height, scene.frame_current))
+            renderer = native_renderer(native, native_scene(native, data), settings,
+                                       width, height, scene.frame_current)
         except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
             self._fail(f"the renderer could not start: {error}", width, height)
             return
+        for warning in renderer.stats().get("warnings", []):
+            self.report_to_user('WARNING', warning)
         try:
             self._render_passes(native, renderer, settings, width, height)
         finally:

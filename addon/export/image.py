@@ -1,6 +1,16 @@
-"""Image converter. The renderer takes no textures yet (they come with the scene-breadth
-issue), so an image stands in as its mean linear colour, with a warning; a missing
-or unreadable file falls back to the socket's own colour, also with a warning.
+"""Image converter: Blender images -> TextureData for the renderer, one per image and
+wrap mode, shared by every material and the world that use it.
+
+Pixels are read with ``foreach_get`` from ``image.pixels``, which is laid out as the
+renderer wants it (row 0 at the bottom). Blender keeps 8-bit images in their file's
+encoding there, float images in scene-linear values, hence:
+
+- 8-bit sRGB          -> uint8 (pixels x 255, rounded; the GPU decodes sRGB to linear)
+- 8-bit Non-Color/Linear/Raw, and float images -> float32 linear as they are
+- 8-bit in any other colour space -> float32 as stored, with a warning.
+
+A missing or unreadable file falls back to the socket's own colour with a warning;
+export never fails over an image.
 """
 
 import os
@@ -8,30 +18,106 @@ import os
 import bpy
 import numpy as np
 
+from .scene_data import TextureData
 
-def image_mean_color(image, fallback, warn):
-    if image is None:
-        warn("image texture node has no image; using the input's own colour")
-        return fallback
-    if image.source == 'FILE' and image.packed_file is None:
-        path = bpy.path.abspath(image.filepath, library=image.library)
-        if not os.path.isfile(path):
-            warn(f"image '{image.name}' is missing ({path or 'no file path'}); "
-                 "using the input's own colour")
-            return fallback
+LINEAR_COLOR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Linear CIE-XYZ E",
+                       "Linear CIE-XYZ D65", "Linear Rec.2020", "ACEScg", "ACES2065-1"}
+
+# Image Texture extension -> the renderer's wrap. EXTEND (edge texels outside [0, 1])
+# and MIRROR (4.x) have no equivalent; they render as clip and repeat with a warning,
+# which differs only where UVs leave the unit square.
+WRAP_OF_EXTENSION = {'REPEAT': "repeat", 'CLIP': "clip", 'EXTEND': "clip", 'MIRROR': "repeat"}
+
+
+class TextureTable:
+    """The scene's textures: index() converts an image the first time it is seen."""
+
+    def __init__(self, warn):
+        self.textures = []
+        self._index = {}
+        self._warn = warn
+
+    def index(self, image, extension='REPEAT', warn=None):
+        """Index of image in the table, or -1 (missing or unreadable: warned)."""
+        warn = warn or self._warn
+        if image is None:
+            warn("image texture node has no image; using the input's own colour")
+            return -1
+        wrap = WRAP_OF_EXTENSION.get(extension, "repeat")
+        if extension not in ('REPEAT', 'CLIP'):
+            warn(f"image '{image.name}': extension {extension.title()} is rendered as "
+                 f"{wrap.title()}")
+        key = (image.name_full, wrap)
+        if key not in self._index:
+            texture = image_texture(image, wrap, warn)
+            self._index[key] = -1 if texture is None else len(self.textures)
+            if texture is not None:
+                self.textures.append(texture)
+        return self._index[key]
+
+
+def image_missing(image):
+    """The path a file image should load from, when that file is gone; else None."""
+    if image.source != 'FILE' or image.packed_file is not None:
+        return None
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    return None if os.path.isfile(path) else (path or "no file path")
+
+
+def image_pixels(image, warn):
+    """(H, W, 4) float32 of image.pixels (row 0 at the bottom), or None with a warning."""
+    missing = image_missing(image)
+    if missing is not None:
+        warn(f"image '{image.name}' is missing ({missing}); using the input's own colour")
+        return None
     width, height = image.size
     channels = image.channels
     if width * height * channels == 0:
         warn(f"image '{image.name}' could not be read; using the input's own colour")
+        return None
+    flat = np.empty(width * height * channels, dtype=np.float32)
+    image.pixels.foreach_get(flat)
+    flat = flat.reshape(height, width, channels)
+    if channels == 4:
+        return flat
+    rgba = np.ones((height, width, 4), dtype=np.float32)
+    if channels >= 3:
+        rgba[..., :3] = flat[..., :3]
+    else:
+        rgba[..., :3] = flat[..., :1]  # grey (with alpha for two channels)
+        if channels == 2:
+            rgba[..., 3] = flat[..., 1]
+    return rgba
+
+
+def image_texture(image, wrap, warn):
+    """TextureData for one image, or None (warned)."""
+    pixels = image_pixels(image, warn)
+    if pixels is None:
+        return None
+    space = image.colorspace_settings.name
+    if not image.is_float and space == "sRGB":
+        encoded = np.rint(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8)
+        return TextureData(encoded, wrap, image.name)
+    if not image.is_float and space not in LINEAR_COLOR_SPACES:
+        warn(f"image '{image.name}': colour space {space} is rendered as linear")
+    pixels = np.nan_to_num(pixels, nan=0.0, posinf=0.0, neginf=0.0)
+    return TextureData(np.ascontiguousarray(pixels, dtype=np.float32), wrap, image.name)
+
+
+def image_mean_color(image, fallback, warn):
+    """The mean linear colour of an image (for inputs that take no texture), or fallback."""
+    if image is None:
+        warn("image texture node has no image; using the input's own colour")
         return fallback
-    pixels = np.empty(width * height * channels, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(-1, channels)[:, :3] if channels >= 3 else \
-        np.repeat(pixels.reshape(-1, channels)[:, :1], 3, axis=1)
-    if not image.is_float and image.colorspace_settings.name == 'sRGB':
+    pixels = image_pixels(image, warn)
+    if pixels is None:
+        return fallback
+    rgb = pixels[..., :3].reshape(-1, 3)
+    if not image.is_float and image.colorspace_settings.name == "sRGB":
         rgb = srgb_to_linear(rgb)
     mean = tuple(float(c) for c in rgb.mean(axis=0))
-    warn(f"image textures are not supported yet; image '{image.name}' rendered as its "
+    warn(f"image '{image.name}' drives an input that takes no texture; rendered as its "
          f"mean colour ({mean[0]:.3f}, {mean[1]:.3f}, {mean[2]:.3f})")
     return mean
 

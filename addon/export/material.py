@@ -4,9 +4,17 @@
 One converter per shader node type (``SURFACE_CONVERTERS``). A material that
 cannot be mapped falls back to its viewport display colour with one warning;
 export never fails over a material.
+
+An Image Texture node feeding a BSDF's colour (Principled Base Color, Diffuse, Glossy,
+Glass) becomes a texture: the material's colour is white and color_texture indexes
+the scene's TextureTable (the renderer multiplies colour by the texel at the hit's
+UV). Its Vector input is ignored (the mesh's render UV map is used) with a warning.
+Images on other inputs (emission) stand in as their mean colour, with a warning.
 """
 
 import math
+
+from dataclasses import replace
 
 from .image import image_mean_color
 from .scene_data import MaterialData
@@ -19,9 +27,10 @@ SMOOTH_ENOUGH = 0.05
 DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
 
 
-def convert_material(material, warn):
+def convert_material(material, warn, textures=None):
     """MaterialData for a material (None: Blender's default grey).
-    warn(message) collects a warning for the render report."""
+    warn(message) collects a warning for the render report; textures is the scene's
+    TextureTable (None: images stand in as their mean colour)."""
     if material is None:
         return DEFAULT_MATERIAL
 
@@ -45,7 +54,7 @@ def convert_material(material, warn):
         material_warn(f"the {node.bl_label or node.type} node is not supported; "
                       "using the viewport display colour")
         return _viewport_fallback(material)
-    return converter(node, material_warn)
+    return converter(node, _Inputs(material_warn, textures))
 
 
 def _viewport_fallback(material):
@@ -54,8 +63,24 @@ def _viewport_fallback(material):
 
 # Node converters: each maps one shader node to MaterialData.
 
+class _Inputs:
+    """What a node converter needs besides the node: the warning sink and the textures.
+    Calling it warns (converters read as before: warn(message))."""
+
+    def __init__(self, warn, textures):
+        self.warn = warn
+        self.textures = textures
+
+    def __call__(self, message):
+        self.warn(message)
+
+    def color(self, socket, clamp=True):
+        """(rgb, texture index or -1) of a BSDF colour input."""
+        return socket_color_texture(socket, self.warn, self.textures, clamp)
+
+
 def _principled(node, warn):
-    base = socket_color(_input(node, "Base Color"), warn)
+    base, texture = warn.color(_input(node, "Base Color"))
     metallic = socket_value(_input(node, "Metallic"), warn)
     transmission = socket_value(_input(node, "Transmission Weight", "Transmission"), warn)
     roughness = socket_value(_input(node, "Roughness"), warn)
@@ -68,28 +93,32 @@ def _principled(node, warn):
     _warn_partial(warn, "transmission", transmission, "glass" if glass else "opaque")
     if glass:
         _warn_rough(warn, roughness, "smooth glass")
-        return MaterialData("dielectric", base, _ior(ior), emission)
+        return MaterialData("dielectric", base, _ior(ior), emission, texture)
     metal = metallic >= 0.5
     _warn_partial(warn, "metallic", metallic, "metal" if metal else "non-metal")
     if metal:
-        return _specular_reflector(base, roughness, emission, warn)
-    return MaterialData("diffuse", base, _ior(ior), emission)
+        return replace(_specular_reflector(base, roughness, emission, warn),
+                       color_texture=texture)
+    return MaterialData("diffuse", base, _ior(ior), emission, texture)
 
 
 def _diffuse(node, warn):
-    return MaterialData("diffuse", socket_color(node.inputs["Color"], warn))
+    color, texture = warn.color(node.inputs["Color"])
+    return MaterialData("diffuse", color, color_texture=texture)
 
 
 def _glossy(node, warn):
-    color = socket_color(node.inputs["Color"], warn)
+    color, texture = warn.color(node.inputs["Color"])
     roughness = socket_value(node.inputs["Roughness"], warn)
-    return _specular_reflector(color, roughness, (0.0, 0.0, 0.0), warn)
+    return replace(_specular_reflector(color, roughness, (0.0, 0.0, 0.0), warn),
+                   color_texture=texture)
 
 
 def _glass(node, warn):
-    color = socket_color(node.inputs["Color"], warn)
+    color, texture = warn.color(node.inputs["Color"])
     _warn_rough(warn, socket_value(node.inputs["Roughness"], warn), "smooth glass")
-    return MaterialData("dielectric", color, _ior(socket_value(node.inputs["IOR"], warn)))
+    return MaterialData("dielectric", color, _ior(socket_value(node.inputs["IOR"], warn)),
+                        color_texture=texture)
 
 
 def _refraction(node, warn):
@@ -170,10 +199,28 @@ def _linked_node(socket):
     return None
 
 
-def socket_color(socket, warn, clamp=True):
+def socket_color_texture(socket, warn, textures, clamp=True):
+    """(rgb, texture index) of a colour input: an Image Texture node becomes a texture
+    (rgb white, since the renderer multiplies them); anything else is socket_color."""
+    node = _linked_node(socket)
+    if textures is None or node is None or node.type != 'TEX_IMAGE':
+        return socket_color(socket, warn, clamp), -1
+    if node.inputs["Vector"].is_linked:
+        warn(f"the Vector input of image texture '{node.name}' is ignored; "
+             "using the mesh's render UV map")
+    if node.projection != 'FLAT':
+        warn(f"image texture '{node.name}': {node.projection.title()} projection is "
+             "rendered as Flat (UV)")
+    index = textures.index(node.image, node.extension, warn)
+    if index < 0:
+        return socket_color(socket, warn, clamp, linked=False), -1
+    return (1.0, 1.0, 1.0), index
+
+
+def socket_color(socket, warn, clamp=True, linked=True):
     """A colour input's RGB: its default, an RGB node's colour, or an image's mean."""
     color = tuple(socket.default_value[:3])
-    node = _linked_node(socket)
+    node = _linked_node(socket) if linked else None
     if node is not None:
         if node.type == 'RGB':
             color = tuple(node.outputs[0].default_value[:3])

@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 from .camera import convert_camera
+from .image import TextureTable
 from .light import convert_light
 from .material import DEFAULT_MATERIAL, convert_material
 from .mesh import face_normals, mesh_geometry, transform_geometry
@@ -38,6 +39,7 @@ class SceneBuilder:
         self.warnings = []
         self._warned = set()
         self.dropped_triangles = 0
+        self.textures = TextureTable(self.warn)
 
     def warn(self, message):
         """Keeps each distinct warning once (one per material, not per instance)."""
@@ -131,19 +133,24 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None):
         instance_count += 1
         obj = instance.object
         if obj.type == 'LIGHT':
-            convert_light(obj.data, instance.matrix_world, builder)
+            convert_light(obj.data, instance.matrix_world, builder,
+                          getattr(obj, "visible_camera", True))
         elif obj.type in GEOMETRY_TYPES and instance.show_self:
             _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                     geometry_cache)
     positions, indices, normals, uvs, material_ids = builder.geometry()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                             builder.warn)
-    environment = convert_world(scene.world, builder.warn)
+    environment, environment_texture, environment_to_world = convert_world(
+        scene.world, builder.warn, builder.textures)
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
         material_ids=material_ids, materials=builder.materials or [DEFAULT_MATERIAL],
         lights=builder.lights, camera=camera, environment=environment,
-        width=width, height=height, warnings=builder.warnings,
+        width=width, height=height, textures=builder.textures.textures,
+        environment_texture=environment_texture,
+        environment_to_world=environment_to_world,
+        warnings=builder.warnings,
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "dropped_triangles": builder.dropped_triangles})
@@ -164,21 +171,27 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
 
 
 def _read_object(obj, builder):
-    """(object-space MeshGeometry or None, material table index per slot)."""
+    """(object-space MeshGeometry or None, material table index per slot). UVs are read
+    only when one of the object's materials has a texture."""
+    slot_materials = np.array(
+        [builder.material_id(_material_key(slot.material),
+                             lambda slot=slot: convert_material(slot.material, builder.warn,
+                                                                builder.textures))
+         for slot in obj.material_slots] or
+        [builder.material_id(None, lambda: DEFAULT_MATERIAL)], dtype=np.uint32)
+    need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
     try:
         mesh = obj.to_mesh()
     except RuntimeError as error:
         builder.warn(f"object '{obj.name}' could not be converted to a mesh: {error}")
         return None, None
     try:
-        geometry = mesh_geometry(mesh) if mesh is not None else None
+        geometry = mesh_geometry(mesh, need_uvs) if mesh is not None else None
     finally:
         obj.to_mesh_clear()
-    slot_materials = np.array(
-        [builder.material_id(_material_key(slot.material),
-                             lambda slot=slot: convert_material(slot.material, builder.warn))
-         for slot in obj.material_slots] or
-        [builder.material_id(None, lambda: DEFAULT_MATERIAL)], dtype=np.uint32)
+    if need_uvs and geometry is not None and geometry.uvs is None:
+        builder.warn(f"object '{obj.name}' has a textured material but no UV map; "
+                     "its texture is sampled at UV (0, 0)")
     return geometry, slot_materials
 
 

@@ -17,12 +17,24 @@ class MaterialData:
     color: tuple = (0.8, 0.8, 0.8)
     ior: float = 1.5
     emission: tuple = (0.0, 0.0, 0.0)
+    color_texture: int = -1          # index into SceneData.textures; colour x texel(uv)
+
+
+@dataclass
+class TextureData:
+    """``_glslppm.Texture``: pixels (H, W, 4), row 0 the bottom row as in Blender's
+    image.pixels; uint8 holds sRGB-encoded values, float32 linear ones."""
+    pixels: np.ndarray
+    wrap: str = "repeat"             # "repeat" or "clip"
+    name: str = "image"
 
 
 @dataclass
 class LightData:
     """``_glslppm.Light`` in Blender's units: power is light.energy (W; W/m² for sun),
-    direction is where the light travels (the light's local -Z in world space)."""
+    direction is where the light travels (the light's local -Z in world space).
+    Area lights: to_world is the object's matrix_world (float32 4x4), the shape lies in
+    its local XY plane with full extents size_x, size_y, emitting along local -Z."""
     kind: str
     color: tuple
     power: float
@@ -32,6 +44,12 @@ class LightData:
     spot_blend: float = 0.0
     radius: float = 0.0
     angle: float = 0.0
+    spot_cosine: bool = False
+    to_world: object = None          # float32 (4, 4) or None
+    shape: str = "square"
+    size_x: float = 1.0
+    size_y: float = 1.0
+    visible_to_camera: bool = True
 
 
 @dataclass
@@ -64,12 +82,19 @@ class SceneData:
     environment: tuple
     width: int
     height: int
+    textures: list = field(default_factory=list)   # TextureData
+    environment_texture: int = -1    # index into textures: environment x map(direction)
+    environment_to_world: object = None  # float32 (4, 4) rotation of the map, or None
     warnings: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
 
     @property
     def triangle_count(self):
         return len(self.indices)
+
+    def has_surfaces(self):
+        """True when a camera ray can hit something: triangles or an area light."""
+        return self.triangle_count > 0 or any(light.kind == "area" for light in self.lights)
 
     def emits_light(self):
         """True when something in the scene can light it."""

@@ -1,8 +1,8 @@
 """Settings stored in .blend files: ``scene.glslppm``."""
 
-from . import render_settings
+from . import presets, render_settings
 
-_modules = (render_settings,)
+_modules = (render_settings, presets)
 
 
 def register():

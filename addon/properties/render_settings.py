@@ -23,6 +23,11 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         "use_auto_radius": BoolProperty(
             name="Automatic Radius", default=True,
             description="Choose the initial gather radius from the scene size and resolution"),
+        "radius_scale": FloatProperty(
+            name="Radius Scale", default=1.0, min=1e-3, soft_min=0.1, soft_max=10.0,
+            max=1000.0, precision=3,
+            description="Initial gather radius as a multiple of the automatic one "
+                        "(smaller: sharper caustics, more noise at first)"),
         "initial_radius": FloatProperty(
             name="Initial Radius", default=0.01, min=0.0, soft_max=1.0, precision=4,
             subtype='DISTANCE', unit='LENGTH',
@@ -56,6 +61,13 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
     def radius(self):
         """The module's initial_radius: 0 means automatic."""
         return 0.0 if self.use_auto_radius else self.initial_radius
+
+    def automatic_radius_scale(self):
+        """The factor on the automatic radius, or None when the module's own automatic
+        radius is used as it is (absolute radius, or scale 1)."""
+        if not self.use_auto_radius or abs(self.radius_scale - 1.0) < 1e-6:
+            return None
+        return self.radius_scale
 
 
 def register():

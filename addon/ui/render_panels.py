@@ -22,6 +22,8 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         settings = context.scene.glslppm
+        layout.operator_menu_enum("glslppm.apply_preset", "preset", text="Preset",
+                                  icon='PRESET')
         column = layout.column()
         column.prop(settings, "passes")
         column.prop(settings, "time_limit", text="Time Limit (s)")
@@ -39,9 +41,10 @@ class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "photons_per_pass")
         column.prop(settings, "use_auto_radius")
-        row = column.row()
-        row.active = not settings.use_auto_radius
-        row.prop(settings, "initial_radius")
+        if settings.use_auto_radius:
+            column.prop(settings, "radius_scale")
+        else:
+            column.prop(settings, "initial_radius")
         column.prop(settings, "alpha")
         column.prop(settings, "max_bounces")
 

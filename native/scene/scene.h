@@ -90,9 +90,10 @@ struct Scene {
     Camera camera;
     std::vector<Texture> textures;
     glm::vec3 environment{0.0f};  // radiance of the world (multiplies the map when there is one)
-    // An equirectangular map (index into textures, -1 for none) in Blender's mapping: in the
-    // map's frame, +Z is up and u = atan2(y, -x) / 2 pi + 0.5, v = atan2(z, hypot(x, y)) / pi +
-    // 0.5. environment_to_world rotates that frame into the scene (identity for Z-up scenes).
+    // An equirectangular map (index into textures, -1 for none) in Blender's (Cycles')
+    // mapping: in the map's frame, +Z is up and u = 0.5 - atan2(y, x) / 2 pi,
+    // v = 0.5 + atan2(z, hypot(x, y)) / pi. environment_to_world rotates that frame into the
+    // scene (identity for Blender's Z-up scenes).
     std::int32_t environment_texture = -1;
     glm::mat3 environment_to_world{1.0f};
 };

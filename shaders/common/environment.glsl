@@ -9,18 +9,17 @@
 
 #ifdef HAS_ENVIRONMENT_MAP
 
-// Blender's equirectangular mapping (u = atan2(y, -x) / 2 pi + 0.5, v = atan2(z, r) / pi + 0.5)
-// in the map's frame.
+// Blender's (Cycles') equirectangular mapping in the map's frame: u = 0.5 - atan2(y, x) / 2 pi
+// (+X at the centre, +Y at u = 0.25), v = 0.5 + elevation / pi.
 vec2 environment_uv(vec3 world_dir) {
     vec3 d = mat3(environment_from_world) * world_dir;
-    return vec2(atan(d.y, -d.x) / (2.0 * PI) + 0.5,
-                atan(d.z, length(d.xy)) / PI + 0.5);
+    return vec2(0.5 - atan(d.y, d.x) / (2.0 * PI), atan(d.z, length(d.xy)) / PI + 0.5);
 }
 
 vec3 environment_direction(vec2 uv) {
-    float phi = (uv.x - 0.5) * 2.0 * PI;
-    float theta = (uv.y - 0.5) * PI;  // elevation
-    vec3 d = vec3(-cos(theta) * cos(phi), cos(theta) * sin(phi), sin(theta));
+    float phi = (0.5 - uv.x) * 2.0 * PI;
+    float elevation = (uv.y - 0.5) * PI;
+    vec3 d = vec3(cos(elevation) * cos(phi), cos(elevation) * sin(phi), sin(elevation));
     return normalize(transpose(mat3(environment_from_world)) * d);
 }
 

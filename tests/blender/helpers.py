@@ -235,6 +235,7 @@ def recording_engine_class():
         reports = []
         break_after_passes = None
         last_passes = 0
+        last_stats = {}
 
         def report_to_user(self, level, message):
             GlslppmRecordingEngine.reports.append((level, message))
@@ -243,6 +244,7 @@ def recording_engine_class():
         def should_stop(self):
             limit = GlslppmRecordingEngine.break_after_passes
             GlslppmRecordingEngine.last_passes = self.passes_done
+            GlslppmRecordingEngine.last_stats = self.last_stats
             if limit is not None and self.passes_done >= limit:
                 return True
             return super().should_stop()
@@ -263,6 +265,7 @@ def recording_engine():
     cls.reports.clear()
     cls.break_after_passes = None
     cls.last_passes = 0
+    cls.last_stats = {}
     return cls
 
 

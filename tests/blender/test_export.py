@@ -214,28 +214,87 @@ def test_linked_colour_inputs():
     assert_close(_material_of(data).color, (0.3, 0.5, 0.7), 1e-6, "RGB node colour")
 
 
-def test_image_texture_mean_and_missing_file():
+def save_image(name, pixels, float_buffer, file_format, extension):
+    """Writes (H, W, 4) pixels (row 0 at the bottom) to OUT/name.extension through
+    Blender's image API and loads the file back as a file image."""
     import os
-    image = bpy.data.images.new("Checker", 4, 4, float_buffer=True)
-    pixels = np.zeros((4, 4, 4), dtype=np.float32)
-    pixels[..., 3] = 1.0
-    pixels[::2, :, 0] = 1.0   # half the rows red, half the columns blue: 0 and 1 are
-    pixels[:, ::2, 2] = 1.0   # the same in every colour space Blender may save in
-    image.pixels.foreach_set(pixels.ravel())
-    path = os.path.join(helpers.OUT, "checker.exr")
+    height, width = pixels.shape[:2]
+    image = bpy.data.images.new(name, width, height, float_buffer=float_buffer)
+    if float_buffer:
+        image.colorspace_settings.name = "Non-Color"  # else save() writes sRGB-encoded
+    image.pixels.foreach_set(np.asarray(pixels, dtype=np.float32).ravel())
+    path = os.path.join(helpers.OUT, f"{name}.{extension}")
     image.filepath_raw = path
-    image.file_format = 'OPEN_EXR'
+    image.file_format = file_format
     image.save()
-    material = node_material("Textured", PRINCIPLED)
+    bpy.data.images.remove(image)
+    return bpy.data.images.load(path, check_existing=False)
+
+
+def image_material(name, image, shader=PRINCIPLED, extension='REPEAT'):
+    """A material whose BSDF colour comes from an Image Texture node."""
+    material = node_material(name, shader)
     tree = material.node_tree
     texture = tree.nodes.new("ShaderNodeTexImage")
-    texture.image = bpy.data.images.load(path)
-    principled = next(node for node in tree.nodes if node.type == 'BSDF_PRINCIPLED')
-    tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
-    data = _single(material)
-    assert_close(_material_of(data).color, (0.5, 0.0, 0.5), 1e-5, "image mean colour")
-    assert any("mean colour" in w for w in data.warnings), data.warnings
+    texture.image = image
+    texture.extension = extension
+    bsdf = next(node for node in tree.nodes if node.type.startswith('BSDF'))
+    tree.links.new(texture.outputs["Color"], bsdf.inputs[0])
+    return material
 
+
+def test_image_texture_becomes_a_texture():
+    """An sRGB 8-bit PNG crosses as its exact bytes (uint8), a float EXR as float32
+    linear; one Texture per image however many materials use it; UVs are exported."""
+    rows = np.linspace(0.0, 1.0, 4 * 3 * 4).reshape(4, 3, 4).astype(np.float32)
+    rows[..., 3] = 1.0
+    png = save_image("Ramp8", rows, False, 'PNG', "png")
+    assert png.colorspace_settings.name == "sRGB" and not png.is_float
+    _camera()
+    for name, x, shader in (("A", 0, PRINCIPLED), ("B", 3, "ShaderNodeBsdfDiffuse")):
+        cube = add_cube(name, location=(x, 0, 0), material=image_material(name, png, shader))
+        cube.data.uv_layers.new()  # Blender's default: every face covers [0, 1]^2
+    add_cube("NoUVs", location=(-3, 0, 0), material=bpy.data.materials["A"])
+    data = export()
+    assert any("NoUVs" in w and "no UV map" in w for w in data.warnings), data.warnings
+    assert len(data.textures) == 1, data.textures
+    texture = data.textures[0]
+    assert texture.pixels.dtype == np.uint8 and texture.pixels.shape == (4, 3, 4)
+    assert_close(texture.pixels, np.rint(rows * 255), 0, "sRGB bytes")
+    assert texture.wrap == "repeat"
+    for material in data.materials:
+        assert material.color_texture == 0 and material.color == (1.0, 1.0, 1.0), material
+    assert data.uvs is not None and data.uvs.shape == (len(data.positions), 2)
+    corners = data.uvs.reshape(-1, 3, 2)
+    assert_close(np.sort(np.unique(data.uvs)), (0.0, 1.0), 0, "unit-square UVs")
+    doubled_areas = np.abs(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]))
+    # Textured triangles cover half the square each; the cube without UVs gets (0, 0).
+    assert_close(np.sort(doubled_areas), [0.0] * 12 + [1.0] * 24, 0, "UV triangle areas")
+
+    helpers.reset_scene()
+    hdr = np.full((2, 5, 4), 1.0, dtype=np.float32)
+    hdr[..., 0] = 4.0  # beyond 1: kept, as float32 linear
+    exr = save_image("Bright", hdr, True, 'OPEN_EXR', "exr")
+    material = image_material("Lit", exr, extension='CLIP')
+    data = _single(material)
+    assert data.textures[0].pixels.dtype == np.float32
+    assert_close(data.textures[0].pixels, hdr, 1e-6, "float texels")
+    assert data.textures[0].wrap == "clip"
+
+
+def test_image_texture_colour_spaces_and_fallbacks():
+    pixels = np.full((2, 2, 4), 0.5, dtype=np.float32)
+    pixels[..., 3] = 1.0
+    png = save_image("Data", pixels, False, 'PNG', "png")
+    png.colorspace_settings.name = "Non-Color"
+    data = _single(image_material("Data", png, extension='EXTEND'))
+    texture = data.textures[0]
+    assert texture.pixels.dtype == np.float32, texture.pixels.dtype
+    assert_close(texture.pixels[..., :3], np.full((2, 2, 3), 128 / 255), 1e-6, "raw values")
+    assert texture.wrap == "clip"
+    assert any("Extend" in w for w in data.warnings), data.warnings
+
+    # A missing file: the input's own colour and a warning.
     missing = node_material("Missing", PRINCIPLED, **{"Base Color": (0.1, 0.2, 0.3, 1)})
     tree = missing.node_tree
     texture = tree.nodes.new("ShaderNodeTexImage")
@@ -244,7 +303,20 @@ def test_image_texture_mean_and_missing_file():
     tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
     data = _single(missing)
     assert_close(_material_of(data).color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
+    assert _material_of(data).color_texture == -1 and not data.textures
+    assert data.uvs is None
     assert any("missing" in w for w in data.warnings), data.warnings
+
+    # An image on an input that takes no texture (emission colour): its mean colour.
+    glow = node_material("Glow", "ShaderNodeEmission", Strength=2.0)
+    tree = glow.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = png
+    emission = next(node for node in tree.nodes if node.type == 'EMISSION')
+    tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
+    data = _single(glow)
+    assert_close(_material_of(data).emission, [2 * 128 / 255] * 3, 1e-5, "mean colour")
+    assert any("mean colour" in w for w in data.warnings), data.warnings
 
 
 def missing_image():
@@ -303,33 +375,47 @@ def test_point_spot_sun_lights():
     assert sun.power == 3.0 and abs(sun.angle - math.radians(2)) < 1e-6
 
 
-def test_area_lights_become_emitters():
+def test_area_lights_are_native():
+    """Every shape crosses as an area light with the object's matrix and sizes; power
+    is Blender's, times pi/4 under 3.x (Cycles 3.x's radiance P / (4A) against the
+    module's P / (pi A)); camera visibility is the object's."""
     _camera()
-    add_light('AREA', 100.0, location=(0, 0, 4), shape='RECTANGLE', size=2.0, size_y=1.0)
+    factor = 1.0 if helpers.BLENDER_4 else math.pi / 4
+    shapes = {'SQUARE': (2.0, 2.0), 'RECTANGLE': (2.0, 0.5), 'DISK': (1.5, 1.5),
+              'ELLIPSE': (1.0, 3.0)}
+    for index, (shape, (size_x, size_y)) in enumerate(shapes.items()):
+        obj = add_light('AREA', 100.0 + index, location=(index, 0, 4),
+                        rotation=(math.pi / 2, 0, 0), shape=shape, size=size_x, size_y=size_y)
+        obj.visible_camera = index % 2 == 0
     data = export()
-    assert not data.lights and data.triangle_count == 2, data.triangle_count
-    area = 2.0
-    # Cycles' convention: L = P / (pi A) from Blender 4.0, P / (4 A) before.
-    per_watt = 1.0 / math.pi if helpers.BLENDER_4 else 0.25
-    assert_close(_material_of(data).emission, [100.0 * per_watt / area] * 3, 1e-5,
-                 "area light radiance")
-    assert_close(_geometric_normals(data), np.tile((0, 0, -1), (2, 1)), 1e-6, "faces -Z")
-    assert_close(data.positions[:, 2], [4.0] * 6, 1e-6, "height")
+    assert data.triangle_count == 0 and len(data.lights) == 4, data.lights
+    for index, light in enumerate(sorted(data.lights, key=lambda light: light.power)):
+        shape, (size_x, size_y) = list(shapes.items())[index]
+        assert light.kind == "area" and light.shape == shape.lower(), light
+        assert abs(light.power - (100.0 + index) * factor) < 1e-4, light.power
+        assert_close((light.size_x, light.size_y), (size_x, size_y), 1e-6, f"{shape} size")
+        assert light.to_world.dtype == np.float32 and light.to_world.shape == (4, 4)
+        assert_close(light.to_world[:3, 3], (index, 0, 4), 1e-6, "light position")
+        # Rotating -Z by 90 degrees about X: the light shines along +Y.
+        assert_close(light.direction, (0, 1, 0), 1e-6, "direction")
+        assert light.visible_to_camera == (index % 2 == 0)
 
+
+def test_light_options_per_blender_version():
+    """Spot lights get 3.x's cosine factor only under 3.x; an un-normalized 4.x area
+    light passes power x area (Cycles: L = P / pi regardless of size)."""
+    _camera()
+    add_light('SPOT', 10.0, spot_size=1.0)
+    spot = export().lights[0]
+    assert spot.spot_cosine == (not helpers.BLENDER_4), spot
     helpers.reset_scene()
     _camera()
-    add_light('AREA', 10.0, location=(0, 0, 0), rotation=(math.pi / 2, 0, 0), shape='DISK',
-              size=2.0)
-    data = export()
-    normals = _geometric_normals(data)
-    assert_close(normals, np.tile((0, 1, 0), (len(normals), 1)), 1e-5, "disk faces +Y")
-    tri = _triangles(data).astype(np.float64)
-    polygon_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
-                                        axis=1).sum()
-    assert abs(polygon_area - math.pi) < 0.01 * math.pi, polygon_area
-    emitted = _material_of(data).emission[0] * math.pi * polygon_area
-    expected = 10.0 if helpers.BLENDER_4 else 10.0 * math.pi / 4  # 3.x emits pi/4 of P
-    assert abs(emitted - expected) < 1e-4 * expected, (emitted, expected)
+    obj = add_light('AREA', 10.0, shape='RECTANGLE', size=2.0, size_y=3.0)
+    if hasattr(obj.data, "normalize"):
+        obj.data.normalize = False
+        obj.scale = (2.0, 1.0, 1.0)
+        light = export().lights[0]
+        assert abs(light.power - 10.0 * 2.0 * 3.0 * 2.0) < 1e-4, light.power
 
 
 def _fov(sensor_fit, size, **camera):
@@ -391,6 +477,76 @@ def test_world_background():
     data = export()
     assert_close(data.environment, (0, 0, 0), 0, "no world")
     assert not data.emits_light()
+
+
+def environment_world(image, strength=1.0):
+    """A world whose Background colour is an Environment Texture of image."""
+    world = set_world((0.2, 0.3, 0.4), strength)
+    tree = world.node_tree
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = image
+    background = next(node for node in tree.nodes if node.type == 'BACKGROUND')
+    tree.links.new(texture.outputs["Color"], background.inputs["Color"])
+    return world
+
+
+def test_world_environment_texture():
+    _camera()
+    add_cube()
+    sky = np.ones((4, 8, 4), dtype=np.float32)
+    sky[2:, :, :3] = (2.0, 3.0, 5.0)   # the upper half (rows from the bottom) brighter
+    environment_world(save_image("Sky", sky, True, 'OPEN_EXR', "exr"), strength=1.5)
+    data = export()
+    assert data.environment_texture == 0 and len(data.textures) == 1
+    assert_close(data.environment, (1.5, 1.5, 1.5), 1e-6, "strength multiplies the map")
+    assert_close(data.textures[0].pixels, sky, 1e-6, "environment texels")
+    assert data.emits_light()
+
+    assert_close(data.environment_to_world, np.eye(4), 1e-6,
+                 "Blender's map is the module's: no rotation")
+
+    # A Mapping node (Point) rotating the lookup by R: the module looks up at M^T d,
+    # which must be R d.
+    tree = bpy.context.scene.world.node_tree
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.pi / 2)
+    texture = next(node for node in tree.nodes if node.type == 'TEX_ENVIRONMENT')
+    tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    lookup = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]])  # 90 degrees about Z
+    assert_close(export().environment_to_world[:3, :3].T, lookup, 1e-6, "rotated lookup")
+    mapping.vector_type = 'TEXTURE'  # the inverse transform
+    assert_close(export().environment_to_world[:3, :3].T, lookup.T, 1e-6, "inverse lookup")
+
+    # A missing image: the Background node's own colour x strength, and a warning.
+    environment_world(missing_image(), strength=2.0)
+    data = export()
+    assert data.environment_texture == -1 and not data.textures
+    assert_close(data.environment, (0.4, 0.6, 0.8), 1e-6, "fallback colour x strength")
+    assert any("missing" in w for w in data.warnings), data.warnings
+
+
+def test_presets_set_the_settings_they_name():
+    presets = helpers.ADDON.properties.presets.PRESETS
+    settings = bpy.context.scene.glslppm
+    assert {"PREVIEW", "FINAL", "CAUSTICS"} <= set(presets)
+    for key, preset in presets.items():
+        settings.passes, settings.photons_per_pass, settings.radius_scale = 3, 5, 7.0
+        result = bpy.ops.glslppm.apply_preset(preset=key)
+        assert result == {'FINISHED'}, result
+        assert preset["description"], key
+        for name, value in preset["settings"].items():
+            actual = getattr(settings, name)
+            if isinstance(value, float):
+                assert abs(actual - value) < 1e-6 * max(1.0, abs(value)), (key, name, actual)
+            else:
+                assert actual == value, (key, name, actual, value)
+    # What the names promise, whatever the measured numbers: a preview is cheaper than a
+    # final render, caustics keep every photon and start from a smaller radius.
+    table = {key: preset["settings"] for key, preset in presets.items()}
+    preview, final, caustics = table["PREVIEW"], table["FINAL"], table["CAUSTICS"]
+    assert preview["passes"] * preview["photons_per_pass"] < \
+        final["passes"] * final["photons_per_pass"]
+    assert caustics["hash_mode"] == 'EXACT' and caustics["radius_scale"] < 1.0
 
 
 def test_no_camera_is_an_export_error():

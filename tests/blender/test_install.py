@@ -54,6 +54,9 @@ def test_scene_settings_defaults():
     assert settings.photons_per_pass == 65536
     assert abs(settings.alpha - 0.7) < 1e-6
     assert settings.use_auto_radius and settings.radius() == 0.0
+    assert settings.radius_scale == 1.0 and settings.automatic_radius_scale() is None
+    settings.radius_scale = 0.5
+    assert settings.automatic_radius_scale() == 0.5
     settings.use_auto_radius = False
     settings.initial_radius = 0.25
     assert abs(settings.radius() - 0.25) < 1e-6

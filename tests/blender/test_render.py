@@ -220,3 +220,42 @@ def test_exported_camera_matches_blender_framing():
     assert abs(cols.mean() + 0.5 - expect_col) < 1.0, (cols.mean() + 0.5, expect_col)
     assert abs(rows.mean() + 0.5 - expect_row) < 1.0, (rows.mean() + 0.5, expect_row)
     assert math.isfinite(float(luminance.max()))
+
+
+def test_missing_environment_image_renders_the_background_colour():
+    """A world Environment Texture whose file has gone: a warning naming it, and the
+    Background node's colour x strength (0.25, 0.5, 0.75) x 2 where the sky shows."""
+    scene = helpers.reset_scene(size=SIZE)
+    scene.glslppm.passes = 2
+    add_camera((0, -6, 1), (math.pi / 2, 0, 0))  # looking along +Y at the horizon
+    add_mesh_object("Floor", [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)],
+                    [(0, 1, 2, 3)], material=diffuse_material("Grey", (0.5, 0.5, 0.5)))
+    world = helpers.set_world((0.25, 0.5, 0.75), strength=2.0)
+    texture = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    image = bpy.data.images.new("GoneSky", 2, 2)
+    image.source = 'FILE'
+    image.filepath = "/nonexistent/sky.exr"
+    texture.image = image
+    background = next(n for n in world.node_tree.nodes if n.type == 'BACKGROUND')
+    world.node_tree.links.new(texture.outputs["Color"], background.inputs["Color"])
+    engine = helpers.recording_engine()
+    result, error = render("missing_sky", engine)
+    assert error is None, error
+    assert any("GoneSky" in m and "missing" in m for m in messages(engine, 'WARNING')), \
+        engine.reports
+    helpers.assert_close(result[0, :, :3].mean(axis=0), (0.5, 1.0, 1.5), 1e-5, "sky row")
+
+
+def test_radius_scale_multiplies_the_automatic_radius():
+    """radius_scale 0.5 renders from exactly half the radius the module chooses itself."""
+    scene = small_lit_scene(passes=1)
+    engine = helpers.recording_engine()
+    image, error = render("radius_auto", engine)
+    assert error is None, error
+    automatic = engine.last_stats["initial_radius"]
+    scene.glslppm.radius_scale = 0.5
+    image, error = render("radius_half", engine)
+    assert error is None and image[..., :3].mean() > 1e-3, error
+    scaled = engine.last_stats["initial_radius"]
+    assert automatic > 0 and abs(scaled - 0.5 * automatic) < 1e-6 * automatic, \
+        (automatic, scaled)
