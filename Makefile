@@ -5,6 +5,7 @@ BUILD  ?= build
 JOBS   ?= $(shell nproc)
 
 .PHONY: all deps build test test-native test-python test-blender demo install clean
+.PHONY: test-sanitize fuzz-build test-fuzz-replay fuzz
 
 all: build
 
@@ -18,7 +19,7 @@ build: deps
 test:
 	@scripts/install-deps.sh test
 	@$(MAKE) --no-print-directory build
-	@$(MAKE) --no-print-directory test-native test-python test-blender
+	@$(MAKE) --no-print-directory test-native test-python test-bench test-blender
 
 test-native:
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
@@ -26,8 +27,64 @@ test-native:
 test-python:
 	PYTHONPATH=$(CURDIR)/$(BUILD) $(PYTHON) -m pytest -q tests/python
 
+# Each glslppm-bench subcommand once on a tiny configuration, its JSON checked.
+.PHONY: test-bench
+test-bench:
+	GLSLPPM_SHADER_DIR=$(CURDIR)/shaders $(PYTHON) tests/bench/check_bench.py $(BUILD)/glslppm-bench
+
 test-blender:
 	@if [ -x scripts/test-blender.sh ]; then scripts/test-blender.sh; fi
+
+# The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer (issue 7,
+# point 6), in a second build without the Python module. Mesa's DRI driver is preloaded
+# (after libasan, which must come first) so that its globals stay mapped until
+# LeakSanitizer runs: see tests/sanitize/lsan.supp. The resident-memory test is left out:
+# ASan's quarantine and shadow memory grow RSS by themselves, and LeakSanitizer checks
+# the same leaks exactly.
+ASAN_BUILD ?= build-asan
+DRI_DRIVER := $(wildcard /usr/lib/$(shell gcc -print-multiarch 2>/dev/null)/dri/swrast_dri.so)
+SANITIZE_ENV = LD_PRELOAD="$(shell gcc -print-file-name=libasan.so) $(DRI_DRIVER)" \
+	ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:check_initialization_order=1 \
+	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+test-sanitize:
+	@cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+		-DGLSLPPM_SANITIZE=ON -DGLSLPPM_PYTHON=OFF >/dev/null
+	@cmake --build $(ASAN_BUILD) -j $(JOBS) --target glslppm-tests
+	$(SANITIZE_ENV) ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) \
+		-E HundredCreateDestroyCyclesDoNotLeak
+
+# libFuzzer targets fuzz/<target>_fuzz.cpp (issue 7, point 7), built by clang.
+# test-fuzz-replay runs each once on every kept input in tests/fuzz/<target>/;
+# `make fuzz FUZZ_TARGET=scene FUZZ_SECONDS=1800 [FUZZ_FLAGS=-dict=...]` fuzzes one
+# target, niced (corpus in $(FUZZ_BUILD)/corpus/<target>, seeded from tests/fuzz/<target>;
+# crashes in $(FUZZ_BUILD)/artifacts/<target>/).
+FUZZ_BUILD ?= build-fuzz
+FUZZ_TARGET ?= scene
+FUZZ_SECONDS ?= 60
+FUZZ_FLAGS ?=
+fuzz-build:
+	@CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+		-DGLSLPPM_FUZZ=ON -DGLSLPPM_PYTHON=OFF -DGLSLPPM_TESTS=OFF >/dev/null
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzzers
+
+test-fuzz-replay: fuzz-build
+	@for source in fuzz/*_fuzz.cpp; do \
+		[ -e "$$source" ] || continue; \
+		target=$$(basename $$source _fuzz.cpp); \
+		inputs=$$(find tests/fuzz/$$target -type f ! -name '*.py' ! -name '*.md' 2>/dev/null | sort); \
+		[ -n "$$inputs" ] || { echo "fuzz $$target: no kept inputs"; continue; }; \
+		log=$(FUZZ_BUILD)/replay-$$target.log; \
+		if UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_BUILD)/fuzz/$${target}_fuzz $$inputs >$$log 2>&1; then \
+			echo "fuzz $$target: $$(echo $$inputs | wc -w) kept inputs replayed, no crash"; \
+		else cat $$log; echo "fuzz $$target: FAILED (log: $$log)"; exit 1; fi; \
+	done
+
+fuzz: fuzz-build
+	@mkdir -p $(FUZZ_BUILD)/corpus/$(FUZZ_TARGET) $(FUZZ_BUILD)/artifacts/$(FUZZ_TARGET)
+	nice -n 19 $(FUZZ_BUILD)/fuzz/$(FUZZ_TARGET)_fuzz -max_total_time=$(FUZZ_SECONDS) \
+		-artifact_prefix=$(FUZZ_BUILD)/artifacts/$(FUZZ_TARGET)/ -print_final_stats=1 \
+		$(FUZZ_FLAGS) $(FUZZ_BUILD)/corpus/$(FUZZ_TARGET) tests/fuzz/$(FUZZ_TARGET)
 
 install: build
 	@scripts/install-addon.sh

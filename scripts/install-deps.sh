@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the build, the tests and the demo need, only those missing.
-# Usage: scripts/install-deps.sh [build|test|demo]
+# Usage: scripts/install-deps.sh [build|test|demo|bench]
 set -euo pipefail
 what=${1:-build}
 pkgs=(cmake ninja-build g++ pkg-config python3-dev python3-numpy pybind11-dev
       libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
-      libgtest-dev)
+      libgtest-dev
+      libtinygltf-dev nlohmann-json3-dev libtinyobjloader-dev libstb-dev)
 case "$what" in
-  test) pkgs+=(python3-pytest dieharder blender debootstrap) ;;
+  # clang + libclang-rt-14-dev (libFuzzer, clang's ASan/UBSan runtimes): make test-fuzz-replay
+  test) pkgs+=(python3-pytest dieharder blender debootstrap clang libclang-rt-14-dev) ;;
   demo) pkgs+=(blender) ;;
+  bench) pkgs+=(python3-matplotlib) ;;  # scripts/plot_performance.py
 esac
 missing=()
 for p in "${pkgs[@]}"; do

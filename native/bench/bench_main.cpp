@@ -5,15 +5,33 @@
 int bench_bvh(int argc, char** argv);
 int bench_rng(int argc, char** argv);
 int bench_passes(int argc, char** argv);
+int bench_rays(int argc, char** argv);
+int bench_converge(int argc, char** argv);
+int bench_specialization(int argc, char** argv);
+int bench_long_run(int argc, char** argv);
 
 int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "bvh") == 0) return bench_bvh(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "rng") == 0) return bench_rng(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "passes") == 0) return bench_passes(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "rays") == 0) return bench_rays(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "converge") == 0) return bench_converge(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "specialize") == 0)
+        return bench_specialization(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "longrun") == 0) return bench_long_run(argc - 2, argv + 2);
     std::fprintf(stderr, "usage: glslppm-bench bvh --triangles N [--leaf-size K] "
                          "[--order-count 6|1] [--json]\n"
                          "       glslppm-bench rng --generator paper|pcg [--json] ...\n"
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
-                         "--hash M --rng G --device D] [--json]\n");
+                         "--hash M --rng G --device D --scene S] [--json]\n"
+                         "       glslppm-bench rays [--rays N --batches B --scenes a,b --leaf 1,2,4,8 "
+                         "--layout mtbvh,tbvh] [--json]\n"
+                         "       glslppm-bench converge [--scene S --passes K --alpha a,b "
+                         "--photons n,m --radius-scale x,y --hash h --rng g] [--json]\n"
+                         "       glslppm-bench specialize [--scene S --width W --height H "
+                         "--photons N --passes K --rounds R] [--json]\n"
+                         "       glslppm-bench longrun [--passes K --photons N --width W]\n"
+                         "  scenes: cornell, cornell-diffuse, caustic, million[:N] (e.g. million:100k), "
+                         "or a .gltf/.glb/.obj file\n");
     return 2;
 }

@@ -1,11 +1,12 @@
-// glslppm-bench passes: end-to-end SPPM throughput on the built-in Cornell box.
+// glslppm-bench passes: end-to-end SPPM throughput on a benchmark scene (--scene, default the
+// built-in Cornell box).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
+#include "bench/bench_scene.h"
 #include "render/renderer.h"
-#include "scenes/cornell_box.h"
 
 using namespace glslppm;
 
@@ -15,6 +16,7 @@ int bench_passes(int argc, char** argv) {
     settings.photons_per_pass = 262144;
     int passes = 64, warmup = 4;
     bool json = false;
+    std::string scene_spec = "cornell";
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -27,13 +29,16 @@ int bench_passes(int argc, char** argv) {
         else if (a == "--rng") settings.rng = parse_rng_kind(i + 1 < argc ? argv[++i] : "");
         else if (a == "--device") settings.device = static_cast<int>(next());
         else if (a == "--json") json = true;
+        else if (a == "--scene" && i + 1 < argc) scene_spec = argv[++i];
         else {
             std::fprintf(stderr, "glslppm-bench passes: unknown option %s\n", a.c_str());
             return 2;
         }
     }
     try {
-        Renderer renderer(make_cornell_box(), settings);
+        const float aspect = float(settings.width) / float(settings.height);
+        const Scene scene = make_bench_scene(scene_spec, aspect);
+        Renderer renderer(scene, settings);
         renderer.run(warmup);  // compiles lazily on some drivers; not timed
         const RenderStats before = renderer.stats();
         renderer.run(passes);
@@ -44,25 +49,26 @@ int bench_passes(int argc, char** argv) {
         // Stage times come from a second, profiled renderer: timer queries wait every pass.
         RenderSettings profiled = settings;
         profiled.profile = true;
-        Renderer timed(make_cornell_box(), profiled);
+        Renderer timed(scene, profiled);
         const int profiled_passes = std::max(1, std::min(passes, 16));
         timed.run(profiled_passes);
         const RenderStats st = timed.stats();
         const double ms = 1e3 / profiled_passes;
         if (json) {
             std::printf(
-                "{\"bench\": \"passes\", \"scene\": \"cornell\", \"width\": %d, \"height\": %d, "
+                "{\"bench\": \"passes\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
                 "\"photons_per_pass\": %u, \"hash\": \"%s\", \"rng\": \"%s\", \"passes\": %d, "
                 "\"seconds\": %.6f, \"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
                 "\"rays_per_second\": %.1f, \"photon_bounces_per_second\": %.1f, "
                 "\"stage_ms\": {\"eye\": %.4f, \"photon\": %.4f, \"hash\": %.4f, \"gather\": %.4f}, "
+                "\"triangles\": %zu, \"gpu_bytes\": %zu, \"bvh_seconds\": %.4f, "
                 "\"renderer\": \"%s\", \"variant\": \"%s\"}\n",
-                settings.width, settings.height, settings.photons_per_pass,
+                scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
                 to_string(settings.hash).c_str(), to_string(settings.rng).c_str(), passes, seconds,
                 passes / seconds, photons / seconds, rays / seconds,
                 passes * double(settings.photons_per_pass) / seconds, st.eye_seconds * ms,
                 st.photon_seconds * ms, st.hash_seconds * ms, st.gather_seconds * ms,
-                after.renderer.c_str(),
+                after.triangles, after.gpu_bytes, after.bvh_seconds, after.renderer.c_str(),
                 after.variant.c_str());
         } else {
             std::printf("%s: %dx%d, %u photons/pass, %s hash, %s rng\n", after.renderer.c_str(),

@@ -1,14 +1,18 @@
-// glslppm-render: renders the built-in Cornell box (or, later, a scene file) to an EXR.
+// glslppm-render: renders the built-in Cornell box or a glTF/OBJ scene file to an EXR.
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "image/exr.h"
+#include "image/image_file.h"
+#include "loaders/scene_file.h"
 #include "render/renderer.h"
 #include "scenes/cornell_box.h"
 
@@ -22,6 +26,10 @@ struct Options {
     double seconds = 0.0;
     std::string out;
     bool json = false;
+    std::string scene_file;   // empty: the built-in Cornell box
+    std::string environment;  // equirectangular map
+    bool has_environment_color = false;
+    glm::vec3 environment_color{0.0f};
 };
 
 const char* kUsage =
@@ -39,8 +47,27 @@ const char* kUsage =
     "  --rng pcg|paper           generator (default pcg; docs/rng.md says why)\n"
     "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
     "  --seed N                  random seed\n"
+    "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
+    "                            camera gets one that frames the whole scene)\n"
+    "  --environment FILE        equirectangular environment map (.hdr, .exr, .png, .jpg)\n"
+    "  --environment-color R,G,B environment radiance (default 1,1,1 with a map, else 0)\n"
     "  --out FILE.exr            write the image\n"
     "  --json                    print the final statistics as one JSON object\n";
+
+glm::vec3 parse_color(const std::string& option, const std::string& text) {
+    glm::vec3 c;
+    char* end = nullptr;
+    const char* p = text.c_str();
+    for (int i = 0; i < 3; ++i) {
+        c[i] = std::strtof(p, &end);
+        const char expected = i < 2 ? ',' : '\0';
+        if (end == p || *end != expected || !std::isfinite(c[i]) || c[i] < 0.0f)
+            throw std::invalid_argument(option + ": '" + text +
+                                        "' is not three non-negative numbers R,G,B");
+        p = end + 1;
+    }
+    return c;
+}
 
 Options parse(int argc, char** argv) {
     Options o;
@@ -74,6 +101,12 @@ Options parse(int argc, char** argv) {
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
         else if (a == "--json") o.json = true;
+        else if (a == "--scene") o.scene_file = value();
+        else if (a == "--environment") o.environment = value();
+        else if (a == "--environment-color") {
+            o.environment_color = parse_color(a, value());
+            o.has_environment_color = true;
+        }
         else if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
             std::exit(0);
@@ -82,6 +115,41 @@ Options parse(int argc, char** argv) {
     if (o.passes <= 0 && o.seconds <= 0.0) o.passes = 64;
     validate(o.settings);
     return o;
+}
+
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c == '"' || c == '\\') out += {'\\', ch};
+        else if (c < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+        } else out += ch;
+    }
+    return out + "\"";
+}
+
+// The scene to render; the loader's warnings are printed on stderr and kept for --json.
+Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
+    Scene scene;
+    if (o.scene_file.empty()) {
+        scene = make_cornell_box();
+    } else {
+        LoadedScene loaded =
+            load_scene_file(o.scene_file, float(o.settings.width) / float(o.settings.height));
+        warnings = std::move(loaded.warnings);
+        scene = std::move(loaded.scene);
+    }
+    if (!o.environment.empty()) {
+        scene.textures.push_back(load_texture(o.environment));
+        scene.environment_texture = static_cast<std::int32_t>(scene.textures.size() - 1);
+        scene.environment = glm::vec3(1.0f);
+    }
+    if (o.has_environment_color) scene.environment = o.environment_color;
+    for (const std::string& w : warnings) std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
+    return scene;
 }
 
 void progress(double fraction, const RenderStats& s) {
@@ -99,7 +167,8 @@ void progress(double fraction, const RenderStats& s) {
 int main(int argc, char** argv) {
     try {
         const Options o = parse(argc, argv);
-        Renderer renderer(make_cornell_box(), o.settings);
+        std::vector<std::string> warnings;
+        Renderer renderer(build_scene(o, warnings), o.settings);
         const bool terminal = isatty(STDERR_FILENO);
         const auto start = std::chrono::steady_clock::now();
         auto elapsed = [&] {
@@ -125,6 +194,10 @@ int main(int argc, char** argv) {
         }
         if (terminal) std::fputc('\n', stderr);
         const RenderStats s = renderer.stats();
+        for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
+            std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
+            warnings.push_back(w);
+        }
         if (!o.out.empty()) {
             FloatImage image{o.settings.width, o.settings.height, renderer.film()};
             write_exr(o.out, image,
@@ -141,17 +214,20 @@ int main(int argc, char** argv) {
                        {"variant", s.variant}});
         }
         if (o.json) {
+            std::string warning_list;
+            for (const std::string& w : warnings)
+                warning_list += (warning_list.empty() ? "" : ", ") + json_string(w);
             std::printf(
                 "{\"passes\": %llu, \"photons_emitted\": %llu, \"seconds\": %.6f, "
                 "\"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
                 "\"rays_per_second\": %.1f, \"width\": %d, \"height\": %d, "
                 "\"photons_per_pass\": %u, \"mean_radius\": %.6g, \"renderer\": \"%s\", "
-                "\"variant\": \"%s\"}\n",
+                "\"variant\": \"%s\", \"warnings\": [%s]}\n",
                 static_cast<unsigned long long>(s.passes),
                 static_cast<unsigned long long>(s.photons_emitted), s.seconds,
                 s.seconds > 0 ? s.passes / s.seconds : 0.0, s.photons_per_second,
                 s.rays_per_second, o.settings.width, o.settings.height,
-                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str());
+                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str(), warning_list.c_str());
         } else {
             std::printf("%llu passes, %.3g photons in %.2f s: %.2f Mphotons/s, %.2f Mrays/s (%s)\n",
                         static_cast<unsigned long long>(s.passes), double(s.photons_emitted),

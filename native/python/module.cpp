@@ -6,10 +6,12 @@
 
 #include <cstring>
 #include <mutex>
+#include <set>
 
 #include "gl/egl_context.h"
 #include "image/exr.h"
 #include "gl/shader_program.h"
+#include "python/loaders_module.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "scenes/cornell_box.h"
@@ -20,11 +22,33 @@ using namespace glslppm;
 namespace {
 
 // Holds the numpy arrays a Scene's MeshView points into.
+// Registered while alive, so that a Scene's keepalive can be recognised as one (scenes from
+// the loaders and procedural scenes keep an OwnedMesh instead).
 struct ArrayOwner {
     std::vector<py::object> arrays;
+    ArrayOwner() {
+        std::lock_guard lock(registry_mutex());
+        registry().insert(this);
+    }
     ~ArrayOwner() {
+        {
+            std::lock_guard lock(registry_mutex());
+            registry().erase(this);
+        }
         py::gil_scoped_acquire gil;
         arrays.clear();
+    }
+    static bool is_one(const void* p) {
+        std::lock_guard lock(registry_mutex());
+        return registry().count(static_cast<const ArrayOwner*>(p)) != 0;
+    }
+    static std::mutex& registry_mutex() {
+        static std::mutex m;
+        return m;
+    }
+    static std::set<const ArrayOwner*>& registry() {
+        static std::set<const ArrayOwner*> r;
+        return r;
     }
 };
 
@@ -362,8 +386,9 @@ PYBIND11_MODULE(_glslppm, m) {
         }, "The scene's arrays, materials and camera as numpy copies and dicts.")
         .def_property_readonly("shares_memory_with_input", [](const Scene& s) {
             // True: the MeshView points into the numpy arrays given (no copy was made).
+            if (!ArrayOwner::is_one(s.keepalive.get())) return false;
             auto owner = std::static_pointer_cast<const ArrayOwner>(s.keepalive);
-            return owner && !owner->arrays.empty() &&
+            return !owner->arrays.empty() &&
                    py::array(owner->arrays[0]).data() == static_cast<const void*>(s.mesh.positions.data());
         });
 
@@ -489,4 +514,5 @@ PYBIND11_MODULE(_glslppm, m) {
         return out;
     });
 
+    bind_loaders(m);  // load_scene, load_texture, scene_contents (python/loaders_module.cpp)
 }

@@ -87,3 +87,9 @@ def test_bad_settings_are_named(glslppm):
         glslppm.Settings(rng="mt")
     with pytest.raises(ValueError, match="width/height"):
         glslppm.Settings(width=0)
+
+
+def test_built_in_scene_does_not_claim_to_share_numpy_memory(glslppm):
+    """Scenes the module builds own their arrays: the property says so instead of reading
+    their storage as numpy arrays (it used to crash)."""
+    assert glslppm.cornell_box().shares_memory_with_input is False

@@ -1,0 +1,153 @@
+// glslppm-bench longrun: the long run of issue 7 point 3 (tests/long/long_run.py in C++, for
+// machines without the Python module). Inside a closed box whose walls emit Le = 1 and
+// reflect a = 0.5, with one bounce (max depth 1) every pixel sees Le + a Le = 1.5 exactly and
+// every photon path ends after one bounce, so the photons emitted must be passes x photons
+// per pass exactly; 21,504 photons per pass take that past 2^32 in 200,000 passes. At
+// log-spaced checkpoints: the film is finite, the counts exact, the radii never grow, and the
+// rms error against 1.5 keeps falling (log-log slope over the last two decades below -0.2).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/renderer.h"
+#include "scenes/shapes.h"
+
+using namespace glslppm;
+
+namespace {
+
+Scene box_furnace() {
+    auto mesh = std::make_shared<OwnedMesh>();
+    const float h = 1.0f;
+    const glm::vec3 q[6][4] = {
+        {{-h, -h, -h}, {-h, -h, h}, {h, -h, h}, {h, -h, -h}},
+        {{-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}},
+        {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
+        {{-h, -h, h}, {-h, h, h}, {h, h, h}, {h, -h, h}},
+        {{-h, -h, -h}, {-h, h, -h}, {-h, h, h}, {-h, -h, h}},
+        {{h, -h, -h}, {h, -h, h}, {h, h, h}, {h, h, -h}},
+    };
+    for (const auto& f : q) {
+        const Shape s = make_quad(f[0], f[1], f[2], f[3]);
+        mesh->append(s.positions, s.triangles, 0);
+    }
+    Scene scene = make_scene(mesh);
+    Material wall;
+    wall.color = glm::vec3(0.5f);
+    wall.emission = glm::vec3(1.0f);
+    scene.materials = {wall};
+    scene.camera.fov_x = 30.0f * 3.14159265f / 180.0f;  // the middle of the -Z face
+    return scene;
+}
+
+}  // namespace
+
+int bench_long_run(int argc, char** argv) {
+    RenderSettings settings;
+    settings.width = settings.height = 8;
+    settings.photons_per_pass = 21504;
+    settings.max_depth = 1;
+    settings.seed = 1;
+    long long total = 200000;
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+        if (a == "--passes") total = static_cast<long long>(next());
+        else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(next());
+        else if (a == "--width") settings.width = settings.height = static_cast<int>(next());
+        else if (a == "--seed") settings.seed = static_cast<std::uint64_t>(next());
+        else if (a == "--device") settings.device = static_cast<int>(next());
+        else if (a == "--json") continue;  // the output is JSON anyway
+        else {
+            std::fprintf(stderr, "glslppm-bench longrun: unknown option %s\n", a.c_str());
+            return 2;
+        }
+    }
+    try {
+        Renderer renderer(box_furnace(), settings);
+        std::vector<long long> checkpoints;
+        for (int i = 0;; ++i) {
+            const long long k = std::llround(100.0 * std::pow(10.0, i / 4.0));
+            if (k >= total) break;
+            checkpoints.push_back(k);
+        }
+        checkpoints.push_back(total);
+        std::vector<std::string> failures;
+        std::vector<double> log_k, log_e;
+        std::string rows;
+        RenderStats previous = renderer.stats();
+        long long done = 0;
+        for (long long k : checkpoints) {
+            while (done < k) done += renderer.run(static_cast<int>(std::min(k - done, 10000LL)));
+            const std::vector<float> film = renderer.film();
+            const RenderStats s = renderer.stats();
+            bool finite = true;
+            double sum2 = 0.0;
+            std::size_t n = 0;
+            for (std::size_t p = 0; p < film.size(); p += 4) {
+                for (int c = 0; c < 3; ++c) {
+                    finite &= std::isfinite(film[p + c]);
+                    sum2 += (film[p + c] - 1.5) * (film[p + c] - 1.5);
+                    ++n;
+                }
+            }
+            const double error = std::sqrt(sum2 / double(n));
+            const std::string at = " after " + std::to_string(k) + " passes";
+            if (!finite) failures.push_back("film not finite" + at);
+            if (s.passes != std::uint64_t(k)) failures.push_back("pass count wrong" + at);
+            if (s.photons_emitted != std::uint64_t(k) * settings.photons_per_pass)
+                failures.push_back("photons_emitted " + std::to_string(s.photons_emitted) +
+                                   " != passes x photons" + at);
+            if (s.mean_radius > previous.mean_radius || s.max_radius > previous.max_radius)
+                failures.push_back("radius grew" + at);
+            previous = s;
+            if (double(k) >= double(total) / 100.0 && finite && error > 0) {
+                log_k.push_back(std::log10(double(k)));
+                log_e.push_back(std::log10(error));
+            }
+            char row[320];
+            std::snprintf(row, sizeof row,
+                          "%s{\"passes\": %llu, \"photons_emitted\": %llu, \"rms_error\": %.6g, "
+                          "\"mean_radius\": %.8g, \"max_radius\": %.8g, \"seconds\": %.2f}",
+                          rows.empty() ? "" : ", ", static_cast<unsigned long long>(s.passes),
+                          static_cast<unsigned long long>(s.photons_emitted), error,
+                          s.mean_radius, s.max_radius, s.seconds);
+            rows += row;
+        }
+        // Least-squares slope of log error against log passes over the last two decades.
+        double slope = NAN;
+        if (log_k.size() > 2) {
+            double mk = 0, me = 0;
+            for (std::size_t i = 0; i < log_k.size(); ++i) mk += log_k[i], me += log_e[i];
+            mk /= log_k.size();
+            me /= log_e.size();
+            double sxy = 0, sxx = 0;
+            for (std::size_t i = 0; i < log_k.size(); ++i) {
+                sxy += (log_k[i] - mk) * (log_e[i] - me);
+                sxx += (log_k[i] - mk) * (log_k[i] - mk);
+            }
+            slope = sxy / sxx;
+        }
+        if (!(slope < -0.2)) failures.push_back("error slope over the last two decades >= -0.2");
+        const RenderStats s = renderer.stats();
+        std::string failed;
+        for (const std::string& f : failures) failed += (failed.empty() ? "\"" : ", \"") + f + "\"";
+        std::printf("{\"bench\": \"longrun\", \"renderer\": \"%s\", \"passes\": %llu, "
+                    "\"photons_per_pass\": %u, \"photons_emitted\": %llu, \"past_2_32\": %s, "
+                    "\"seconds\": %.2f, \"initial_radius\": %.8g, "
+                    "\"error_slope_last_two_decades\": %.4f, \"checkpoints\": [%s], "
+                    "\"failures\": [%s], \"ok\": %s}\n",
+                    s.renderer.c_str(), static_cast<unsigned long long>(s.passes),
+                    settings.photons_per_pass, static_cast<unsigned long long>(s.photons_emitted),
+                    s.photons_emitted > (1ull << 32) ? "true" : "false", s.seconds,
+                    s.initial_radius, slope, rows.c_str(), failed.c_str(),
+                    failures.empty() ? "true" : "false");
+        return failures.empty() ? 0 : 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glslppm-bench longrun: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,76 @@
+#include "bench/bench_scene.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "scenes/caustic_scene.h"
+#include "scenes/cornell_box.h"
+#include "scenes/million_scene.h"
+#if __has_include("loaders/scene_file.h")
+#include "loaders/scene_file.h"
+#define GLSLPPM_HAS_SCENE_FILE 1
+#endif
+
+namespace glslppm {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+std::size_t parse_count(const std::string& text) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    const std::string suffix = text.substr(used);
+    double scale = 1.0;
+    if (suffix == "k" || suffix == "K")
+        scale = 1e3;
+    else if (suffix == "m" || suffix == "M")
+        scale = 1e6;
+    else if (!suffix.empty())
+        used = 0;
+    if (used == 0 || !(value > 0.0))
+        throw std::invalid_argument("'" + text + "' is not a positive count (e.g. 1000, 100k, 4M)");
+    return static_cast<std::size_t>(value * scale + 0.5);
+}
+
+Scene make_bench_scene(const std::string& spec, float aspect) {
+    if (spec == "cornell") return make_cornell_box();
+    if (spec == "cornell-diffuse") {
+        CornellBoxOptions options;
+        options.mirror_sphere = options.glass_sphere = false;
+        return make_cornell_box(options);
+    }
+    if (spec == "caustic") return make_caustic_scene();
+    if (spec == "million") return make_million_scene();
+    if (spec.rfind("million:", 0) == 0) {
+        MillionSceneOptions options;
+        options.triangles = parse_count(spec.substr(8));
+        return make_million_scene(options);
+    }
+    if (ends_with(spec, ".gltf") || ends_with(spec, ".glb") || ends_with(spec, ".obj")) {
+#ifdef GLSLPPM_HAS_SCENE_FILE
+        LoadedScene loaded = load_scene_file(spec, aspect);
+        for (const std::string& w : loaded.warnings)
+            std::fprintf(stderr, "%s: %s\n", spec.c_str(), w.c_str());
+        return std::move(loaded.scene);
+#else
+        (void)aspect;
+        throw std::invalid_argument(
+            "--scene " + spec + ": this build has no glTF loader (native/loaders/scene_file.h)");
+#endif
+    }
+    throw std::invalid_argument(
+        "--scene '" + spec +
+        "' is not cornell, cornell-diffuse, caustic, million[:N] or a .gltf/.glb/.obj file");
+}
+
+}  // namespace glslppm

@@ -1,0 +1,20 @@
+// The scenes the benchmarks run on, by name: `cornell` (the built-in Cornell box),
+// `cornell-diffuse` (the same without its mirror and glass spheres: the Cycles comparison),
+// `caustic` (glass sphere over a floor), `million[:N]` (a field of bumpy spheres of about N
+// triangles, default 1M; `100k`, `4M` suffixes accepted), or a scene file (.gltf, .glb, .obj;
+// native/loaders/scene_file.h). `aspect` is the render's width / height.
+#pragma once
+
+#include <string>
+
+#include "scene/scene.h"
+
+namespace glslppm {
+
+// Throws std::invalid_argument naming the spec when it is none of the above.
+Scene make_bench_scene(const std::string& spec, float aspect = 1.0f);
+
+// "1000", "100k", "4M" -> a count; throws std::invalid_argument otherwise.
+std::size_t parse_count(const std::string& text);
+
+}  // namespace glslppm

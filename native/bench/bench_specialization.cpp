@@ -1,0 +1,92 @@
+// glslppm-bench specialize: how much faster programs that model only what the scene uses
+// run than the full variant (every feature compiled in) on the same scene and settings.
+// The two renderers alternate in rounds so that drift in the machine's speed (thermal,
+// other load) falls on both alike; the images are compared too (same seed: they agree).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "bench/bench_scene.h"
+#include "render/renderer.h"
+
+using namespace glslppm;
+
+int bench_specialization(int argc, char** argv) {
+    RenderSettings settings;
+    settings.width = settings.height = 512;
+    settings.photons_per_pass = 262144;
+    int passes = 32, rounds = 4;
+    bool json = false;
+    std::string scene_spec = "cornell-diffuse";
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+        if (a == "--width") settings.width = static_cast<int>(next());
+        else if (a == "--height") settings.height = static_cast<int>(next());
+        else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(next());
+        else if (a == "--passes") passes = static_cast<int>(next());
+        else if (a == "--rounds") rounds = static_cast<int>(next());
+        else if (a == "--device") settings.device = static_cast<int>(next());
+        else if (a == "--scene" && i + 1 < argc) scene_spec = argv[++i];
+        else if (a == "--json") json = true;
+        else {
+            std::fprintf(stderr, "glslppm-bench specialize: unknown option %s\n", a.c_str());
+            return 2;
+        }
+    }
+    try {
+        const Scene scene = make_bench_scene(scene_spec, float(settings.width) / settings.height);
+        RenderSettings full_settings = settings;
+        full_settings.full_variant = true;
+        Renderer specialized(scene, settings);
+        Renderer full(scene, full_settings);
+        specialized.run(2);  // warm-up, not timed
+        full.run(2);
+        double t_specialized = 0.0, t_full = 0.0;
+        for (int r = 0; r < rounds; ++r) {
+            const double s0 = specialized.stats().seconds;
+            specialized.run(passes);
+            t_specialized += specialized.stats().seconds - s0;
+            const double f0 = full.stats().seconds;
+            full.run(passes);
+            t_full += full.stats().seconds - f0;
+        }
+        const std::vector<float> a = specialized.film(), b = full.film();
+        double largest = 0.0, difference = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            largest = std::max(largest, double(std::abs(a[i])));
+            difference = std::max(difference, double(std::abs(a[i] - b[i])));
+        }
+        const RenderStats st = specialized.stats(), ft = full.stats();
+        const double total = double(passes) * rounds;
+        const double ratio = t_full / t_specialized;
+        if (json) {
+            std::printf(
+                "{\"bench\": \"specialize\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
+                "\"photons_per_pass\": %u, \"passes\": %.0f, \"renderer\": \"%s\", "
+                "\"specialized_variant\": \"%s\", \"full_variant\": \"%s\", "
+                "\"specialized_passes_per_second\": %.3f, \"full_passes_per_second\": %.3f, "
+                "\"speedup\": %.4f, \"max_image_difference_relative\": %.3g}\n",
+                scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
+                total, st.renderer.c_str(), st.variant.c_str(), ft.variant.c_str(),
+                total / t_specialized, total / t_full, ratio,
+                largest > 0 ? difference / largest : 0.0);
+        } else {
+            std::printf("scene %s, %dx%d, %u photons/pass, %.0f passes each, on %s\n",
+                        scene_spec.c_str(), settings.width, settings.height,
+                        settings.photons_per_pass, total, st.renderer.c_str());
+            std::printf("  specialized (%s): %.2f passes/s\n", st.variant.c_str(),
+                        total / t_specialized);
+            std::printf("  full        (%s): %.2f passes/s\n", ft.variant.c_str(), total / t_full);
+            std::printf("  speed-up %.3fx; images differ by at most %.3g of the brightest pixel\n",
+                        ratio, largest > 0 ? difference / largest : 0.0);
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glslppm-bench specialize: %s\n", e.what());
+        return 1;
+    }
+}

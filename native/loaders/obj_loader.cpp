@@ -1,0 +1,345 @@
+#include "loaders/obj_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <tuple>
+
+#include "image/image_file.h"
+#include "loaders/triangulate_polygon.h"
+#include "loaders/vertex_normals.h"
+
+namespace glslppm {
+namespace {
+
+// Numbers in messages as written in files (0.3, not 0.300000).
+std::string number_text(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+// Phong exponents at least this high are mirror-like: Blender's OBJ exporter writes
+// Ns = 1000 (1 - roughness)^2, so this is roughness below about 0.1.
+constexpr float kMirrorShininess = 800.0f;
+
+struct Source {
+    std::string name;                       // the .obj, for messages
+    std::string base_dir;                   // "" when loading from memory
+    const std::string* mtl_text = nullptr;  // memory mode: the text of every mtllib
+};
+
+// Reads mtllib files next to the .obj (or the given text); a missing one is a warning.
+class MtlReader : public tinyobj::MaterialReader {
+  public:
+    MtlReader(const Source& source, std::vector<std::string>& warnings)
+        : source_(source), warnings_(warnings) {}
+
+    bool operator()(const std::string& id, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn,
+                    std::string* err) override {
+        if (source_.mtl_text) {
+            std::istringstream in(*source_.mtl_text);
+            tinyobj::LoadMtl(names, materials, &in, warn, err);
+            return true;
+        }
+        const std::string path = source_.base_dir + "/" + id;
+        std::ifstream in(path);
+        if (!in) {
+            warnings_.push_back(source_.name + ": mtllib '" + id + "': cannot open " + path + " (" +
+                                std::strerror(errno) +
+                                "): its materials are rendered grey diffuse");
+            return false;
+        }
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+  private:
+    const Source& source_;
+    std::vector<std::string>& warnings_;
+};
+
+float max3(const float* c) { return std::max({c[0], c[1], c[2]}); }
+glm::vec3 vec3_of(const float* c) { return {c[0], c[1], c[2]}; }
+
+struct MaterialConverter {
+    const Source& source;
+    Scene& scene;
+    std::vector<std::string>& warnings;
+    std::map<std::string, int> texture_index;  // by path
+
+    void warn(const std::string& element, const std::string& what) {
+        warnings.push_back(source.name + ": " + element + ": " + what);
+    }
+    int texture(const std::string& file, const tinyobj::texture_option_t& options,
+                const std::string& element);
+    Material convert(const tinyobj::material_t& m);
+    void choose_kind(const tinyobj::material_t& m, Material& out, const std::string& element);
+};
+
+int MaterialConverter::texture(const std::string& file, const tinyobj::texture_option_t& options,
+                               const std::string& element) {
+    if (file.empty()) return -1;
+    if (source.base_dir.empty()) {
+        warn(element,
+             "map_Kd '" + file + "' is not read when loading from memory: Kd alone is used");
+        return -1;
+    }
+    std::string relative = file;  // files written on Windows use backslashes
+    std::replace(relative.begin(), relative.end(), '\\', '/');
+    const std::string path = source.base_dir + "/" + relative;
+    if (auto it = texture_index.find(path); it != texture_index.end()) return it->second;
+    try {
+        Texture t = load_texture(path);
+        t.wrap = options.clamp ? TextureWrap::Clip : TextureWrap::Repeat;
+        scene.textures.push_back(std::move(t));
+        return texture_index[path] = int(scene.textures.size()) - 1;
+    } catch (const ImageFileError& e) {
+        warn(element,
+             "map_Kd '" + file + "' cannot be loaded (" + e.what() + "): Kd alone is used");
+        return texture_index[path] = -1;
+    }
+}
+
+void MaterialConverter::choose_kind(const tinyobj::material_t& m, Material& out,
+                                    const std::string& element) {
+    const bool glass_illum = m.illum == 4 || m.illum == 6 || m.illum == 7;
+    if (glass_illum || m.dissolve < 1.0f) {
+        out.kind = MaterialKind::Dielectric;
+        out.ior = m.ior > 1.0f ? m.ior : 1.5f;
+        if (!(m.ior > 1.0f))
+            warn(element, "transparent without Ni > 1: rendered as glass of index 1.5");
+        // Tf tints the glass where given; tinyobjloader leaves it zero otherwise.
+        out.color = max3(m.transmittance) > 0.0f ? vec3_of(m.transmittance) : glm::vec3(1.0f);
+        return;
+    }
+    const bool mirror_illum = m.illum == 3 || m.illum == 5;
+    const bool mirror_like = m.shininess >= kMirrorShininess && max3(m.specular) > 0.0f &&
+                             max3(m.specular) >= max3(m.diffuse);
+    if (mirror_illum || mirror_like || m.metallic >= 0.5f) {
+        out.kind = MaterialKind::Conductor;
+        if (max3(m.specular) > 0.0f) out.color = vec3_of(m.specular);
+        if (m.metallic >= 0.5f && !mirror_illum && !mirror_like) out.color = vec3_of(m.diffuse);
+        return;
+    }
+    out.kind = MaterialKind::Diffuse;
+    if (max3(m.specular) > 0.5f)
+        warn(element,
+             "specular Ks " + number_text(max3(m.specular)) + " is not rendered (diffuse Kd only)");
+    if (m.illum > 7) warn(element, "illum " + std::to_string(m.illum) + " is rendered diffuse");
+}
+
+Material MaterialConverter::convert(const tinyobj::material_t& m) {
+    const std::string element = "material '" + m.name + "'";
+    Material out;
+    out.color = vec3_of(m.diffuse);
+    choose_kind(m, out, element);
+    out.emission = vec3_of(m.emission);
+    const auto bad = [](glm::vec3 c) {
+        return !std::isfinite(c.x + c.y + c.z) || c.x < 0.0f || c.y < 0.0f || c.z < 0.0f;
+    };
+    if (bad(out.color)) {
+        warn(element, "colour is negative or not finite: grey used");
+        out.color = glm::vec3(0.8f);
+    }
+    if (bad(out.emission)) {
+        warn(element, "Ke is negative or not finite: no emission");
+        out.emission = glm::vec3(0.0f);
+    }
+    if (!std::isfinite(out.ior)) out.ior = 1.5f;
+    out.color_texture = texture(m.diffuse_texname, m.diffuse_texopt, element);
+    if (!m.bump_texname.empty() || !m.normal_texname.empty())
+        warn(element, "bump and normal maps are not supported: ignored");
+    if (!m.specular_texname.empty() || !m.alpha_texname.empty() || !m.emissive_texname.empty())
+        warn(element, "map_Ks, map_d and map_Ke are not supported: ignored");
+    return out;
+}
+
+struct CornerKey {
+    int v, vt, vn;
+    auto operator<=>(const CornerKey&) const = default;
+};
+
+struct MeshBuilder {
+    const Source& source;
+    const tinyobj::attrib_t& attrib;
+    OwnedMesh& mesh;
+    std::map<CornerKey, std::uint32_t> vertex_of;
+    bool any_normals = false;
+
+    [[noreturn]] void fail(const std::string& element, const std::string& what) const {
+        throw SceneFileError(source.name + ": " + element + ": " + what);
+    }
+    std::uint32_t vertex(const tinyobj::index_t& i, const std::string& element);
+    void add_face(std::span<const tinyobj::index_t> corners, std::uint32_t material,
+                  const std::string& element);
+};
+
+std::uint32_t MeshBuilder::vertex(const tinyobj::index_t& i, const std::string& element) {
+    const std::size_t nv = attrib.vertices.size() / 3, nt = attrib.texcoords.size() / 2,
+                      nn = attrib.normals.size() / 3;
+    const auto check = [&](int index, std::size_t count, const char* kind, bool optional) {
+        if ((optional && index == -1) || (index >= 0 && std::size_t(index) < count)) return;
+        fail(element, std::string(kind) + " index " + std::to_string(index + 1) +
+                          " is out of range (the file has " + std::to_string(count) + ")");
+    };
+    check(i.vertex_index, nv, "vertex", false);
+    check(i.texcoord_index, nt, "texture coordinate", true);
+    check(i.normal_index, nn, "normal", true);
+    const CornerKey key{i.vertex_index, i.texcoord_index, i.normal_index};
+    if (auto it = vertex_of.find(key); it != vertex_of.end()) return it->second;
+    const float* p = &attrib.vertices[3 * std::size_t(i.vertex_index)];
+    mesh.positions.emplace_back(p[0], p[1], p[2]);
+    glm::vec3 n(0.0f);
+    if (i.normal_index >= 0) {
+        const float* q = &attrib.normals[3 * std::size_t(i.normal_index)];
+        n = glm::vec3(q[0], q[1], q[2]);
+        const float length = glm::length(n);
+        n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f);
+        any_normals = true;
+    }
+    mesh.normals.push_back(n);
+    glm::vec2 uv(0.0f);  // OBJ's v already runs bottom-up, as Texture rows do
+    if (i.texcoord_index >= 0)
+        uv = {attrib.texcoords[2 * std::size_t(i.texcoord_index)],
+              attrib.texcoords[2 * std::size_t(i.texcoord_index) + 1]};
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+        fail(element,
+             "texture coordinate " + std::to_string(i.texcoord_index + 1) + " is not finite");
+    mesh.uvs.push_back(uv);
+    return vertex_of[key] = std::uint32_t(mesh.positions.size() - 1);
+}
+
+void MeshBuilder::add_face(std::span<const tinyobj::index_t> corners, std::uint32_t material,
+                           const std::string& element) {
+    std::vector<std::uint32_t> ids;
+    std::vector<glm::vec3> points;
+    for (const tinyobj::index_t& c : corners) {
+        ids.push_back(vertex(c, element));
+        points.push_back(mesh.positions[ids.back()]);
+    }
+    for (const glm::uvec3& t : triangulate_polygon(points)) {
+        mesh.triangles.emplace_back(ids[t.x], ids[t.y], ids[t.z]);
+        mesh.material_ids.push_back(material);
+    }
+}
+
+// tinyobjloader's messages hold several lines; one warning each.
+void append_lines(const std::string& text, const std::string& file, std::vector<std::string>& out) {
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        // Ours already names the missing .mtl; tinyobjloader's generic line adds nothing.
+        if (line.rfind("Failed to load material file", 0) == 0) continue;
+        if (!line.empty() && line != ".") out.push_back(file + ": " + line);
+    }
+}
+
+void check_vertices(const tinyobj::attrib_t& attrib, const std::string& file) {
+    for (std::size_t i = 0; i < attrib.vertices.size(); ++i)
+        if (!std::isfinite(attrib.vertices[i]))
+            throw SceneFileError(file + ": vertex " + std::to_string(i / 3 + 1) +
+                                 " (counting v lines): coordinate " + "xyz"[i % 3] + " is " +
+                                 (std::isnan(attrib.vertices[i]) ? "NaN" : "infinite"));
+    for (std::size_t i = 0; i < attrib.normals.size(); ++i)
+        if (!std::isfinite(attrib.normals[i]))
+            throw SceneFileError(file + ": normal " + std::to_string(i / 3 + 1) +
+                                 " (vn) is not finite");
+}
+
+LoadedScene load_obj(std::istream& obj, const Source& source, float aspect) {
+    if (!(aspect > 0.0f) || !std::isfinite(aspect))
+        throw SceneFileError(source.name + ": the aspect ratio must be positive");
+    LoadedScene out;
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, err;
+    MtlReader reader(source, out.warnings);
+    // Triangulated here, after the indices are checked (tinyobjloader's own triangulation
+    // reads vertices before checking them).
+    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj, &reader,
+                                     /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (!ok)
+        throw SceneFileError(
+            source.name + ": " +
+            (err.empty() ? "cannot parse" : err.substr(0, err.find_last_not_of("\n ") + 1)));
+    append_lines(warn, source.name, out.warnings);
+    append_lines(err, source.name, out.warnings);
+    check_vertices(attrib, source.name);
+
+    MaterialConverter converter{source, out.scene, out.warnings, {}};
+    for (const tinyobj::material_t& m : materials)
+        out.scene.materials.push_back(converter.convert(m));
+    int default_material = -1;
+
+    auto mesh = std::make_shared<OwnedMesh>();
+    MeshBuilder builder{source, attrib, *mesh, {}};
+    for (const tinyobj::shape_t& shape : shapes) {
+        const tinyobj::mesh_t& m = shape.mesh;
+        std::size_t total = 0;
+        for (unsigned char n : m.num_face_vertices) total += n;
+        const std::string element = "object '" + shape.name + "'";
+        if (total != m.indices.size() || m.material_ids.size() != m.num_face_vertices.size())
+            throw SceneFileError(source.name + ": " + element +
+                                 ": a face has more than 255 vertices (not supported)");
+        std::size_t first = 0;
+        for (std::size_t f = 0; f < m.num_face_vertices.size(); ++f) {
+            const std::size_t n = m.num_face_vertices[f];
+            int material = m.material_ids[f];
+            if (material < 0 || std::size_t(material) >= out.scene.materials.size()) {
+                if (default_material < 0) {
+                    default_material = int(out.scene.materials.size());
+                    out.scene.materials.push_back(Material{});
+                }
+                material = default_material;
+            }
+            if (n >= 3)
+                builder.add_face(std::span(m.indices).subspan(first, n), std::uint32_t(material),
+                                 element + " face " + std::to_string(f + 1));
+            first += n;
+        }
+    }
+    if (!builder.any_normals)
+        mesh->normals.clear();
+    else
+        fill_missing_normals(*mesh);
+    if (attrib.texcoords.empty()) mesh->uvs.clear();
+
+    Scene scene = make_scene(mesh);
+    scene.materials = std::move(out.scene.materials);
+    scene.textures = std::move(out.scene.textures);
+    // OBJ files are Y-up by convention (Blender exports them so): as for glTF, the
+    // environment map's +Z (up) becomes +Y.
+    scene.environment_to_world =
+        glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+    out.scene = std::move(scene);
+    return out;
+}
+
+}  // namespace
+
+LoadedScene load_obj_from_memory(const std::string& obj_text, const std::string& mtl_text,
+                                 const std::string& name, float aspect) {
+    std::istringstream in(obj_text);
+    const Source source{name, "", &mtl_text};
+    return load_obj(in, source, aspect);
+}
+
+LoadedScene load_obj_file(const std::string& path, float aspect) {
+    std::ifstream in(path);
+    if (!in) throw SceneFileError(path + ": cannot open the file (" + std::strerror(errno) + ")");
+    const auto slash = path.find_last_of('/');
+    const Source source{path, slash == std::string::npos ? "." : path.substr(0, slash), nullptr};
+    return load_obj(in, source, aspect);
+}
+
+}  // namespace glslppm

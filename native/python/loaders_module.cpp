@@ -1,0 +1,178 @@
+#include "python/loaders_module.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+
+#include "image/image_file.h"
+#include "loaders/scene_file.h"
+
+namespace py = pybind11;
+
+namespace glslppm {
+namespace {
+
+template <typename T, typename Element>
+py::array_t<T> array_of(std::span<const Element> items, std::size_t components) {
+    py::array_t<T> out(
+        {static_cast<py::ssize_t>(items.size()), static_cast<py::ssize_t>(components)});
+    if (!items.empty())
+        std::memcpy(out.mutable_data(), items.data(), items.size() * sizeof(Element));
+    return out;
+}
+
+py::tuple vec3(glm::vec3 v) { return py::make_tuple(v.x, v.y, v.z); }
+
+py::array_t<float> matrix(const float* column_major, int n) {
+    py::array_t<float> out({n, n});
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) out.mutable_at(r, c) = column_major[c * n + r];
+    return out;
+}
+
+const char* kind_name(MaterialKind k) {
+    switch (k) {
+        case MaterialKind::Diffuse:
+            return "diffuse";
+        case MaterialKind::Conductor:
+            return "conductor";
+        case MaterialKind::Dielectric:
+            return "dielectric";
+    }
+    return "?";
+}
+
+const char* light_name(LightKind k) {
+    switch (k) {
+        case LightKind::Point:
+            return "point";
+        case LightKind::Spot:
+            return "spot";
+        case LightKind::Sun:
+            return "sun";
+        case LightKind::Area:
+            return "area";
+    }
+    return "?";
+}
+
+py::dict texture_dict(const Texture& t) {
+    py::dict d;
+    d["name"] = t.name;
+    d["width"] = t.width;
+    d["height"] = t.height;
+    d["wrap"] = t.wrap == TextureWrap::Repeat ? "repeat" : "clip";
+    d["encoding"] = t.srgb8.empty() ? "linear" : "srgb8";
+    const std::vector<py::ssize_t> shape{t.height, t.width, 4};
+    if (!t.srgb8.empty()) {
+        py::array_t<std::uint8_t> px(shape);
+        std::memcpy(px.mutable_data(), t.srgb8.data(), t.srgb8.size());
+        d["pixels"] = px;
+    } else {
+        py::array_t<float> px(shape);
+        std::memcpy(px.mutable_data(), t.linear.data(), t.linear.size() * sizeof(float));
+        d["pixels"] = px;
+    }
+    return d;
+}
+
+py::list materials_list(const Scene& s) {
+    py::list out;
+    for (const Material& m : s.materials) {
+        py::dict d;
+        d["kind"] = kind_name(m.kind);
+        d["color"] = vec3(m.color);
+        d["ior"] = m.ior;
+        d["emission"] = vec3(m.emission);
+        d["color_texture"] = m.color_texture;
+        out.append(d);
+    }
+    return out;
+}
+
+py::list lights_list(const Scene& s) {
+    py::list out;
+    for (const Light& l : s.lights) {
+        py::dict d;
+        d["kind"] = light_name(l.kind);
+        d["color"] = vec3(l.color);
+        d["power"] = l.power;
+        d["position"] = vec3(l.position);
+        d["direction"] = vec3(l.direction);
+        d["spot_size"] = l.spot_size;
+        d["spot_blend"] = l.spot_blend;
+        d["radius"] = l.radius;
+        d["angle"] = l.angle;
+        out.append(d);
+    }
+    return out;
+}
+
+py::dict camera_dict(const Camera& c) {
+    py::dict d;
+    d["to_world"] = matrix(&c.to_world[0][0], 4);
+    d["fov_x"] = c.fov_x;
+    d["projection"] = c.projection == Projection::Perspective ? "perspective" : "orthographic";
+    d["ortho_scale"] = c.ortho_scale;
+    return d;
+}
+
+// Everything in a Scene as plain Python values (arrays are copies), for tests and scripts.
+py::dict scene_contents(const Scene& s) {
+    py::dict d;
+    d["positions"] = array_of<float>(s.mesh.positions, 3);
+    d["triangles"] = array_of<std::uint32_t>(s.mesh.triangles, 3);
+    d["normals"] = array_of<float>(s.mesh.normals, 3);
+    d["uvs"] = array_of<float>(s.mesh.uvs, 2);
+    py::array_t<std::uint32_t> ids(static_cast<py::ssize_t>(s.mesh.material_ids.size()));
+    if (!s.mesh.material_ids.empty())
+        std::memcpy(ids.mutable_data(), s.mesh.material_ids.data(), s.mesh.material_ids.size() * 4);
+    d["material_ids"] = ids;
+    d["materials"] = materials_list(s);
+    d["lights"] = lights_list(s);
+    d["camera"] = camera_dict(s.camera);
+    py::list textures;
+    for (const Texture& t : s.textures) textures.append(texture_dict(t));
+    d["textures"] = textures;
+    d["environment"] = vec3(s.environment);
+    d["environment_texture"] = s.environment_texture;
+    d["environment_to_world"] = matrix(&s.environment_to_world[0][0], 3);
+    return d;
+}
+
+}  // namespace
+
+void bind_loaders(py::module_& m) {
+    m.def(
+        "load_scene",
+        [](const std::string& path, float aspect) {
+            LoadedScene loaded;
+            {
+                py::gil_scoped_release release;
+                loaded = load_scene_file(path, aspect);
+            }
+            return py::make_tuple(std::move(loaded.scene), loaded.warnings);
+        },
+        py::arg("path"), py::arg("aspect") = 1.0f,
+        "Loads a .gltf, .glb or .obj file: (Scene, warnings). aspect = width / "
+        "height of the render (glTF cameras give a vertical angle). Bad files raise ValueError "
+        "naming the file and the element.");
+    m.def(
+        "load_texture",
+        [](const std::string& path) {
+            Texture t;
+            {
+                py::gil_scoped_release release;
+                t = load_texture(path);
+            }
+            return texture_dict(t);
+        },
+        py::arg("path"),
+        "Reads a PNG, JPEG, .hdr or .exr image as the renderer stores it "
+        "(rows bottom-first): a dict with width, height, encoding, pixels.");
+    m.def("scene_contents", &scene_contents, py::arg("scene"),
+          "Copies a Scene's arrays, materials, lights, camera and textures into a dict.");
+}
+
+}  // namespace glslppm

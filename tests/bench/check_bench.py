@@ -1,0 +1,230 @@
+#!/usr/bin/env python3
+"""Runs each glslppm-bench subcommand once on a tiny configuration and checks its JSON:
+the fields are there and the numbers are sane (positive rates, GPU traversal agreeing with
+the CPU's on every checked ray, error falling with passes, the SPPM reference of the
+diffuse Cornell box matching a Cycles render of it where Blender is installed).
+`make test-bench` runs it in about 25 s on llvmpipe.
+
+usage: check_bench.py BUILD/glslppm-bench [WORK_DIR]
+"""
+
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+FAILURES = []
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+
+def check(condition, message):
+    if not condition:
+        FAILURES.append(message)
+        print(f"  FAIL {message}")
+
+
+def run(bench, *args, expect_failure=False):
+    command = [bench, *args]
+    start = time.monotonic()
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    seconds = time.monotonic() - start
+    print(f"{' '.join(args[:1])}: {seconds:.1f} s  ({' '.join(command[1:])})")
+    if expect_failure:
+        check(result.returncode != 0, f"{args[0]} should have failed: {result.stdout}")
+        return result.stderr
+    if result.returncode != 0:
+        check(False, f"{args[0]} exited {result.returncode}: {result.stderr.strip()}")
+        return None
+    try:
+        return json.loads(result.stdout)
+    except json.JSONDecodeError as error:
+        check(False, f"{args[0]} printed no JSON object ({error}): {result.stdout[:200]}")
+        return None
+
+
+def positive(value):
+    return isinstance(value, (int, float)) and math.isfinite(value) and value > 0
+
+
+def check_bvh(bench):
+    out = run(bench, "bvh", "--triangles", "2000", "--rays", "2000", "--json")
+    if out is None:
+        return
+    check(out["triangles"] == 2000, f"bvh triangles {out['triangles']} != 2000")
+    check(out["nodes"] >= out["leaves"] > 0, f"bvh nodes {out['nodes']} leaves {out['leaves']}")
+    for key in ("build_seconds", "mtbvh_bytes_per_triangle", "tbvh_bytes_per_triangle",
+                "mtbvh_cpu_mrays_per_second", "tbvh_cpu_mrays_per_second"):
+        check(positive(out.get(key)), f"bvh {key} = {out.get(key)}")
+    # Six link sets cost more than one: MTBVH storage exceeds the TBVH's.
+    check(out["mtbvh_bytes_per_triangle"] > out["tbvh_bytes_per_triangle"], "bvh storage order")
+
+
+def check_rng(bench):
+    out = run(bench, "rng", "--generator", "pcg", "--threads", "4096", "--per-thread", "16",
+              "--json")
+    if out is None:
+        return
+    check(positive(out.get("numbers_per_second")), f"rng rate {out.get('numbers_per_second')}")
+    # Mean of 65,536 uniforms: standard error 0.29 / 256 = 0.0011; 5 sigma.
+    check(abs(out["stream_mean"] - 0.5) < 0.0057, f"rng stream mean {out['stream_mean']}")
+
+
+def check_passes(bench):
+    out = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+              "--passes", "4", "--warmup", "1", "--scene", "caustic", "--json")
+    if out is None:
+        return
+    check(out["scene"] == "caustic", f"passes scene {out['scene']}")
+    for key in ("passes_per_second", "photons_per_second", "rays_per_second", "gpu_bytes",
+                "triangles"):
+        check(positive(out.get(key)), f"passes {key} = {out.get(key)}")
+    for stage in ("eye", "photon", "hash", "gather"):
+        check(positive(out["stage_ms"][stage]), f"passes stage {stage} = {out['stage_ms']}")
+    check("dielectric" in out["variant"], f"caustic scene variant {out['variant']}")
+
+
+def check_rays(bench):
+    out = run(bench, "rays", "--rays", "16k", "--batches", "1", "--scenes",
+              "cornell,million:3k", "--leaf", "1,8", "--json")
+    if out is None:
+        return
+    rows = out["results"]
+    check(len(rows) == 8, f"rays: {len(rows)} rows, expected 2 scenes x 2 leaves x 2 layouts")
+    for row in rows:
+        name = f"rays {row['scene']} {row['layout']} leaf {row['leaf_size']}"
+        for mode in ("primary", "shadow", "incoherent"):
+            m = row[mode]
+            check(positive(m["rays_per_second"]), f"{name} {mode} rate {m['rays_per_second']}")
+            check(m["checked"] >= 500, f"{name} {mode}: only {m['checked']} rays checked")
+            check(m["agreement"] == 1.0, f"{name} {mode}: GPU/CPU agreement {m['agreement']}")
+    million = [r for r in rows if r["scene"] == "million:3k"]
+    check(all(2900 <= r["triangles"] <= 3300 for r in million),
+          f"million:3k triangles {[r['triangles'] for r in million]}")
+    check(out["agreement_min"] == 1.0, f"rays agreement_min {out['agreement_min']}")
+
+
+def cycles_reference(bench, work):
+    """A 24x24 Cycles render of the diffuse Cornell box (scripts/cycles_reference.py), or
+    None where Blender is missing."""
+    if shutil.which("blender") is None:
+        print("cycles_reference: skipped, no blender")
+        return None
+    out = os.path.join(work, "cycles_cornell_diffuse_24.exr")
+    script = os.path.join(ROOT, "scripts", "cycles_reference.py")
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(bench))
+    start = time.monotonic()
+    result = subprocess.run(["blender", "-b", "--factory-startup", "--python", script, "--",
+                             "--out", out, "--size", "24", "--samples", "256"],
+                            capture_output=True, text=True, timeout=300, env=env)
+    print(f"cycles_reference: {time.monotonic() - start:.1f} s")
+    check(result.returncode == 0 and os.path.exists(out),
+          f"cycles_reference.py failed: {result.stdout[-500:]} {result.stderr[-500:]}")
+    return out if os.path.exists(out) else None
+
+
+def image_mean(bench, path):
+    sys.path.insert(0, os.path.dirname(bench))
+    try:
+        import _glslppm
+    except ImportError:
+        return None
+    return float(_glslppm.read_exr(path)[0][..., :3].mean())
+
+
+def check_converge(bench, work):
+    cycles = cycles_reference(bench, work)
+    reference = os.path.join(work, "converge_reference.exr")
+    common = ["converge", "--scene", "cornell-diffuse", "--size", "24", "--reference", reference,
+              "--reference-passes", "256", "--reference-photons", "8192"]
+    out = run(bench, *common, "--passes", "32", "--photons", "4096", "--json")
+    if out is None:
+        return
+    check(out["reference"]["created"] is True, "converge did not render its reference")
+    run_ = out["runs"][0]
+    points = run_["points"]
+    check([p["passes"] for p in points] == [1, 2, 4, 8, 16, 32],
+          f"converge checkpoints {[p['passes'] for p in points]}")
+    check(all(positive(p["rmse"]) and positive(p["rel_mse"]) for p in points),
+          "converge errors not positive")
+    check(all(b["seconds"] >= a["seconds"] for a, b in zip(points, points[1:])),
+          "converge wall time not increasing")
+    # Error falls with passes: the fitted MSE slope is negative and the last RMSE is below
+    # the first by more than noise (measured here: slope -0.63, RMSE 0.82 -> 0.16).
+    check(run_["slope"] < -0.2, f"converge slope {run_['slope']}")
+    check(points[-1]["rmse"] < 0.7 * points[0]["rmse"], f"converge rmse {points}")
+    check(positive(out["automatic_radius"]), f"automatic radius {out['automatic_radius']}")
+
+    # Reused, with two settings, checked against Cycles; a reference of another size is
+    # refused by name.
+    extra = ["--cross-check", cycles] if cycles else []
+    out = run(bench, *common, "--passes", "4", "--photons", "4096", "--radius-scale", "0.5,2",
+              *extra, "--json")
+    if out is not None:
+        check(out["reference"]["created"] is False, "converge rendered its reference again")
+        radii = [r["initial_radius"] for r in out["runs"]]
+        check(len(radii) == 2 and abs(radii[1] / radii[0] - 4.0) < 1e-3,
+              f"radius scales 0.5, 2 gave radii {radii}")
+        if cycles:
+            # Two independent renderers, 256 passes and 256 samples at 24x24: measured RMSE
+            # 0.057 (noise of both and the light's edge pixels), means 0.3806 and 0.3820.
+            # A flipped or 10% too bright image exceeds these bounds.
+            cross = out["cross_check"]
+            check(cross["rmse"] < 0.12, f"SPPM reference against Cycles: RMSE {cross}")
+            ours, theirs = image_mean(bench, reference), image_mean(bench, cycles)
+            if ours is not None:
+                print(f"  mean: SPPM {ours:.4f}, Cycles {theirs:.4f}")
+                check(abs(ours - theirs) < 0.03 * theirs, f"means {ours} and {theirs}")
+    message = run(bench, "converge", "--scene", "cornell-diffuse", "--size", "16",
+                  "--reference", reference, "--passes", "2", "--json", expect_failure=True)
+    check("24x24" in message and "16x16" in message, f"size mismatch message: {message}")
+
+
+def check_specialize(bench):
+    out = run(bench, "specialize", "--width", "16", "--height", "16", "--photons", "2048",
+              "--passes", "2", "--rounds", "1", "--json")
+    if out is None:
+        return
+    for key in ("specialized_passes_per_second", "full_passes_per_second", "speedup"):
+        check(positive(out.get(key)), f"specialize {key} = {out.get(key)}")
+    # The diffuse Cornell box compiles neither glass nor textures; the full variant does.
+    check("dielectric" not in out["specialized_variant"], out["specialized_variant"])
+    check("textures" in out["full_variant"], out["full_variant"])
+    # Same seed, two passes: the images agree far inside the noise.
+    check(out["max_image_difference_relative"] < 0.05, f"specialize images {out}")
+
+
+def check_longrun(bench):
+    out = run(bench, "longrun", "--passes", "1000", "--photons", "64")
+    if out is None:
+        return
+    check(out["ok"] and not out["failures"], f"longrun failures {out['failures']}")
+    check(out["photons_emitted"] == 1000 * 64, f"longrun photons {out['photons_emitted']}")
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__)
+        return 2
+    bench = os.path.abspath(sys.argv[1])
+    os.environ.setdefault("GLSLPPM_SHADER_DIR", os.path.abspath(os.path.join(ROOT, "shaders")))
+    with tempfile.TemporaryDirectory(prefix="glslppm-bench-") as tmp:
+        work = sys.argv[2] if len(sys.argv) > 2 else tmp
+        os.makedirs(work, exist_ok=True)
+        start = time.monotonic()
+        check_bvh(bench)
+        check_rng(bench)
+        check_passes(bench)
+        check_rays(bench)
+        check_converge(bench, work)
+        check_specialize(bench)
+        check_longrun(bench)
+        print(f"test-bench: {time.monotonic() - start:.1f} s, {len(FAILURES)} failures")
+    return 1 if FAILURES else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
