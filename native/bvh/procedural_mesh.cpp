@@ -6,10 +6,6 @@
 
 namespace glslppm {
 
-void OwnedMesh::scale(float factor) {
-    for (glm::vec3& p : positions) p *= factor;
-}
-
 OwnedMesh make_sphere_mesh(std::size_t triangle_count) {
     OwnedMesh mesh;
     if (triangle_count == 0) return mesh;

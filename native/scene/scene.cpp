@@ -12,6 +12,10 @@ void OwnedMesh::append(const std::vector<glm::vec3>& p, const std::vector<glm::u
     }
 }
 
+void OwnedMesh::scale(float factor) {
+    for (glm::vec3& p : positions) p *= factor;
+}
+
 Scene make_scene(std::shared_ptr<OwnedMesh> mesh) {
     Scene scene;
     scene.mesh = mesh->view();

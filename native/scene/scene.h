@@ -110,6 +110,8 @@ struct OwnedMesh {
     void append(const std::vector<glm::vec3>& p, const std::vector<glm::uvec3>& t,
                 std::uint32_t material);
     MeshView view() const { return {positions, triangles, normals, uvs, material_ids}; }
+    // Multiplies every position by `factor` (normals and uvs unchanged).
+    void scale(float factor);
 };
 
 // Makes a Scene whose MeshView points into `mesh`, which the Scene then owns.
