@@ -1,5 +1,7 @@
 #include "gl/egl_context.h"
 
+#include "gl/object_counts.h"
+
 #include <dlfcn.h>
 #include <epoxy/gl.h>
 
@@ -334,6 +336,7 @@ void EglContext::create_on(EGLDisplay display) {
                                           EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                           EGL_NONE};
         context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
+        if (context_ != EGL_NO_CONTEXT) count_gl_objects(GlObject::Context, 1);
         if (context_ == EGL_NO_CONTEXT) {
             throw GlError(std::string("no OpenGL 4.3 core context (") +
                           egl_error_name(eglGetError()) +
@@ -384,7 +387,10 @@ void EglContext::release() noexcept {
         if (eglGetCurrentContext() == context_ && context_ != EGL_NO_CONTEXT) {
             eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         }
-        if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+        if (context_ != EGL_NO_CONTEXT) {
+            eglDestroyContext(display_, context_);
+            count_gl_objects(GlObject::Context, -1);
+        }
         if (surface_ != EGL_NO_SURFACE) eglDestroySurface(display_, surface_);
         if (display_referenced_) release_display(display_);
     }

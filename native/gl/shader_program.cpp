@@ -1,5 +1,6 @@
 #include "gl/shader_program.h"
 
+#include "gl/object_counts.h"
 #include "gl/program_binaries.h"
 
 #include <dlfcn.h>
@@ -222,6 +223,7 @@ void ComputeProgram::build(const fs::path& root, const Defines& defines) {
     id_ = glCreateProgram();
     if (load_program_binary(id_, key)) {
         reused_ = true;
+        count_gl_objects(GlObject::Program, 1);
         glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, local_size_.data());
         return;
     }
@@ -262,11 +264,15 @@ void ComputeProgram::build(const fs::path& root, const Defines& defines) {
         throw ShaderError(message.empty() ? name_ + ": link error" : message);
     }
     glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, local_size_.data());
+    count_gl_objects(GlObject::Program, 1);
     keep_program_binary(id_, key);
 }
 
 ComputeProgram::~ComputeProgram() {
-    if (id_ != 0) glDeleteProgram(id_);
+    if (id_ != 0) {
+        glDeleteProgram(id_);
+        count_gl_objects(GlObject::Program, -1);
+    }
 }
 
 ComputeProgram::ComputeProgram(ComputeProgram&& other) noexcept
@@ -279,7 +285,10 @@ ComputeProgram::ComputeProgram(ComputeProgram&& other) noexcept
 
 ComputeProgram& ComputeProgram::operator=(ComputeProgram&& other) noexcept {
     if (this != &other) {
-        if (id_ != 0) glDeleteProgram(id_);
+        if (id_ != 0) {
+            glDeleteProgram(id_);
+            count_gl_objects(GlObject::Program, -1);
+        }
         id_ = std::exchange(other.id_, 0);
         name_ = std::move(other.name_);
         files_ = std::move(other.files_);

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "gl/egl_context.h"
+#include "gl/object_counts.h"
 #include "image/exr.h"
 #include "gl/shader_program.h"
 #include "python/loaders_module.h"
@@ -508,6 +509,16 @@ PYBIND11_MODULE(_glslppm, m) {
         write_exr(path, image, attributes);
     }, py::arg("path"), py::arg("rgba"), py::arg("attributes") = std::map<std::string, std::string>{});
 
+    m.def("gl_object_counts", [] {
+        const gl::GlObjectCounts c = gl::gl_object_counts();
+        py::dict d;
+        d["contexts"] = c.contexts;
+        d["buffers"] = c.buffers;
+        d["textures"] = c.textures;
+        d["programs"] = c.programs;
+        d["queries"] = c.queries;
+        return d;
+    }, "EGL contexts and GL objects glslppm created and has not deleted (process-wide).");
     m.def("list_devices", [] {
         py::list out;
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));

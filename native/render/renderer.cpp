@@ -11,6 +11,7 @@
 
 #include <epoxy/gl.h>
 
+#include "gl/object_counts.h"
 #include "bvh/packed_bvh.h"
 #include "bvh/traverse_cpu.h"
 #include "gl/gl_thread.h"
@@ -160,6 +161,7 @@ struct Renderer::Gpu {
     GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {
         GLuint id = 0;
         glGenBuffers(1, &id);
+        gl::count_gl_objects(gl::GlObject::Buffer, 1);
         buffers.push_back(id);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
         while (glGetError() != GL_NO_ERROR) {
@@ -178,12 +180,22 @@ struct Renderer::Gpu {
 
     void release() {
         if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+        gl::count_gl_objects(gl::GlObject::Buffer, -static_cast<std::int64_t>(buffers.size()));
         buffers.clear();
-        if (ubo) glDeleteBuffers(1, &ubo);
+        if (ubo) {
+            glDeleteBuffers(1, &ubo);
+            gl::count_gl_objects(gl::GlObject::Buffer, -1);
+        }
         ubo = 0;
-        if (queries[0]) glDeleteQueries(5, queries);
+        if (queries[0]) {
+            glDeleteQueries(5, queries);
+            gl::count_gl_objects(gl::GlObject::Query, -5);
+        }
         queries[0] = 0;
-        if (atlases[0]) glDeleteTextures(2, atlases);
+        if (atlases[0]) {
+            glDeleteTextures(2, atlases);
+            gl::count_gl_objects(gl::GlObject::Texture, -2);
+        }
         atlases[0] = atlases[1] = 0;
     }
 
@@ -191,6 +203,7 @@ struct Renderer::Gpu {
     // when a kind is absent, so that every sampler is complete.
     void upload_atlas(const TextureAtlas& atlas) {
         glGenTextures(2, atlases);
+        gl::count_gl_objects(gl::GlObject::Texture, 2);
         for (int e = 0; e < 2; ++e) {
             const bool has = atlas.layers[e] > 0;
             const glm::ivec2 size = has ? atlas.layer_size[e] : glm::ivec2(1);
@@ -488,8 +501,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                 glUniform1ui(p->uniform("bvh_node_count"), g.bvh.node_count);
             }
 
-            if (settings.profile) glGenQueries(5, g.queries);
+            if (settings.profile) {
+                glGenQueries(5, g.queries);
+                gl::count_gl_objects(gl::GlObject::Query, 5);
+            }
             glGenBuffers(1, &g.ubo);
+            gl::count_gl_objects(gl::GlObject::Buffer, 1);
             glBindBuffer(GL_UNIFORM_BUFFER, g.ubo);
             glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), &g.frame, GL_DYNAMIC_DRAW);
             glBindBufferBase(GL_UNIFORM_BUFFER, 0, g.ubo);

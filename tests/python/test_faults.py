@@ -65,11 +65,12 @@ def test_too_large_a_render_frees_everything_and_the_next_is_unchanged(glslppm, 
     hint = "lower the resolution" if what == "resolution" else "photons per pass"
     with pytest.raises(glslppm.GlslppmError, match=hint):
         g.Renderer(scene, large)  # the first attempt may load driver code for good
-    memory, counts = resident_mib(), threads_and_fds()
+    memory, counts, objects = resident_mib(), threads_and_fds(), g.gl_object_counts()
     for _ in range(10):
         with pytest.raises(glslppm.GlslppmError, match="more than this GPU's largest"):
             g.Renderer(scene, large)
     assert threads_and_fds() == counts
+    assert g.gl_object_counts() == objects
     assert resident_mib() - memory < 8.0
     np.testing.assert_array_equal(film_after(g, scene, small_settings(g), 4), before)
 
@@ -79,13 +80,21 @@ def test_too_large_a_render_frees_everything_and_the_next_is_unchanged(glslppm, 
 def test_hundred_renderers_leave_memory_threads_and_descriptors_flat(glslppm):
     """Create, run, close a renderer 100 times (then 20 more dropped without close()): the
     resident memory grows by less than 4 MiB (measured: +0.1 MiB for 100, about 1 KiB per
-    renderer), and no EGL thread or descriptor is left behind. GL object counts are not
-    visible from here: each renderer's objects live in its own context, destroyed with it."""
+    renderer), and no EGL thread, descriptor, EGL context or GL object (buffer, texture,
+    program, query, counted where glslppm creates and deletes them) is left behind; while one
+    renderer lives, its objects are counted."""
     g = glslppm
     scene = lamp_scene(g)
     for _ in range(10):  # driver caches, lazily loaded code
         film_after(g, scene, small_settings(g), 1)
     gc.collect()
+    objects = g.gl_object_counts()
+    alive = g.Renderer(scene, small_settings(g))
+    during = g.gl_object_counts()
+    assert during["contexts"] == objects["contexts"] + 1
+    assert during["buffers"] > objects["buffers"] and during["programs"] > objects["programs"]
+    alive.close()
+    assert g.gl_object_counts() == objects
     memory, counts = resident_mib(), threads_and_fds()
     for _ in range(100):
         film_after(g, scene, small_settings(g), 1)
@@ -95,6 +104,7 @@ def test_hundred_renderers_leave_memory_threads_and_descriptors_flat(glslppm):
         del r
     gc.collect()
     assert threads_and_fds() == counts
+    assert g.gl_object_counts() == objects, (g.gl_object_counts(), objects)
     assert resident_mib() - memory < 4.0, resident_mib() - memory
 
 
