@@ -19,7 +19,7 @@ build: deps
 test:
 	@scripts/install-deps.sh test
 	@$(MAKE) --no-print-directory build
-	@$(MAKE) --no-print-directory test-native test-python test-bench test-blender
+	@$(MAKE) --no-print-directory test-native test-python test-bench test-blender test-sanitize test-fuzz-replay
 
 test-native:
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
@@ -69,7 +69,7 @@ fuzz-build:
 	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzzers
 
 test-fuzz-replay: fuzz-build
-	@for source in fuzz/*_fuzz.cpp; do \
+	@status=0; for source in fuzz/*_fuzz.cpp; do \
 		[ -e "$$source" ] || continue; \
 		target=$$(basename $$source _fuzz.cpp); \
 		inputs=$$(find tests/fuzz/$$target -type f ! -name '*.py' ! -name '*.md' 2>/dev/null | sort); \
@@ -77,8 +77,8 @@ test-fuzz-replay: fuzz-build
 		log=$(FUZZ_BUILD)/replay-$$target.log; \
 		if UBSAN_OPTIONS=print_stacktrace=1 $(FUZZ_BUILD)/fuzz/$${target}_fuzz $$inputs >$$log 2>&1; then \
 			echo "fuzz $$target: $$(echo $$inputs | wc -w) kept inputs replayed, no crash"; \
-		else cat $$log; echo "fuzz $$target: FAILED (log: $$log)"; exit 1; fi; \
-	done
+		else cat $$log; echo "fuzz $$target: FAILED (log: $$log)"; status=1; fi; \
+	done; exit $$status
 
 fuzz: fuzz-build
 	@mkdir -p $(FUZZ_BUILD)/corpus/$(FUZZ_TARGET) $(FUZZ_BUILD)/artifacts/$(FUZZ_TARGET)

@@ -55,12 +55,18 @@ void main() {
             stored = vec4(flux, 1.0);
             vec3 albedo = surface_color(s);
             float q = min(1.0, max(albedo.r, max(albedo.g, albedo.b)));
-            vec3 n = dot(dir, s.geometric_normal) < 0.0 ? s.normal : -s.normal;
+            bool front = dot(dir, s.geometric_normal) < 0.0;
+            vec3 n = front ? s.normal : -s.normal;
+            vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
             if (bounces >= float(pass_info.z) || rng_next(rng) >= q) {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;
                 dir = sample_cosine_hemisphere(n, rng_next(rng), rng_next(rng));
+                // About a smooth shading normal the bounce may point into the surface: mirror
+                // it back out across the true surface, or it would leave a closed mesh.
+                float below = dot(dir, ng);
+                if (below <= 0.0) dir = normalize(dir - 2.0 * below * ng);
                 origin = offset_origin(s.position, s.geometric_normal, dir);
             }
         } else if (bounces >= float(pass_info.z)) {

@@ -47,8 +47,12 @@ struct BinMapping {
     float origin = 0.0f, scale = 0.0f;
     int bins = 0;
     int operator()(const glm::vec3& c2, int axis) const {
-        const int b = static_cast<int>((c2[axis] - origin) * scale);
-        return std::clamp(b, 0, bins - 1);
+        // Clamped in float before the conversion: centroid sums of coordinates near
+        // FLT_MAX overflow to inf or NaN, and converting those to int is undefined
+        // (found by fuzz/scene_fuzz.cpp, tests/fuzz/scene/crash-bvh-bin-nan).
+        const float x = (c2[axis] - origin) * scale;
+        if (!(x >= 0.0f)) return 0;
+        return x < static_cast<float>(bins) ? static_cast<int>(x) : bins - 1;
     }
 };
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -348,6 +349,16 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     options.leaf_size = settings.leaf_size;
     g.bvh = build_packed_bvh(mesh, options, 6);
     g.bounds = scene_bounds(g.bvh);
+    // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
+    // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
+    const double extent = glm::length(glm::dvec3(g.bounds.hi) - glm::dvec3(g.bounds.lo));
+    if (!(extent >= 1e-14 && extent <= 1e11)) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%.3g", extent);
+        throw SceneError(std::string("the scene is ") + size +
+                         " units across, outside the 1e-14 to 1e11 that 32-bit floats "
+                         "render: scale it (Blender: the objects or the unit scale)");
+    }
     std::unique_ptr<EnvironmentMap> environment;
     if (use.environment) {
         environment = std::make_unique<EnvironmentMap>(build_environment_map(
