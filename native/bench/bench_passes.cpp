@@ -20,16 +20,10 @@ int bench_passes(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
-        if (a == "--width") settings.width = static_cast<int>(next());
-        else if (a == "--height") settings.height = static_cast<int>(next());
-        else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(next());
-        else if (a == "--passes") passes = static_cast<int>(next());
+        if (parse_render_option(argc, argv, i, settings, scene_spec)) continue;
+        if (a == "--passes") passes = static_cast<int>(next());
         else if (a == "--warmup") warmup = static_cast<int>(next());
-        else if (a == "--hash") settings.hash = parse_hash_mode(i + 1 < argc ? argv[++i] : "");
-        else if (a == "--rng") settings.rng = parse_rng_kind(i + 1 < argc ? argv[++i] : "");
-        else if (a == "--device") settings.device = static_cast<int>(next());
         else if (a == "--json") json = true;
-        else if (a == "--scene" && i + 1 < argc) scene_spec = argv[++i];
         else {
             std::fprintf(stderr, "glslppm-bench passes: unknown option %s\n", a.c_str());
             return 2;

@@ -1,5 +1,7 @@
 #include "bench/bench_scene.h"
 
+#include <cstdlib>
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -71,6 +73,23 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
     throw std::invalid_argument(
         "--scene '" + spec +
         "' is not cornell, cornell-diffuse, caustic, million[:N] or a .gltf/.glb/.obj file");
+}
+
+bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
+                         std::string& scene_spec) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    auto number = [&] { return has_value ? std::atof(argv[++i]) : 0.0; };
+    auto text = [&] { return std::string(has_value ? argv[++i] : ""); };
+    if (a == "--width") settings.width = static_cast<int>(number());
+    else if (a == "--height") settings.height = static_cast<int>(number());
+    else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(number());
+    else if (a == "--hash") settings.hash = parse_hash_mode(text());
+    else if (a == "--rng") settings.rng = parse_rng_kind(text());
+    else if (a == "--device") settings.device = static_cast<int>(number());
+    else if (a == "--scene" && has_value) scene_spec = text();
+    else return false;
+    return true;
 }
 
 }  // namespace glslppm

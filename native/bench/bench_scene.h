@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "render/settings.h"
 #include "scene/scene.h"
 
 namespace glslppm {
@@ -16,5 +17,11 @@ Scene make_bench_scene(const std::string& spec, float aspect = 1.0f);
 
 // "1000", "100k", "4M" -> a count; throws std::invalid_argument otherwise.
 std::size_t parse_count(const std::string& text);
+
+// Reads one option that every end-to-end benchmark shares (--width, --height, --photons,
+// --hash, --rng, --device, --scene) at argv[i], advancing i past its value; false when
+// argv[i] is none of them.
+bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
+                         std::string& scene_spec);
 
 }  // namespace glslppm

@@ -7,16 +7,6 @@
 namespace glslppm {
 namespace {
 
-void add(OwnedMesh& mesh, const Shape& shape, std::uint32_t material) {
-    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), shape.positions.begin(), shape.positions.end());
-    mesh.normals.insert(mesh.normals.end(), shape.normals.begin(), shape.normals.end());
-    for (const glm::uvec3& t : shape.triangles) {
-        mesh.triangles.push_back(t + glm::uvec3(base));
-        mesh.material_ids.push_back(material);
-    }
-}
-
 // A camera at `eye` looking at `target` with +Y up (Camera looks down its local -Z).
 glm::mat4 look_at(glm::vec3 eye, glm::vec3 target) {
     const glm::vec3 back = glm::normalize(eye - target);
@@ -46,8 +36,8 @@ Scene make_caustic_scene(const CausticSceneOptions& options) {
         {MaterialKind::Dielectric, glm::vec3(1.0f), options.ior, glm::vec3(0.0f)},    // glass
     };
     using V = glm::vec3;
-    add(*mesh, make_quad(V(-3, 0, -2), V(-3, 0, 3), V(3, 0, 3), V(3, 0, -2)), 0);    // floor
-    add(*mesh, make_quad(V(-3, 0, -2), V(3, 0, -2), V(3, 3, -2), V(-3, 3, -2)), 1);  // back
+    append_shape(*mesh, make_quad(V(-3, 0, -2), V(-3, 0, 3), V(3, 0, 3), V(3, 0, -2)), 0);    // floor
+    append_shape(*mesh, make_quad(V(-3, 0, -2), V(3, 0, -2), V(3, 3, -2), V(-3, 3, -2)), 1);  // back
     // A 0.25 x 0.25 quad facing down-right towards the sphere (normal along +x, -y).
     const V c(-2.5f, 2.5f, 0.0f), n = glm::normalize(V(2.5f, -2.0f, 0.0f));
     const V u(0, 0, 0.125f), w = 0.125f * glm::normalize(glm::cross(n, V(0, 0, 1)));
@@ -55,9 +45,9 @@ Scene make_caustic_scene(const CausticSceneOptions& options) {
     Shape light = make_quad(c - u - w, c - u + w, c + u + w, c + u - w);
     if (glm::dot(light.normals[0], n) < 0.0f)
         light = make_quad(c - u - w, c + u - w, c + u + w, c - u + w);
-    add(*mesh, light, 2);
+    append_shape(*mesh, light, 2);
     const int rings = options.sphere_rings;
-    add(*mesh, make_sphere(V(0.0f, 0.5f, 0.0f), 0.5f, rings, 2 * rings), 3);
+    append_shape(*mesh, make_sphere(V(0.0f, 0.5f, 0.0f), 0.5f, rings, 2 * rings), 3);
 
     Scene scene = make_scene(mesh);
     scene.materials = std::move(materials);

@@ -5,19 +5,6 @@
 #include "scenes/shapes.h"
 
 namespace glslppm {
-namespace {
-
-void add(OwnedMesh& mesh, const Shape& shape, std::uint32_t material) {
-    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), shape.positions.begin(), shape.positions.end());
-    mesh.normals.insert(mesh.normals.end(), shape.normals.begin(), shape.normals.end());
-    for (const glm::uvec3& t : shape.triangles) {
-        mesh.triangles.push_back(t + glm::uvec3(base));
-        mesh.material_ids.push_back(material);
-    }
-}
-
-}  // namespace
 
 Scene make_cornell_box(const CornellBoxOptions& options) {
     auto mesh = std::make_shared<OwnedMesh>();
@@ -30,18 +17,18 @@ Scene make_cornell_box(const CornellBoxOptions& options) {
         {MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f, glm::vec3(0.0f)},             // glass
     };
     using V = glm::vec3;
-    add(*mesh, make_quad(V(-1, 0, -1), V(-1, 0, 1), V(1, 0, 1), V(1, 0, -1)), 0);  // floor
-    add(*mesh, make_quad(V(-1, 2, -1), V(1, 2, -1), V(1, 2, 1), V(-1, 2, 1)), 0);  // ceiling
-    add(*mesh, make_quad(V(-1, 0, -1), V(1, 0, -1), V(1, 2, -1), V(-1, 2, -1)), 0);  // back
-    add(*mesh, make_quad(V(-1, 0, -1), V(-1, 2, -1), V(-1, 2, 1), V(-1, 0, 1)), 1);  // left
-    add(*mesh, make_quad(V(1, 0, -1), V(1, 0, 1), V(1, 2, 1), V(1, 2, -1)), 2);      // right
+    append_shape(*mesh, make_quad(V(-1, 0, -1), V(-1, 0, 1), V(1, 0, 1), V(1, 0, -1)), 0);  // floor
+    append_shape(*mesh, make_quad(V(-1, 2, -1), V(1, 2, -1), V(1, 2, 1), V(-1, 2, 1)), 0);  // ceiling
+    append_shape(*mesh, make_quad(V(-1, 0, -1), V(1, 0, -1), V(1, 2, -1), V(-1, 2, -1)), 0);  // back
+    append_shape(*mesh, make_quad(V(-1, 0, -1), V(-1, 2, -1), V(-1, 2, 1), V(-1, 0, 1)), 1);  // left
+    append_shape(*mesh, make_quad(V(1, 0, -1), V(1, 0, 1), V(1, 2, 1), V(1, 2, -1)), 2);      // right
     const float l = 0.3f, y = 1.98f;
-    add(*mesh, make_quad(V(-l, y, -l), V(l, y, -l), V(l, y, l), V(-l, y, l)), 3);  // light
+    append_shape(*mesh, make_quad(V(-l, y, -l), V(l, y, -l), V(l, y, l), V(-l, y, l)), 3);  // light
     const int rings = options.sphere_rings;
     if (options.mirror_sphere)
-        add(*mesh, make_sphere(V(-0.45f, 0.38f, -0.35f), 0.38f, rings, 2 * rings), 4);
+        append_shape(*mesh, make_sphere(V(-0.45f, 0.38f, -0.35f), 0.38f, rings, 2 * rings), 4);
     if (options.glass_sphere)
-        add(*mesh, make_sphere(V(0.45f, 0.38f, 0.3f), 0.38f, rings, 2 * rings), 5);
+        append_shape(*mesh, make_sphere(V(0.45f, 0.38f, 0.3f), 0.38f, rings, 2 * rings), 5);
 
     Scene scene = make_scene(mesh);
     scene.materials = std::move(materials);

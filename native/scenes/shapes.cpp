@@ -40,4 +40,14 @@ Shape make_sphere(glm::vec3 center, float radius, int rings, int segments, bool 
     return s;
 }
 
+void append_shape(OwnedMesh& mesh, const Shape& shape, std::uint32_t material) {
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), shape.positions.begin(), shape.positions.end());
+    mesh.normals.insert(mesh.normals.end(), shape.normals.begin(), shape.normals.end());
+    for (const glm::uvec3& t : shape.triangles) {
+        mesh.triangles.push_back(t + glm::uvec3(base));
+        mesh.material_ids.push_back(material);
+    }
+}
+
 }  // namespace glslppm

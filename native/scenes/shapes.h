@@ -5,6 +5,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/scene.h"
+
 namespace glslppm {
 
 struct Shape {
@@ -19,5 +21,8 @@ Shape make_quad(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d);
 // Latitude-longitude sphere; `inward` flips the winding and normals (the inside of a
 // closed room).
 Shape make_sphere(glm::vec3 center, float radius, int rings, int segments, bool inward = false);
+
+// Appends a shape (positions, normals, triangles) to a mesh, all with one material.
+void append_shape(OwnedMesh& mesh, const Shape& shape, std::uint32_t material);
 
 }  // namespace glslppm
