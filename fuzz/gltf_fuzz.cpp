@@ -16,23 +16,17 @@
 #include "loaders/gltf_loader.h"
 #include "scene/mesh.h"
 
+#include "loaded_scene_checks.h"
+
 namespace {
 
 using namespace glslppm;
 
-[[noreturn]] void defect(const char* what) {
-    std::fprintf(stderr, "gltf_fuzz: %s\n", what);
-    std::abort();
-}
+[[noreturn]] void defect(const char* what) { fuzz::defect("gltf_fuzz", what); }
 
 void check(const LoadedScene& loaded) {
+    fuzz::check_loaded_mesh(loaded, "gltf_fuzz");
     const Scene& s = loaded.scene;
-    try {
-        validate_mesh(s.mesh, static_cast<std::uint32_t>(s.materials.size()));
-    } catch (const SceneError& e) {
-        std::fprintf(stderr, "loaded scene fails validation: %s\n", e.what());
-        defect("the loader returned a mesh that validate_mesh rejects");
-    }
     for (const Material& m : s.materials)
         if (m.color_texture >= static_cast<std::int32_t>(s.textures.size()))
             defect("a material's texture index is out of range");

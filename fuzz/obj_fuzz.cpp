@@ -15,23 +15,17 @@
 #include "loaders/obj_loader.h"
 #include "scene/mesh.h"
 
+#include "loaded_scene_checks.h"
+
 namespace {
 
 using namespace glslppm;
 
-[[noreturn]] void defect(const char* what) {
-    std::fprintf(stderr, "obj_fuzz: %s\n", what);
-    std::abort();
-}
+[[noreturn]] void defect(const char* what) { fuzz::defect("obj_fuzz", what); }
 
 void check(const LoadedScene& loaded) {
+    fuzz::check_loaded_mesh(loaded, "obj_fuzz");
     const Scene& s = loaded.scene;
-    try {
-        validate_mesh(s.mesh, static_cast<std::uint32_t>(s.materials.size()));
-    } catch (const SceneError& e) {
-        std::fprintf(stderr, "loaded scene fails validation: %s\n", e.what());
-        defect("the loader returned a mesh that validate_mesh rejects");
-    }
     if (!s.textures.empty()) defect("a texture was read in memory mode");
     for (const Material& m : s.materials)
         if (m.color_texture != -1) defect("a material refers to a texture");
