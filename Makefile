@@ -19,21 +19,26 @@ build: deps
 test:
 	@scripts/install-deps.sh test
 	@$(MAKE) --no-print-directory build
-	@$(MAKE) --no-print-directory test-native test-python test-bench test-blender test-sanitize test-fuzz-replay
+	@scripts/test-all.sh
 
 test-native:
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
 test-python:
-	PYTHONPATH=$(CURDIR)/$(BUILD) $(PYTHON) -m pytest -q tests/python
+	PYTHONPATH=$(CURDIR)/$(BUILD) $(PYTHON) -m pytest -q -rs tests/python
 
 # Each glslppm-bench subcommand once on a tiny configuration, its JSON checked.
-.PHONY: test-bench
+.PHONY: test-bench test-mutations
 test-bench:
 	GLSLPPM_SHADER_DIR=$(CURDIR)/shaders $(PYTHON) tests/bench/check_bench.py $(BUILD)/glslppm-bench
 
+# Deliberate bugs planted in a copy of the shaders, one at a time: which tests catch each
+# (scripts/mutations.py; about 15 minutes, so not part of `make test`).
+test-mutations: build
+	$(PYTHON) scripts/mutations.py --build $(BUILD)
+
 test-blender:
-	@if [ -x scripts/test-blender.sh ]; then scripts/test-blender.sh; fi
+	@scripts/test-blender.sh
 
 # The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer (issue 7,
 # point 6), in a second build without the Python module. Mesa's DRI driver is preloaded

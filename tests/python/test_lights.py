@@ -117,7 +117,9 @@ def test_sun_gives_uniform_irradiance_times_cosine(glslppm, angle):
     e, _, _, stats = plane_irradiance(g, [light])
     assert "sun-lights" in stats["variant"]
     inner = e[4:-4, 4:-4]
-    assert inner.mean() == pytest.approx(strength * math.cos(tilt), rel=0.03)
+    print(f"  inner mean / expected - 1: {inner.mean() / (strength * math.cos(tilt)) - 1:+.4f}")
+    # Measured over seeds: within 0.2%.
+    assert inner.mean() == pytest.approx(strength * math.cos(tilt), rel=0.006)
     # 6x6 blocks: no structure beyond noise.
     blocks = inner.reshape(10, 4, 10, 4).mean(axis=(1, 3))
     assert blocks.std() / blocks.mean() < 0.06
@@ -165,25 +167,50 @@ def test_area_light_shapes_against_brute_force(glslppm, shape, sx, sy):
     want = area_irradiance_brute_force(to_world, shape, sx, sy, radiance, points)
     got = np.array([e[r - 1:r + 2, c - 1:c + 2].mean() for r in rows for c in rows])
     errors = (got - want) / want
+    # The whole image against the brute force at every pixel centre: the kernel moves light
+    # but keeps it, so the mean tests energy with the noise of 2,304 pixels.
+    every = [(x[r, c], y[r, c], 0.0) for r in range(48) for c in range(48)]
+    whole = area_irradiance_brute_force(to_world, shape, sx, sy, radiance, every, n=160)
+    error = e.mean() / whole.mean() - 1.0
+    print(f"  block errors rms {np.sqrt(np.mean(errors ** 2)):.4f}; image mean {error:+.4f}")
+    # Blocks: measured rms 1.6-2.9%. Image mean: measured within 0.1% over seeds.
     assert np.sqrt(np.mean(errors ** 2)) < 0.06, errors
-    assert abs(np.mean(errors)) < 0.025
+    assert abs(error) < 0.005
 
 
-def test_disk_light_on_axis_closed_form(glslppm):
-    """A disk light of radius b and radiance L at height h: E = pi L b^2 / (h^2 + b^2) on
-    its axis."""
+def disk_irradiance(radiance, b, h, r):
+    """Irradiance at distance r from the axis of a disk light of radius b and radiance L,
+    on a plane parallel to it at height h (the standard disk-to-point form factor):
+    E = pi L / 2 (1 - (h^2 + r^2 - b^2) / sqrt((h^2 + r^2 + b^2)^2 - 4 r^2 b^2)), which on the
+    axis is pi L b^2 / (h^2 + b^2)."""
+    s = h * h + r * r
+    return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / np.sqrt((s + b * b) ** 2 - 4 * r * r * b * b))
+
+
+def test_disk_light_closed_form(glslppm):
+    """A disk light of radius b and radiance L at height h over the plane: every pixel
+    against the closed form. The renderer's disk is a 64-gon; the disk of equal area stands
+    for it (their irradiance differs by far less than the noise)."""
     g = glslppm
     power, h, b = 40.0, 0.8, 0.5
     to_world = np.eye(4, dtype=np.float32)
     to_world[2, 3] = h
     light = g.Light("area", power=power, to_world=to_world, shape="disk", size_x=2 * b,
                     visible_to_camera=False)
-    e, _, _, _ = plane_irradiance(g, [light], passes=32, radius=0.05)
+    e, x, y, _ = plane_irradiance(g, [light], passes=32, radius=0.05)
     polygon_area = 32 * math.sin(2 * math.pi / 64) * b * b   # the 64-gon the renderer uses
     radiance = power / (math.pi * polygon_area)
-    expected = math.pi * radiance * b * b / (h * h + b * b)
-    centre = e[23:25, 23:25].mean()  # the 4 pixels within 0.09 of the axis: 1% below it
-    assert centre == pytest.approx(0.995 * expected, rel=0.03)
+    expected = disk_irradiance(radiance, math.sqrt(polygon_area / math.pi), h, np.hypot(x, y))
+    assert expected[24, 24] == pytest.approx(math.pi * radiance * b * b / (h * h + b * b),
+                                             rel=0.01)
+    error = e.mean() / expected.mean() - 1.0
+    centre = e[20:28, 20:28].mean() / expected[20:28, 20:28].mean() - 1.0
+    print(f"  image mean / closed form - 1: {error:+.4f}, centre 8x8: {centre:+.4f}")
+    # Measured over seeds: image mean within 0.05%, the centre within 0.4%. Blurring by the
+    # gather radius moves light but keeps it, so the image mean carries no kernel bias
+    # beyond what leaves across the border (E there is a fifth of the peak, and flat).
+    assert abs(error) < 0.006
+    assert abs(centre) < 0.015
 
 
 def test_area_light_is_one_sided_and_seen_from_the_front(glslppm):

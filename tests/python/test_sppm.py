@@ -21,30 +21,34 @@ def furnace_scene(g, albedo, emission, rings=24):
     return g.Scene(p, t, normals=n, materials=materials, camera=camera)
 
 
+@pytest.mark.parametrize("hash_mode", ["exact", "stochastic"])
 @pytest.mark.parametrize("albedo", [0.5, 0.8])
-def test_closed_furnace(glslppm, albedo):
+def test_closed_furnace(glslppm, albedo, hash_mode):
     """Inside a closed diffuse sphere with albedo a and emission Le, L = Le / (1 - a)
-    everywhere; the density of photons is uniform on a sphere, so the kernel adds no bias."""
+    everywhere. The photon density is uniform and the surface within distance R of a point
+    on a sphere has area pi R^2 exactly (Archimedes' cap), so the kernel adds no bias, as it
+    would in a box's corners. Depth is unlimited (1024 bounces loses a^1024)."""
     g = glslppm
     emission = 1.0
-    passes = 96 if albedo == 0.5 else 320
+    passes = 200 if albedo == 0.5 else 400
     r = g.Renderer(furnace_scene(g, albedo, emission),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=256, seed=3))
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024, seed=3,
+                              hash=hash_mode))
     r.run(passes)
     image = r.film()[..., :3]
-    expected = emission / (1.0 - albedo)
-    startup_bias = albedo / (passes * (1.0 - albedo) + albedo)
-    reflected = expected - emission
-    mean = image.mean()
     assert np.isfinite(image).all()
-    # The mean over 576 pixels: noise below 1% (measured spread of block means), plus the
-    # start-up bias of the reflected part.
-    low = expected - reflected * startup_bias - 0.02 * expected
-    high = expected + 0.02 * expected
-    assert low <= mean <= high, (mean, expected, startup_bias)
-    # Every 4x4 block agrees with the closed form within 6%.
+    expected = emission / (1.0 - albedo)
+    # The start-up bias of path regeneration is known in closed form (module docstring).
+    startup_bias = albedo / (passes * (1.0 - albedo) + albedo)
+    expected_after = expected - (expected - emission) * startup_bias
+    error = image.mean() / expected_after - 1.0
+    print(f"  mean relative error {error:+.4f} (start-up bias {startup_bias:.4f} removed)")
+    # Measured over seeds: |error| <= 0.16%, the spread of 6x6 block means 0.4-0.85%. The
+    # bound is 3x that, and a 1% bias fails it.
+    assert abs(error) < 0.005, (image.mean(), expected_after)
+    # Every 4x4 block agrees with the closed form within 4% (5 sigma of the block spread).
     blocks = image.reshape(6, 4, 6, 4, 3).mean(axis=(1, 3, 4))
-    assert np.all(np.abs(blocks - expected) <= 0.06 * expected + reflected * startup_bias), blocks
+    assert np.all(np.abs(blocks / expected_after - 1.0) <= 0.04), blocks
 
 
 def test_point_light_over_diffuse_plane(glslppm):
@@ -85,11 +89,20 @@ def test_point_light_over_diffuse_plane(glslppm):
             block = image[max(row - 1, 0):row + 2, max(col - 1, 0):col + 2].mean()
             errors.append((block - expected) / expected)
     errors = np.array(errors)
+    print(f"  block errors rms {np.sqrt(np.mean(errors ** 2)):.4f} mean {np.mean(errors):+.4f}")
     # Noise of a 3x3 pixel block after 64 passes: below 5% (rms), 15% at worst.
     assert np.sqrt(np.mean(errors ** 2)) < 0.05, errors
     assert np.max(np.abs(errors)) < 0.15, errors
-    # No systematic offset beyond 2%.
-    assert abs(np.mean(errors)) < 0.02, np.mean(errors)
+    # The image mean against the closed form averaged over each pixel's footprint (8x8
+    # samples): the kernel moves light but keeps it, so this tests energy. Measured within
+    # 0.1% over seeds and hash modes; a 1% loss fails.
+    sub = (np.arange(8) + 0.5) / 8
+    edges = ((np.arange(size)[:, None] + sub[None, :]) / size * 2.0 - 1.0).ravel() * half
+    xx, zz = np.meshgrid(edges, edges)
+    footprint = analytic(xx * xx + zz * zz).reshape(size, 8, size, 8).mean(axis=(1, 3))
+    error = image.mean() / footprint.mean() - 1.0
+    print(f"  image mean / closed form - 1: {error:+.4f}")
+    assert abs(error) < 0.005
 
 
 def test_emitted_power_equals_light_power(glslppm):

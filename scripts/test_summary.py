@@ -1,0 +1,123 @@
+"""The summary `make test` ends with: what each suite ran, on which Blender versions, how
+many tests were skipped and why. Reads the logs scripts/test-all.sh wrote.
+
+    python3 scripts/test_summary.py LOG_DIR SUITE...
+
+Exits 1 when a suite failed or left no result, or when a comparison against Cycles was
+skipped (those are the tests that catch a biased image; skipping one hides a failure).
+"""
+import os
+import re
+import sys
+
+
+def read(path):
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+def exit_code(text):
+    m = re.findall(r"^EXIT (\d+) (\d+)$", text, re.M)
+    return (int(m[-1][0]), int(m[-1][1])) if m else (None, 0)
+
+
+def ctest(text):
+    m = re.findall(r"(\d+)% tests passed, (\d+) tests? failed out of (\d+)", text)
+    if not m:
+        return None
+    failed, total = int(m[-1][1]), int(m[-1][2])
+    skipped = re.findall(r"^\s*\d+ - (\S+).*\(Skipped\)", text, re.M)
+    return dict(ran=total - len(skipped), failed=failed, skipped=[(s, "ctest skip") for s in skipped],
+                what=f"ctest: {total - failed - len(skipped)} passed, {failed} failed")
+
+
+def pytest(text):
+    m = re.findall(r"^=*\s*((?:\d+ \w+(?:, )?)+) in [\d.]+s", text, re.M)
+    if not m:
+        return None
+    counts = {k: int(v) for v, k in re.findall(r"(\d+) (\w+)", m[-1])}
+    failed = counts.get("failed", 0) + counts.get("error", 0) + counts.get("errors", 0)
+    skipped = [(name, reason) for name, reason in
+               re.findall(r"^SKIPPED \[\d+\] (\S+): (.*)$", text, re.M)]
+    passed = counts.get("passed", 0)
+    return dict(ran=passed + failed, failed=failed, skipped=skipped,
+                what=f"pytest: {passed} passed, {failed} failed")
+
+
+def bench(text):
+    m = re.findall(r"^test-bench: [\d.]+ s, (\d+) failures?", text, re.M)
+    if not m:
+        return None
+    runs = len(re.findall(r"^\S+: [\d.]+ s\s+\(", text, re.M))
+    failed = int(m[-1])
+    skipped = [(line, "bench") for line in re.findall(r"^(\S+: skipped.*)$", text, re.M)]
+    return dict(ran=runs, failed=failed, skipped=skipped,
+                what=f"glslppm-bench: {runs} runs checked, {failed} failures")
+
+
+def blender(text):
+    results = re.findall(r"^RESULT Blender ([\d.]+): (\d+) passed, (\d+) failed, (\d+) skipped",
+                         text, re.M)
+    if not results:
+        return None
+    skipped = re.findall(r"^SKIP (\S+): (.*)$", text, re.M)
+    versions = [v for v, *_ in results]
+    passed = sum(int(p) for _, p, _, _ in results)
+    failed = sum(int(f) for _, _, f, _ in results)
+    per = "; ".join(f"Blender {v}: {p} passed, {f} failed" for v, p, f, _ in results)
+    return dict(ran=passed + failed, failed=failed, skipped=skipped, versions=versions,
+                what=per)
+
+
+def fuzz(text):
+    replays = re.findall(r"^fuzz (\S+): (\d+) kept inputs replayed, no crash", text, re.M)
+    failed = len(re.findall(r"^fuzz \S+: FAILED", text, re.M))
+    if not replays and not failed:
+        return None
+    inputs = sum(int(n) for _, n in replays)
+    return dict(ran=inputs, failed=failed, skipped=[],
+                what=f"{len(replays)} fuzz targets, {inputs} kept inputs replayed, {failed} crashed")
+
+
+PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,
+           "sanitize": ctest, "fuzz-replay": fuzz}
+
+
+def main():
+    log_dir, suites = sys.argv[1], sys.argv[2:]
+    ok = True
+    total = 0
+    skipped = []
+    versions = []
+    print("== test summary ==")
+    for suite in suites:
+        text = read(os.path.join(log_dir, f"{suite}.log"))
+        rc, seconds = exit_code(text or "")
+        result = PARSERS[suite](text) if text else None
+        if result is None:
+            print(f"{suite:12s} NO RESULT (exit {rc}; see {log_dir}/{suite}.log)")
+            ok = False
+            continue
+        state = "ok" if rc == 0 and result["failed"] == 0 else "FAILED"
+        ok &= state == "ok"
+        total += result["ran"]
+        skipped += [(suite, name, reason) for name, reason in result["skipped"]]
+        versions += result.get("versions", [])
+        print(f"{suite:12s} {state:6s} {result['what']} ({seconds} s)")
+    for suite, name, reason in skipped:
+        print(f"skipped in {suite}: {name}: {reason}")
+    cycles_skipped = [name for _, name, _ in skipped if "cycles" in name.lower()]
+    if cycles_skipped:
+        print(f"FAILED: {len(cycles_skipped)} comparisons against Cycles were skipped")
+        ok = False
+    blender = f"Blender {' and '.join(versions)}" if versions else "no Blender"
+    print(f"{'TESTS PASSED' if ok else 'TESTS FAILED'}: {total} tests in {len(suites)} suites, "
+          f"{blender}, {len(skipped)} skipped")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
