@@ -22,11 +22,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bench/bench_scene.h"
 #include "image/exr.h"
@@ -167,9 +166,9 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene,
     if (ref.path.empty() && o.scene == "furnace") {
         ref.source = "analytic";
         ref.value = furnace_radiance(RenderSettings{}.max_depth);
-        ref.image = FloatImage{o.width, o.height,
-                               std::vector<float>(std::size_t(4) * o.width * o.height,
-                                                  static_cast<float>(ref.value))};
+        ref.image = FloatImage{
+            o.width, o.height,
+            std::vector<float>(std::size_t(4) * o.width * o.height, static_cast<float>(ref.value))};
         return ref;
     }
     if (fs::exists(ref.path)) {
@@ -350,21 +349,19 @@ nlohmann::json error_json(const ImageError& e) {
 }
 
 void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError* cross,
-                const std::vector<double>& cross_regions, double automatic_radius, const std::vector<Run>& runs,
-                const std::string& renderer) {
+                const std::vector<double>& cross_regions, double automatic_radius,
+                const std::vector<Run>& runs, const std::string& renderer) {
     using nlohmann::json;
-    json reference = {{"path", ref.path},       {"source", ref.source},
-                      {"passes", ref.passes},   {"created", ref.created},
+    json reference = {{"path", ref.path},
+                      {"source", ref.source},
+                      {"passes", ref.passes},
+                      {"created", ref.created},
                       {"seconds", ref.seconds}};
     if (ref.source == "analytic") reference["value"] = ref.value;
-    json out = {{"bench", "converge"},
-                {"scene", o.scene},
-                {"width", o.width},
-                {"height", o.height},
-                {"renderer", renderer},
-                {"automatic_radius", automatic_radius},
-                {"fit_from", o.fit_from},
-                {"reference", reference}};
+    json out = {{"bench", "converge"},    {"scene", o.scene},
+                {"width", o.width},       {"height", o.height},
+                {"renderer", renderer},   {"automatic_radius", automatic_radius},
+                {"fit_from", o.fit_from}, {"reference", reference}};
     if (cross) {
         out["cross_check"] = error_json(*cross);
         out["cross_check"]["path"] = o.cross_check;
@@ -407,9 +404,8 @@ void print_table(const ConvergeOptions& o, const Reference& ref, const ImageErro
     if (cross)
         std::printf("reference against %s: RMSE %.5f, relative MSE %.5f, mean bias %+.5f\n",
                     o.cross_check.c_str(), cross->rmse, cross->rel_mse, cross->mean_bias);
-    std::printf("%6s %9s %7s %10s %5s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons",
-                "radius", "hash", "rng", "slope", "theory", "passes", "seconds", "RMSE",
-                "mean bias");
+    std::printf("%6s %9s %7s %10s %5s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons", "radius",
+                "hash", "rng", "slope", "theory", "passes", "seconds", "RMSE", "mean bias");
     for (const Run& run : runs) {
         const Point& last = run.points.back();
         std::printf("%6.3f %9u %7.3g %10s %5s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",

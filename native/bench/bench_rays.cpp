@@ -10,11 +10,11 @@
 
 #include <algorithm>
 #include <bit>
-#include <nlohmann/json.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -319,12 +319,9 @@ void print_json(const RaysOptions& o, const std::string& renderer, const std::ve
     double worst = 1.0, worst_counts = 1.0;
     json results = json::array();
     for (const Row& row : rows) {
-        json r = {{"scene", row.scene},
-                  {"triangles", row.triangles},
-                  {"nodes", row.nodes},
-                  {"layout", row.order_count == 6 ? "mtbvh" : "tbvh"},
-                  {"leaf_size", row.leaf_size},
-                  {"build_seconds", row.build_seconds}};
+        json r = {{"scene", row.scene},         {"triangles", row.triangles},
+                  {"nodes", row.nodes},         {"layout", row.order_count == 6 ? "mtbvh" : "tbvh"},
+                  {"leaf_size", row.leaf_size}, {"build_seconds", row.build_seconds}};
         for (int m = 0; m < 3; ++m) {
             const ModeResult& x = row.modes[m];
             const double agreement = x.checked ? double(x.agreed) / double(x.checked) : 1.0;
@@ -368,10 +365,10 @@ void print_table(const RaysOptions& o, const std::string& renderer, const std::v
         std::size_t checked = 0, agreed = 0;
         for (const ModeResult& m : row.modes) checked += m.checked, agreed += m.agreed;
         for (const ModeResult& m : row.modes) checked += m.count_checked, agreed += m.count_agreed;
-        std::printf("%-16s %10zu %6s %5d %14.2f %14.2f %14.2f %9.2f%% %12.2f\n",
-                    row.scene.c_str(), row.triangles, row.order_count == 6 ? "MTBVH" : "TBVH",
-                    row.leaf_size, row.modes[0].rays_per_second() * 1e-6,
-                    row.modes[1].rays_per_second() * 1e-6, row.modes[2].rays_per_second() * 1e-6,
+        std::printf("%-16s %10zu %6s %5d %14.2f %14.2f %14.2f %9.2f%% %12.2f\n", row.scene.c_str(),
+                    row.triangles, row.order_count == 6 ? "MTBVH" : "TBVH", row.leaf_size,
+                    row.modes[0].rays_per_second() * 1e-6, row.modes[1].rays_per_second() * 1e-6,
+                    row.modes[2].rays_per_second() * 1e-6,
                     checked ? 100.0 * double(agreed) / double(checked) : 100.0,
                     row.modes[2].nodes_per_ray());
     }

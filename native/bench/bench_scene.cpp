@@ -108,9 +108,9 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
             "--scene " + spec + ": this build has no glTF loader (native/loaders/scene_file.h)");
 #endif
     }
-    throw std::invalid_argument(
-        "--scene '" + spec +
-        "' is not cornell, cornell-diffuse, caustic, furnace, million[:N] or a .gltf/.glb/.obj file");
+    throw std::invalid_argument("--scene '" + spec +
+                                "' is not cornell, cornell-diffuse, caustic, furnace, million[:N] "
+                                "or a .gltf/.glb/.obj file");
 }
 
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,

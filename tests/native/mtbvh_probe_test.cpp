@@ -124,10 +124,10 @@ std::vector<glm::vec3> order_directions() {
                         const int s[3] = {sx, sy, sz};
                         glm::vec3 d;
                         for (int k = 0; k < 3; ++k)
-                            d[k] = s[k] == 0 ? m[k] * scale
-                                 : s[k] == 1 ? -m[k] * scale
-                                 : s[k] == 2 ? 0.0f
-                                             : -0.0f;
+                            d[k] = s[k] == 0   ? m[k] * scale
+                                   : s[k] == 1 ? -m[k] * scale
+                                   : s[k] == 2 ? 0.0f
+                                               : -0.0f;
                         out.push_back(d);
                     }
     return out;
@@ -152,9 +152,8 @@ TEST(MtbvhGlsl, OrderSelectionEqualsCpuForEverySignPattern) {
         if (!ok && mismatches++ < 10)
             ADD_FAILURE() << "GLSL bvh_select_order / bvh_link_base, " << describe(d)
                           << ": want order " << want << " (link base " << want * int(kNodes)
-                          << "), got order " << mtbvh[i].head.x << " link base "
-                          << mtbvh[i].head.y << "; TBVH order " << tbvh[i].head.x
-                          << " link base " << tbvh[i].head.y;
+                          << "), got order " << mtbvh[i].head.x << " link base " << mtbvh[i].head.y
+                          << "; TBVH order " << tbvh[i].head.x << " link base " << tbvh[i].head.y;
         if (want >= 0) ++orders_seen[want];
     }
     EXPECT_EQ(mismatches, 0) << "of " << dirs.size() << " directions";
@@ -211,14 +210,13 @@ CountTotals expect_counts_equal(const std::string& name, const PackedBvh& bvh,
         totals.nodes += closest.nodes_visited;
         totals.triangles += closest.triangles_tested;
         const Probe& got = gpu[i];
-        if ((got.head.z != hit || got.head.w != occluded || got.work != want) &&
-            mismatches++ < 5)
+        if ((got.head.z != hit || got.head.w != occluded || got.work != want) && mismatches++ < 5)
             ADD_FAILURE() << name << " ray " << i << " " << describe(rays[i].dir) << ": CPU hit "
                           << hit << " any " << occluded << " work (" << want.x << ", " << want.y
                           << ", " << want.z << ", " << want.w << "), GPU hit " << got.head.z
-                          << " any " << got.head.w << " work (" << got.work.x << ", "
-                          << got.work.y << ", " << got.work.z << ", " << got.work.w
-                          << "), GPU order " << got.head.x;
+                          << " any " << got.head.w << " work (" << got.work.x << ", " << got.work.y
+                          << ", " << got.work.z << ", " << got.work.w << "), GPU order "
+                          << got.head.x;
     }
     EXPECT_EQ(mismatches, 0) << name << ": rays whose GPU traversal differs, of " << rays.size();
     return totals;
@@ -242,10 +240,11 @@ TEST(MtbvhGlsl, NodeAndTriangleCountsEqualCpuTraversalCounts) {
             const std::string name = std::string(c.name) + " leaf " + std::to_string(leaf);
             const CountTotals m = expect_counts_equal(name + " MTBVH", mtbvh, rays);
             const CountTotals t = expect_counts_equal(name + " TBVH", tbvh, rays);
-            std::printf("[ counts   ] %-18s %zu rays: closest-hit nodes per ray MTBVH %.2f, "
-                        "TBVH %.2f\n",
-                        name.c_str(), rays.size(), double(m.nodes) / double(rays.size()),
-                        double(t.nodes) / double(rays.size()));
+            std::printf(
+                "[ counts   ] %-18s %zu rays: closest-hit nodes per ray MTBVH %.2f, "
+                "TBVH %.2f\n",
+                name.c_str(), rays.size(), double(m.nodes) / double(rays.size()),
+                double(t.nodes) / double(rays.size()));
         }
     }
 }
