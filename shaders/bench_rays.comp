@@ -8,6 +8,8 @@
 //                    normal facing the camera (one diffuse bounce), closest hit.
 // With u_record_stride > 0 every stride-th ray is written out with its result, and the
 // benchmark traces those same rays on the CPU (native/bvh/traverse_cpu.h) to check them.
+// With BVH_COUNT_VISITS (an untimed dispatch: counting costs time) each ray's nodes visited
+// and triangles tested are written too, for the CPU's TraversalCounts to match exactly.
 #include "common/mtbvh.glsl"
 
 layout(local_size_x = 64) in;
@@ -17,6 +19,9 @@ layout(std430, binding = 4) buffer Hits { vec4 hits[]; };         // 2 per ray: 
 layout(std430, binding = 5) writeonly buffer Results { int results[]; };
 layout(std430, binding = 6) writeonly buffer Records { vec4 records[]; };  // 3 per recorded ray
 layout(std430, binding = 7) buffer Count { uint valid_hits; };
+#ifdef BVH_COUNT_VISITS
+layout(std430, binding = 8) writeonly buffer Work { uvec2 work[]; };  // nodes, triangles
+#endif
 
 uniform uint u_count;         // rays in this dispatch
 uniform uint u_seed;
@@ -56,12 +61,25 @@ Ray bench_ray(vec3 origin, vec3 dir, float tmax) {
     return r;
 }
 
+// The traversal work of this invocation's one ray (zero without BVH_COUNT_VISITS).
+uvec2 bench_work() {
+#ifdef BVH_COUNT_VISITS
+    return uvec2(bvh_nodes_visited, bvh_triangles_tested);
+#else
+    return uvec2(0u);
+#endif
+}
+
 void bench_record(uint i, Ray r, int result) {
+#ifdef BVH_COUNT_VISITS
+    work[i] = bench_work();
+#endif
     if (u_record_stride == 0u || i % u_record_stride != 0u) return;
     uint k = 3u * (i / u_record_stride);
+    uvec2 w = bench_work();
     records[k] = vec4(r.origin, r.tmin);
     records[k + 1u] = vec4(r.dir, r.tmax);
-    records[k + 2u] = vec4(intBitsToFloat(result), 0.0, 0.0, 0.0);
+    records[k + 2u] = vec4(intBitsToFloat(result), uintBitsToFloat(w.x), uintBitsToFloat(w.y), 0.0);
 }
 
 // Original triangle id of a packed index (-1 stays -1), as the CPU traversal returns it.
@@ -102,6 +120,9 @@ void main() {
     vec4 hp = hits[2u * i];
     if (hp.w == 0.0) {
         results[i] = -2;
+#ifdef BVH_COUNT_VISITS
+        work[i] = uvec2(0u);
+#endif
         return;
     }
     vec3 n = hits[2u * i + 1u].xyz;

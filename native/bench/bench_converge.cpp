@@ -10,7 +10,11 @@
 // The reference is a long run of the same scene with exact hashing, written as EXR with its
 // settings in glslppm/ attributes and reused when those match; --reference may also name an
 // EXR made elsewhere (scripts/cycles_reference.py), and --cross-check a second reference
-// that the first is compared with.
+// that the first is compared with. A reference made by this renderer shares its biases, so
+// a run can converge to the wrong answer and still pass; for `--scene furnace` the
+// reference is instead the exact answer (furnace_radiance), and each point also reports the
+// signed relative error of the image's mean (mean_bias), which noise averages out of and a
+// bias does not.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -18,6 +22,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,6 +49,9 @@ struct ConvergeOptions {
     std::string reference;  // default: references/ beside the binary
     int reference_passes = 1024;
     std::uint32_t reference_photons = 65536;
+    // The reference's initial radius over the automatic one: a smaller radius trades noise
+    // for less of SPPM's finite-radius bias (darkened corners) at a given photon count.
+    float reference_radius_scale = 1.0f;
     std::string cross_check;
     int device = -1;
     bool json = false;
@@ -51,6 +59,7 @@ struct ConvergeOptions {
 
 struct ImageError {
     double rmse = 0.0, rel_mse = 0.0;
+    double mean_bias = 0.0;  // sum(x) / sum(r) - 1 over pixels and RGB
 };
 
 struct Point {
@@ -68,7 +77,8 @@ struct Run {
 
 struct Reference {
     FloatImage image;
-    std::string path, source;
+    std::string path, source;  // source "analytic": no file, every pixel = value
+    double value = 0.0;
     long passes = 0;
     bool created = false;
     double seconds = 0.0;
@@ -77,20 +87,44 @@ struct Reference {
 ImageError image_error(const std::vector<float>& rgba, const FloatImage& reference) {
     ImageError e;
     const std::size_t pixels = rgba.size() / 4;
-    double se = 0.0, rel = 0.0;
+    double se = 0.0, rel = 0.0, sum_x = 0.0, sum_r = 0.0;
     for (std::size_t p = 0; p < pixels; ++p) {
         for (int c = 0; c < 3; ++c) {
             const double x = rgba[4 * p + c], r = reference.rgba[4 * p + c];
             se += (x - r) * (x - r);
             rel += (x - r) * (x - r) / (r * r + 0.01);
+            sum_x += x;
+            sum_r += r;
         }
     }
     e.rmse = std::sqrt(se / double(3 * pixels));
     e.rel_mse = rel / double(3 * pixels);
+    e.mean_bias = sum_r > 0.0 ? sum_x / sum_r - 1.0 : 0.0;
     return e;
 }
 
 // Least-squares slope of log(MSE) against log(passes) over the points from `fit_from` on.
+// sum(a) / sum(b) - 1 over each cell of a kRegionGrid x kRegionGrid grid (row 0 at the
+// image's first row): the cross-check's local bound, which a bias confined to one part of
+// the image (a wall, the light's surroundings) cannot hide in the whole image's mean.
+constexpr int kRegionGrid = 4;
+std::vector<double> region_bias(const std::vector<float>& a, const FloatImage& b) {
+    std::vector<double> sum_a(kRegionGrid * kRegionGrid), sum_b(sum_a.size());
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+            const int cell = (y * kRegionGrid / b.height) * kRegionGrid + x * kRegionGrid / b.width;
+            const std::size_t p = std::size_t(4) * (std::size_t(y) * b.width + x);
+            for (int c = 0; c < 3; ++c) {
+                sum_a[cell] += a[p + c];
+                sum_b[cell] += b.rgba[p + c];
+            }
+        }
+    std::vector<double> out(sum_a.size());
+    for (std::size_t k = 0; k < out.size(); ++k)
+        out[k] = sum_b[k] > 0.0 ? sum_a[k] / sum_b[k] - 1.0 : 0.0;
+    return out;
+}
+
 double fitted_slope(const std::vector<Point>& points, int fit_from) {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (const Point& p : points) {
@@ -125,9 +159,18 @@ std::string default_reference_path(const ConvergeOptions& o) {
 
 // Loads the reference, checking that it was made for this scene and size (and, for one of
 // ours, with at least the passes asked for); renders and writes it when the file is missing.
-Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene) {
+Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene,
+                                 double automatic_radius) {
     Reference ref;
     ref.path = o.reference;
+    if (ref.path.empty() && o.scene == "furnace") {
+        ref.source = "analytic";
+        ref.value = furnace_radiance(RenderSettings{}.max_depth);
+        ref.image = FloatImage{
+            o.width, o.height,
+            std::vector<float>(std::size_t(4) * o.width * o.height, static_cast<float>(ref.value))};
+        return ref;
+    }
     if (fs::exists(ref.path)) {
         std::map<std::string, std::string> a;
         ref.image = read_exr(ref.path, &a);
@@ -148,6 +191,9 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene) {
             if (a["hash"] != "exact") mismatch("hash", "exact");
             if (ref.passes < o.reference_passes)
                 mismatch("passes", "at least " + std::to_string(o.reference_passes));
+            const std::string scale = a.count("radius_scale") ? a["radius_scale"] : "1";
+            if (scale != number(o.reference_radius_scale))
+                mismatch("radius_scale", number(o.reference_radius_scale));
         }
         return ref;
     }
@@ -155,6 +201,8 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene) {
     s.width = o.width;
     s.height = o.height;
     s.photons_per_pass = o.reference_photons;
+    if (o.reference_radius_scale != 1.0f)  // else automatic, as references made before
+        s.initial_radius = static_cast<float>(o.reference_radius_scale * automatic_radius);
     s.hash = HashMode::Exact;
     s.seed = 987654321;  // independent of the runs measured against it (seeds 0..)
     s.device = o.device;
@@ -177,6 +225,7 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene) {
                {"hash", "exact"},
                {"passes", std::to_string(o.reference_passes)},
                {"photons_per_pass", std::to_string(s.photons_per_pass)},
+               {"radius_scale", number(o.reference_radius_scale)},
                {"photons_emitted", std::to_string(st.photons_emitted)},
                {"alpha", number(s.alpha)},
                {"rng", to_string(s.rng)},
@@ -236,6 +285,7 @@ int usage() {
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
         "       [--hash stochastic,exact] [--rng paper,pcg] [--fit-from P]\n"
         "       [--reference X.exr] [--reference-passes R] [--reference-photons N]\n"
+        "       [--reference-radius-scale s]\n"
         "       [--cross-check Y.exr] [--device D] [--json]\n");
     return 2;
 }
@@ -278,6 +328,8 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
             o.reference_passes = static_cast<int>(parse_count(v));
         else if (a == "--reference-photons")
             o.reference_photons = static_cast<std::uint32_t>(parse_count(v));
+        else if (a == "--reference-radius-scale")
+            o.reference_radius_scale = parse_float(v);
         else if (a == "--cross-check")
             o.cross_check = v;
         else if (a == "--device")
@@ -287,61 +339,80 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
     }
     for (float s : o.radius_scales)
         if (!(s > 0.0f)) throw std::invalid_argument("--radius-scale: must be > 0");
+    if (!(o.reference_radius_scale > 0.0f))
+        throw std::invalid_argument("--reference-radius-scale: must be > 0");
     return o.passes >= 1 && o.reference_passes >= 1;
 }
 
+nlohmann::json error_json(const ImageError& e) {
+    return {{"rmse", e.rmse}, {"rel_mse", e.rel_mse}, {"mean_bias", e.mean_bias}};
+}
+
 void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError* cross,
-                double automatic_radius, const std::vector<Run>& runs,
-                const std::string& renderer) {
-    std::printf(
-        "{\"bench\": \"converge\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
-        "\"renderer\": \"%s\", \"automatic_radius\": %.6g, \"fit_from\": %d, "
-        "\"reference\": {\"path\": \"%s\", \"source\": \"%s\", \"passes\": %ld, "
-        "\"created\": %s, \"seconds\": %.3f}",
-        o.scene.c_str(), o.width, o.height, renderer.c_str(), automatic_radius, o.fit_from,
-        ref.path.c_str(), ref.source.c_str(), ref.passes, ref.created ? "true" : "false",
-        ref.seconds);
-    if (cross)
-        std::printf(", \"cross_check\": {\"path\": \"%s\", \"rmse\": %.6g, \"rel_mse\": %.6g}",
-                    o.cross_check.c_str(), cross->rmse, cross->rel_mse);
-    std::printf(", \"runs\": [");
-    for (std::size_t r = 0; r < runs.size(); ++r) {
-        const Run& run = runs[r];
-        const RenderSettings& s = run.settings;
-        std::printf(
-            "%s\n  {\"alpha\": %.6g, \"photons_per_pass\": %u, \"radius_scale\": %.6g, "
-            "\"initial_radius\": %.6g, \"hash\": \"%s\", \"rng\": \"%s\", "
-            "\"slope\": %.4f, \"theoretical_slope\": %.4f, \"points\": [",
-            r ? "," : "", s.alpha, s.photons_per_pass, run.radius_scale, s.initial_radius,
-            to_string(s.hash).c_str(), to_string(s.rng).c_str(), run.slope,
-            theoretical_slope(s.alpha));
-        for (std::size_t p = 0; p < run.points.size(); ++p) {
-            const Point& pt = run.points[p];
-            std::printf("%s{\"passes\": %d, \"seconds\": %.5f, \"rmse\": %.6g, \"rel_mse\": %.6g}",
-                        p ? ", " : "", pt.passes, pt.seconds, pt.error.rmse, pt.error.rel_mse);
-        }
-        std::printf("]}");
+                const std::vector<double>& cross_regions, double automatic_radius,
+                const std::vector<Run>& runs, const std::string& renderer) {
+    using nlohmann::json;
+    json reference = {{"path", ref.path},
+                      {"source", ref.source},
+                      {"passes", ref.passes},
+                      {"created", ref.created},
+                      {"seconds", ref.seconds}};
+    if (ref.source == "analytic") reference["value"] = ref.value;
+    json out = {{"bench", "converge"},    {"scene", o.scene},
+                {"width", o.width},       {"height", o.height},
+                {"renderer", renderer},   {"automatic_radius", automatic_radius},
+                {"fit_from", o.fit_from}, {"reference", reference}};
+    if (cross) {
+        out["cross_check"] = error_json(*cross);
+        out["cross_check"]["path"] = o.cross_check;
+        out["cross_check"]["region_grid"] = kRegionGrid;
+        out["cross_check"]["region_bias"] = cross_regions;
     }
-    std::printf("\n]}\n");
+    json runs_json = json::array();
+    for (const Run& run : runs) {
+        const RenderSettings& s = run.settings;
+        json points = json::array();
+        for (const Point& pt : run.points) {
+            json p = error_json(pt.error);
+            p["passes"] = pt.passes;
+            p["seconds"] = pt.seconds;
+            points.push_back(p);
+        }
+        runs_json.push_back({{"alpha", s.alpha},
+                             {"photons_per_pass", s.photons_per_pass},
+                             {"radius_scale", run.radius_scale},
+                             {"initial_radius", s.initial_radius},
+                             {"hash", to_string(s.hash)},
+                             {"rng", to_string(s.rng)},
+                             {"slope", run.slope},
+                             {"theoretical_slope", theoretical_slope(s.alpha)},
+                             {"points", points}});
+    }
+    out["runs"] = runs_json;
+    std::printf("%s\n", out.dump(1).c_str());
 }
 
 void print_table(const ConvergeOptions& o, const Reference& ref, const ImageError* cross,
                  const std::vector<Run>& runs, const std::string& renderer) {
-    std::printf("%s: %s %dx%d, reference %s (%s, %ld passes%s)\n", renderer.c_str(),
-                o.scene.c_str(), o.width, o.height, ref.path.c_str(), ref.source.c_str(),
-                ref.passes, ref.created ? ", rendered now" : "");
+    if (ref.source == "analytic")
+        std::printf("%s: %s %dx%d, reference: the exact radiance %.6g\n", renderer.c_str(),
+                    o.scene.c_str(), o.width, o.height, ref.value);
+    else
+        std::printf("%s: %s %dx%d, reference %s (%s, %ld passes%s)\n", renderer.c_str(),
+                    o.scene.c_str(), o.width, o.height, ref.path.c_str(), ref.source.c_str(),
+                    ref.passes, ref.created ? ", rendered now" : "");
     if (cross)
-        std::printf("reference against %s: RMSE %.5f, relative MSE %.5f\n", o.cross_check.c_str(),
-                    cross->rmse, cross->rel_mse);
-    std::printf("%6s %9s %7s %10s %5s %8s %8s %10s %10s %10s\n", "alpha", "photons", "radius",
-                "hash", "rng", "slope", "theory", "passes", "seconds", "RMSE");
+        std::printf("reference against %s: RMSE %.5f, relative MSE %.5f, mean bias %+.5f\n",
+                    o.cross_check.c_str(), cross->rmse, cross->rel_mse, cross->mean_bias);
+    std::printf("%6s %9s %7s %10s %5s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons", "radius",
+                "hash", "rng", "slope", "theory", "passes", "seconds", "RMSE", "mean bias");
     for (const Run& run : runs) {
         const Point& last = run.points.back();
-        std::printf("%6.3f %9u %7.3g %10s %5s %8.3f %8.3f %10d %10.3f %10.5f\n", run.settings.alpha,
-                    run.settings.photons_per_pass, run.radius_scale,
+        std::printf("%6.3f %9u %7.3g %10s %5s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",
+                    run.settings.alpha, run.settings.photons_per_pass, run.radius_scale,
                     to_string(run.settings.hash).c_str(), to_string(run.settings.rng).c_str(),
                     run.slope, theoretical_slope(run.settings.alpha), last.passes, last.seconds,
-                    last.error.rmse);
+                    last.error.rmse, last.error.mean_bias);
     }
 }
 
@@ -351,25 +422,14 @@ int bench_converge(int argc, char** argv) {
     ConvergeOptions o;
     try {
         if (!parse(argc, argv, o)) return usage();
-        if (o.reference.empty()) o.reference = default_reference_path(o);
+        // The furnace's reference is its exact radiance unless a file is named.
+        if (o.reference.empty() && o.scene != "furnace") o.reference = default_reference_path(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "glslppm-bench converge: %s\n", e.what());
         return 2;
     }
     try {
         const Scene scene = make_bench_scene(o.scene, float(o.width) / float(o.height));
-        const Reference ref = load_or_make_reference(o, scene);
-        ImageError cross_error;
-        const ImageError* cross = nullptr;
-        if (!o.cross_check.empty()) {
-            const FloatImage other = read_exr(o.cross_check);
-            if (other.width != o.width || other.height != o.height)
-                throw std::invalid_argument("--cross-check " + o.cross_check + " is not " +
-                                            std::to_string(o.width) + "x" +
-                                            std::to_string(o.height));
-            cross_error = image_error(ref.image.rgba, other);
-            cross = &cross_error;
-        }
         // The automatic radius of this scene and size, which --radius-scale multiplies.
         RenderSettings probe;
         probe.width = o.width;
@@ -382,6 +442,20 @@ int bench_converge(int argc, char** argv) {
             probe_stats = probe_renderer.stats();
         }
         const double automatic = probe_stats.initial_radius;
+        const Reference ref = load_or_make_reference(o, scene, automatic);
+        ImageError cross_error;
+        const ImageError* cross = nullptr;
+        std::vector<double> cross_regions;
+        if (!o.cross_check.empty()) {
+            const FloatImage other = read_exr(o.cross_check);
+            if (other.width != o.width || other.height != o.height)
+                throw std::invalid_argument("--cross-check " + o.cross_check + " is not " +
+                                            std::to_string(o.width) + "x" +
+                                            std::to_string(o.height));
+            cross_error = image_error(ref.image.rgba, other);
+            cross_regions = region_bias(ref.image.rgba, other);
+            cross = &cross_error;
+        }
 
         std::vector<Run> runs;
         std::uint64_t seed = 1;
@@ -401,7 +475,7 @@ int bench_converge(int argc, char** argv) {
                             if (!o.json) std::fprintf(stderr, "  run %zu done\n", runs.size());
                         }
         if (o.json)
-            print_json(o, ref, cross, automatic, runs, probe_stats.renderer);
+            print_json(o, ref, cross, cross_regions, automatic, runs, probe_stats.renderer);
         else
             print_table(o, ref, cross, runs, probe_stats.renderer);
         return 0;

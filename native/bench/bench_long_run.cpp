@@ -12,38 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_scene.h"
 #include "render/renderer.h"
-#include "scenes/shapes.h"
 
 using namespace glslppm;
-
-namespace {
-
-Scene box_furnace() {
-    auto mesh = std::make_shared<OwnedMesh>();
-    const float h = 1.0f;
-    const glm::vec3 q[6][4] = {
-        {{-h, -h, -h}, {-h, -h, h}, {h, -h, h}, {h, -h, -h}},
-        {{-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}},
-        {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
-        {{-h, -h, h}, {-h, h, h}, {h, h, h}, {h, -h, h}},
-        {{-h, -h, -h}, {-h, h, -h}, {-h, h, h}, {-h, -h, h}},
-        {{h, -h, -h}, {h, -h, h}, {h, h, h}, {h, h, -h}},
-    };
-    for (const auto& f : q) {
-        const Shape s = make_quad(f[0], f[1], f[2], f[3]);
-        mesh->append(s.positions, s.triangles, 0);
-    }
-    Scene scene = make_scene(mesh);
-    Material wall;
-    wall.color = glm::vec3(0.5f);
-    wall.emission = glm::vec3(1.0f);
-    scene.materials = {wall};
-    scene.camera.fov_x = 30.0f * 3.14159265f / 180.0f;  // the middle of the -Z face
-    return scene;
-}
-
-}  // namespace
 
 int bench_long_run(int argc, char** argv) {
     RenderSettings settings;
@@ -67,7 +39,7 @@ int bench_long_run(int argc, char** argv) {
         }
     }
     try {
-        Renderer renderer(box_furnace(), settings);
+        Renderer renderer(make_bench_scene("furnace"), settings);
         std::vector<long long> checkpoints;
         for (int i = 0;; ++i) {
             const long long k = std::llround(100.0 * std::pow(10.0, i / 4.0));
@@ -75,6 +47,7 @@ int bench_long_run(int argc, char** argv) {
             checkpoints.push_back(k);
         }
         checkpoints.push_back(total);
+        const double exact = furnace_radiance(settings.max_depth);
         std::vector<std::string> failures;
         std::vector<double> log_k, log_e;
         std::string rows;
@@ -90,7 +63,7 @@ int bench_long_run(int argc, char** argv) {
             for (std::size_t p = 0; p < film.size(); p += 4) {
                 for (int c = 0; c < 3; ++c) {
                     finite &= std::isfinite(film[p + c]);
-                    sum2 += (film[p + c] - 1.5) * (film[p + c] - 1.5);
+                    sum2 += (film[p + c] - exact) * (film[p + c] - exact);
                     ++n;
                 }
             }

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
                          "--photons N --passes K --rounds R] [--json]\n"
                          "       glslppm-bench longrun [--passes K --photons N --width W]\n"
                          "  scenes: cornell, cornell-diffuse, caustic, million[:N] (e.g. million:100k), "
-                         "or a .gltf/.glb/.obj file\n");
+                         "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
+                         "file\n");
     return 2;
 }

@@ -3,6 +3,9 @@
 // incoherent rays), for several BVH leaf sizes and scenes. The GPU time of each batch comes
 // from GL timer queries; a sample of the traced rays is traced again on the CPU
 // (traverse_cpu.h) and the agreement printed, so a broken kernel cannot pass unnoticed.
+// An untimed dispatch compiled with BVH_COUNT_VISITS measures the nodes and triangles each
+// ray visits on the GPU, and the sample's counts must equal the CPU's TraversalCounts: a
+// wrong MTBVH order gives the right hits and shows only in this work (and the time).
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -11,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -45,6 +49,14 @@ struct ModeResult {
     double gpu_seconds = 0.0, wall_seconds = 0.0;
     std::uint64_t rays = 0;  // traced (shadow and incoherent: from valid primary hits only)
     std::size_t checked = 0, agreed = 0;
+    // The counted dispatch: its rays' GPU nodes and triangles summed, and its sample traced
+    // on the CPU, where count_agreed rays had the same result and exactly the same counts.
+    std::uint64_t counted_rays = 0, gpu_nodes = 0, gpu_triangles = 0, cpu_nodes = 0;
+    std::size_t count_checked = 0, count_agreed = 0;
+    double nodes_per_ray() const { return counted_rays ? double(gpu_nodes) / counted_rays : 0; }
+    double triangles_per_ray() const {
+        return counted_rays ? double(gpu_triangles) / counted_rays : 0;
+    }
     double rays_per_second() const { return gpu_seconds > 0 ? double(rays) / gpu_seconds : 0; }
 };
 
@@ -92,11 +104,11 @@ std::vector<glm::vec4> light_triangles(const Scene& scene, const ValidMesh& mesh
 class RayBench {
   public:
     RayBench(const RaysOptions& options) : options_(options), context_(options.device) {
-        glGenBuffers(8, buffers_);
+        glGenBuffers(9, buffers_);
         glGenQueries(2, queries_);
     }
     ~RayBench() {
-        glDeleteBuffers(8, buffers_);
+        glDeleteBuffers(9, buffers_);
         glDeleteQueries(2, queries_);
     }
     const gl::ContextInfo& info() const { return context_.info(); }
@@ -113,6 +125,7 @@ class RayBench {
         upload(6, (options_.rays / stride() + 1) * 48, nullptr);
         const GLuint zero = 0;
         upload(7, 4, &zero);
+        upload(8, options_.rays * 8, nullptr);
         for (int mode = 0; mode < 3; ++mode) {
             const gl::ComputeProgram& program = this->program(mode, bvh.order_count);
             set_uniforms(program, scene, bvh, lights);
@@ -121,6 +134,12 @@ class RayBench {
             dispatch(program, 1, mode == 0, stride());
             if (mode == 0) valid_hits_ = read_count();
             check(bvh, mode, row.modes[mode]);
+            // The same rays again, counting (primary rays store no hits this time: the
+            // other modes start from the first dispatch's).
+            const gl::ComputeProgram& counted = this->program(mode, bvh.order_count, true);
+            set_uniforms(counted, scene, bvh, lights);
+            dispatch(counted, 1, false, stride());
+            check_counts(bvh, mode, row.modes[mode]);
             time_batches(program, row.modes[mode]);
             row.modes[mode].rays =
                 std::uint64_t(options_.batches) * (mode == 0 ? options_.rays : valid_hits_);
@@ -157,12 +176,13 @@ class RayBench {
             std::max<std::size_t>(1, options_.rays / options_.checked));
     }
 
-    const gl::ComputeProgram& program(int mode, int order_count) {
+    const gl::ComputeProgram& program(int mode, int order_count, bool counted = false) {
         gl::Defines d = {{mode == 0   ? "MODE_PRIMARY"
                           : mode == 1 ? "MODE_SHADOW"
                                       : "MODE_INCOHERENT",
                           "1"}};
         if (order_count == 1) d.push_back({"GLSLPPM_TBVH", "1"});
+        if (counted) d.push_back({"BVH_COUNT_VISITS", "1"});
         return context_.programs().get("bench_rays.comp", d);
     }
 
@@ -244,55 +264,113 @@ class RayBench {
         }
     }
 
+    // After the counted dispatch: sums the GPU's per-ray counts over every traced ray, and
+    // traces the recorded sample on the CPU with TraversalCounts, which must be the GPU's
+    // exactly (same BVH, same floats, same visiting order).
+    void check_counts(const PackedBvh& bvh, int mode, ModeResult& result) {
+        std::vector<int> gpu(options_.rays);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[5]);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(gpu.size() * 4),
+                           gpu.data());
+        std::vector<glm::uvec2> work(options_.rays);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[8]);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(work.size() * 8),
+                           work.data());
+        for (std::size_t i = 0; i < gpu.size(); ++i) {
+            if (gpu[i] == -2) continue;
+            ++result.counted_rays;
+            result.gpu_nodes += work[i].x;
+            result.gpu_triangles += work[i].y;
+        }
+        const std::size_t n = (options_.rays - 1) / stride() + 1;
+        std::vector<glm::vec4> rec(3 * n);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[6]);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(rec.size() * 16),
+                           rec.data());
+        for (std::size_t k = 0; k < n; ++k) {
+            if (gpu[k * stride()] == -2) continue;
+            const Ray ray{glm::vec3(rec[3 * k]), glm::vec3(rec[3 * k + 1]), rec[3 * k].w,
+                          rec[3 * k + 1].w};
+            TraversalCounts counts;
+            const int want = mode == 1 ? (any_hit(bvh, ray, &counts) ? 1 : 0)
+                                       : closest_hit(bvh, ray, &counts).triangle;
+            const int got = std::bit_cast<int>(rec[3 * k + 2].x);
+            const auto nodes = std::bit_cast<std::uint32_t>(rec[3 * k + 2].y);
+            const auto triangles = std::bit_cast<std::uint32_t>(rec[3 * k + 2].z);
+            ++result.count_checked;
+            result.cpu_nodes += counts.nodes_visited;
+            result.count_agreed += got == want && nodes == counts.nodes_visited &&
+                                           triangles == counts.triangles_tested &&
+                                           work[k * stride()] == glm::uvec2(nodes, triangles)
+                                       ? 1
+                                       : 0;
+        }
+    }
+
     RaysOptions options_;
     gl::EglContext context_;
-    GLuint buffers_[8] = {};
+    GLuint buffers_[9] = {};
     GLuint queries_[2] = {};
     std::uint64_t valid_hits_ = 0;
 };
 
 void print_json(const RaysOptions& o, const std::string& renderer, const std::vector<Row>& rows) {
-    std::printf(
-        "{\"bench\": \"rays\", \"renderer\": \"%s\", \"rays_per_batch\": %zu, "
-        "\"batches\": %d, \"repeat\": %d, \"results\": [",
-        renderer.c_str(), o.rays, o.batches, o.repeat);
-    double worst = 1.0;
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-        const Row& row = rows[r];
-        std::printf(
-            "%s\n  {\"scene\": \"%s\", \"triangles\": %zu, \"nodes\": %zu, "
-            "\"layout\": \"%s\", \"leaf_size\": %d, \"build_seconds\": %.4f",
-            r ? "," : "", row.scene.c_str(), row.triangles, row.nodes,
-            row.order_count == 6 ? "mtbvh" : "tbvh", row.leaf_size, row.build_seconds);
+    using nlohmann::json;
+    double worst = 1.0, worst_counts = 1.0;
+    json results = json::array();
+    for (const Row& row : rows) {
+        json r = {{"scene", row.scene},         {"triangles", row.triangles},
+                  {"nodes", row.nodes},         {"layout", row.order_count == 6 ? "mtbvh" : "tbvh"},
+                  {"leaf_size", row.leaf_size}, {"build_seconds", row.build_seconds}};
         for (int m = 0; m < 3; ++m) {
             const ModeResult& x = row.modes[m];
             const double agreement = x.checked ? double(x.agreed) / double(x.checked) : 1.0;
+            const double count_agreement =
+                x.count_checked ? double(x.count_agreed) / double(x.count_checked) : 1.0;
             worst = std::min(worst, agreement);
-            std::printf(
-                ", \"%s\": {\"rays\": %llu, \"gpu_seconds\": %.6f, "
-                "\"wall_seconds\": %.6f, \"rays_per_second\": %.1f, \"checked\": %zu, "
-                "\"agreement\": %.6f}",
-                kModes[m], static_cast<unsigned long long>(x.rays), x.gpu_seconds, x.wall_seconds,
-                x.rays_per_second(), x.checked, agreement);
+            worst_counts = std::min(worst_counts, count_agreement);
+            r[kModes[m]] = {
+                {"rays", x.rays},
+                {"gpu_seconds", x.gpu_seconds},
+                {"wall_seconds", x.wall_seconds},
+                {"rays_per_second", x.rays_per_second()},
+                {"checked", x.checked},
+                {"agreement", agreement},
+                // Work per ray of the counted dispatch (all its rays, GPU counts), and the
+                // CPU's count over the checked sample with the fraction that matched exactly.
+                {"counted_rays", x.counted_rays},
+                {"nodes_per_ray", x.nodes_per_ray()},
+                {"triangles_per_ray", x.triangles_per_ray()},
+                {"count_checked", x.count_checked},
+                {"cpu_nodes_per_ray",
+                 x.count_checked ? double(x.cpu_nodes) / double(x.count_checked) : 0.0},
+                {"count_agreement", count_agreement}};
         }
-        std::printf("}");
+        results.push_back(r);
     }
-    std::printf("\n], \"agreement_min\": %.6f}\n", worst);
+    const json out = {{"bench", "rays"},          {"renderer", renderer},
+                      {"rays_per_batch", o.rays}, {"batches", o.batches},
+                      {"repeat", o.repeat},       {"results", results},
+                      {"agreement_min", worst},   {"count_agreement_min", worst_counts}};
+    std::printf("%s\n", out.dump(1).c_str());
 }
 
 void print_table(const RaysOptions& o, const std::string& renderer, const std::vector<Row>& rows) {
     std::printf("%s: %zu rays per batch, %d batches, fastest of %d (GPU time, timer queries)\n",
                 renderer.c_str(), o.rays, o.batches, o.repeat);
-    std::printf("%-16s %10s %6s %5s %14s %14s %14s %10s\n", "scene", "triangles", "layout", "leaf",
-                "primary Mr/s", "shadow Mr/s", "incoher. Mr/s", "CPU agree");
+    std::printf("%-16s %10s %6s %5s %14s %14s %14s %10s %12s\n", "scene", "triangles", "layout",
+                "leaf", "primary Mr/s", "shadow Mr/s", "incoher. Mr/s", "CPU agree",
+                "incoh. nodes");
     for (const Row& row : rows) {
         std::size_t checked = 0, agreed = 0;
         for (const ModeResult& m : row.modes) checked += m.checked, agreed += m.agreed;
-        std::printf("%-16s %10zu %6s %5d %14.2f %14.2f %14.2f %9.2f%%\n", row.scene.c_str(),
+        for (const ModeResult& m : row.modes) checked += m.count_checked, agreed += m.count_agreed;
+        std::printf("%-16s %10zu %6s %5d %14.2f %14.2f %14.2f %9.2f%% %12.2f\n", row.scene.c_str(),
                     row.triangles, row.order_count == 6 ? "MTBVH" : "TBVH", row.leaf_size,
                     row.modes[0].rays_per_second() * 1e-6, row.modes[1].rays_per_second() * 1e-6,
                     row.modes[2].rays_per_second() * 1e-6,
-                    checked ? 100.0 * double(agreed) / double(checked) : 100.0);
+                    checked ? 100.0 * double(agreed) / double(checked) : 100.0,
+                    row.modes[2].nodes_per_ray());
     }
 }
 

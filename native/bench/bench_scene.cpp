@@ -1,13 +1,15 @@
 #include "bench/bench_scene.h"
 
-#include <cstdlib>
-
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <stdexcept>
 
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
 #include "scenes/million_scene.h"
+#include "scenes/shapes.h"
 #if __has_include("loaders/scene_file.h")
 #include "loaders/scene_file.h"
 #define GLSLPPM_HAS_SCENE_FILE 1
@@ -21,7 +23,42 @@ bool ends_with(const std::string& s, const std::string& suffix) {
            s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+constexpr float kFurnaceEmission = 1.0f, kFurnaceAlbedo = 0.5f;
+
+// Inside a closed box every wall both emits and reflects uniformly, so the radiance is the
+// same everywhere and in every direction: L = Le + a L for unlimited bounces. The camera
+// looks at the middle of the -Z wall, far from the edges where a gather radius would reach
+// past a wall's end.
+Scene make_box_furnace() {
+    auto mesh = std::make_shared<OwnedMesh>();
+    const float h = 1.0f;
+    const glm::vec3 q[6][4] = {
+        {{-h, -h, -h}, {-h, -h, h}, {h, -h, h}, {h, -h, -h}},
+        {{-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}},
+        {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
+        {{-h, -h, h}, {-h, h, h}, {h, h, h}, {h, -h, h}},
+        {{-h, -h, -h}, {-h, h, -h}, {-h, h, h}, {-h, -h, h}},
+        {{h, -h, -h}, {h, -h, h}, {h, h, h}, {h, h, -h}},
+    };
+    for (const auto& f : q) {
+        const Shape s = make_quad(f[0], f[1], f[2], f[3]);
+        mesh->append(s.positions, s.triangles, 0);
+    }
+    Scene scene = make_scene(mesh);
+    Material wall;
+    wall.color = glm::vec3(kFurnaceAlbedo);
+    wall.emission = glm::vec3(kFurnaceEmission);
+    scene.materials = {wall};
+    scene.camera.fov_x = 30.0f * 3.14159265f / 180.0f;
+    return scene;
+}
+
 }  // namespace
+
+double furnace_radiance(int max_depth) {
+    const double a = kFurnaceAlbedo;
+    return kFurnaceEmission * (1.0 - std::pow(a, max_depth + 1)) / (1.0 - a);
+}
 
 std::size_t parse_count(const std::string& text) {
     std::size_t used = 0;
@@ -52,6 +89,7 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
         return make_cornell_box(options);
     }
     if (spec == "caustic") return make_caustic_scene();
+    if (spec == "furnace") return make_box_furnace();
     if (spec == "million") return make_million_scene();
     if (spec.rfind("million:", 0) == 0) {
         MillionSceneOptions options;
@@ -70,9 +108,9 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
             "--scene " + spec + ": this build has no glTF loader (native/loaders/scene_file.h)");
 #endif
     }
-    throw std::invalid_argument(
-        "--scene '" + spec +
-        "' is not cornell, cornell-diffuse, caustic, million[:N] or a .gltf/.glb/.obj file");
+    throw std::invalid_argument("--scene '" + spec +
+                                "' is not cornell, cornell-diffuse, caustic, furnace, million[:N] "
+                                "or a .gltf/.glb/.obj file");
 }
 
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,

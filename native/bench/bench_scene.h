@@ -1,8 +1,10 @@
 // The scenes the benchmarks run on, by name: `cornell` (the built-in Cornell box),
 // `cornell-diffuse` (the same without its mirror and glass spheres: the Cycles comparison),
 // `caustic` (glass sphere over a floor), `million[:N]` (a field of bumpy spheres of about N
-// triangles, default 1M; `100k`, `4M` suffixes accepted), or a scene file (.gltf, .glb, .obj;
-// native/loaders/scene_file.h). `aspect` is the render's width / height.
+// triangles, default 1M; `100k`, `4M` suffixes accepted), `furnace` (a closed box whose walls
+// all emit Le = 1 and reflect a = 0.5, seen from its centre: the radiance is known exactly,
+// see furnace_radiance), or a scene file (.gltf, .glb, .obj; native/loaders/scene_file.h).
+// `aspect` is the render's width / height.
 #pragma once
 
 #include <string>
@@ -14,6 +16,11 @@ namespace glslppm {
 
 // Throws std::invalid_argument naming the spec when it is none of the above.
 Scene make_bench_scene(const std::string& spec, float aspect = 1.0f);
+
+// The radiance every pixel of `furnace` converges to with paths of at most max_depth
+// bounces: each bounce adds a^k Le, so L = Le (1 - a^(D+1)) / (1 - a), which tends to the
+// furnace's Le / (1 - a) = 2 (1.99998 at the default depth 16; 1.5 at depth 1).
+double furnace_radiance(int max_depth);
 
 // "1000", "100k", "4M" -> a count; throws std::invalid_argument otherwise.
 std::size_t parse_count(const std::string& text);

@@ -4,11 +4,23 @@
 // native/bvh/traverse_cpu.cpp line by line; the buffer layout is documented in
 // native/bvh/packed_bvh.h. Include after "#version 430". Define GLSLPPM_TBVH when the
 // buffers hold a single-order threaded BVH (the baseline): every ray then uses order 0.
+// Define BVH_COUNT_VISITS (benchmarks and tests only) to count the work of each traversal
+// in bvh_nodes_visited and bvh_triangles_tested, exactly where TraversalCounts counts it on
+// the CPU: a wrong order choice costs only speed, and these counts are how it shows. Without
+// the define BVH_COUNT expands to nothing, so the renderer's code is unchanged.
 
 layout(std430, binding = 0) readonly buffer BvhNodes { vec4 bvh_nodes[]; };
 layout(std430, binding = 1) readonly buffer BvhLinks { ivec2 bvh_links[]; };
 layout(std430, binding = 2) readonly buffer Triangles { vec4 triangles[]; };
 uniform uint bvh_node_count;
+
+#ifdef BVH_COUNT_VISITS
+uint bvh_nodes_visited = 0u;     // slab tests, as TraversalCounts::nodes_visited
+uint bvh_triangles_tested = 0u;  // triangle tests, as TraversalCounts::triangles_tested
+#define BVH_COUNT(counter) ++counter
+#else
+#define BVH_COUNT(counter)
+#endif
 
 struct Ray {
     vec3 origin;
@@ -113,6 +125,7 @@ Hit closest_hit(Ray r) {
     while (node != -1) {
         vec4 lo = bvh_nodes[2 * node];
         vec4 hi = bvh_nodes[2 * node + 1];
+        BVH_COUNT(bvh_nodes_visited);
         // Inclusive against the best t so far: an equal-t hit may still win on its id.
         if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, best.t)) {
             int count = floatBitsToInt(hi.w);
@@ -121,6 +134,7 @@ Hit closest_hit(Ray r) {
                 vec4 a = triangles[3 * i];
                 vec4 b = triangles[3 * i + 1];
                 vec4 c = triangles[3 * i + 2];
+                BVH_COUNT(bvh_triangles_tested);
                 float t, u, v;
                 if (bvh_intersect_triangle(r, a.xyz, b.xyz, c.xyz, t, u, v)) {
                     int id = floatBitsToInt(b.w);
@@ -148,10 +162,12 @@ bool any_hit(Ray r) {
     while (node != -1) {
         vec4 lo = bvh_nodes[2 * node];
         vec4 hi = bvh_nodes[2 * node + 1];
+        BVH_COUNT(bvh_nodes_visited);
         if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, r.tmax)) {
             int count = floatBitsToInt(hi.w);
             int first = floatBitsToInt(lo.w);
             for (int i = first; i < first + count; ++i) {
+                BVH_COUNT(bvh_triangles_tested);
                 vec3 a = triangles[3 * i].xyz;
                 vec3 b = triangles[3 * i + 1].xyz;
                 vec3 c = triangles[3 * i + 2].xyz;
