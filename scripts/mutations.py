@@ -38,7 +38,8 @@ MUTATIONS = {
         "photon_trace.comp", "flux *= albedo / q;", "flux *= 0.98 * albedo / q;"),
     "emitter-cosine-dropped": (
         "emissive triangles emit uniformly over the hemisphere instead of by cosine",
-        "common/emitters.glsl", "dir = sample_cosine_hemisphere(n, u3, u4);\n        origin = offset_origin(p, n, dir);",
+        "common/emitters.glsl",
+        "dir = sample_cosine_hemisphere(n, u3, u4);\n        origin = offset_origin(p, n, dir);",
         "dir = sample_sphere(u3, u4);\n        if (dot(dir, n) < 0.0) dir = -dir;\n"
         "        origin = offset_origin(p, n, dir);"),
     "mtbvh-order-flipped": (
