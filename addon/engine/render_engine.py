@@ -15,13 +15,18 @@ import numpy as np
 
 from .. import native_module
 from ..export import ExportError, export_scene
+from ..export.frame import FrameError, render_frame
 from .native_scene import native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
 
 
 def render_size(render):
-    scale = render.resolution_percentage / 100.0
-    return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+    """The image Blender expects: the render region's size, or the frame's."""
+    try:
+        frame = render_frame(render)
+    except FrameError:
+        return 1, 1
+    return frame.width, frame.height
 
 
 class GlslppmEngineMixin:
@@ -51,6 +56,11 @@ class GlslppmEngineMixin:
     def _render(self, depsgraph):
         scene = depsgraph.scene
         width, height = render_size(scene.render)
+        try:
+            frame = render_frame(scene.render)
+        except FrameError as error:
+            self._fail(str(error), width, height)
+            return
         native, problem = native_module.load()
         if native is None:
             self._fail(problem, width, height)
@@ -59,7 +69,7 @@ class GlslppmEngineMixin:
         self.update_stats("", "GLSLPPM | exporting scene")
         try:
             data = export_scene(depsgraph, self.camera_override or scene.camera,
-                                width, height, self.should_stop)
+                                width, height, self.should_stop, frame)
         except ExportError as error:
             self._fail(str(error), width, height)
             return

@@ -34,11 +34,15 @@ def horizontal_fov(camera, width, height):
     return 2.0 * math.atan(half_tan)
 
 
-def convert_camera(camera_object, width, height, warn):
-    """CameraData for a camera object (evaluated) at the given image size."""
+def convert_camera(camera_object, width, height, warn, frame=None):
+    """CameraData for a camera object (evaluated) at the given image size; frame (a
+    RenderFrame) adds non-square pixels and a render region of a larger frame."""
     camera = camera_object.data
     matrix = np.array(camera_object.matrix_world, dtype=np.float64)
     to_world = _without_scale(matrix).astype(np.float32)
+    if frame is not None:
+        # Blender fits the sensor to the frame's shape on screen, pixel aspect included.
+        width, height = frame.film_size
 
     horizontal = fit_is_horizontal(camera.sensor_fit, width, height)
     fit_side = width if horizontal else height
@@ -56,6 +60,9 @@ def convert_camera(camera_object, width, height, warn):
         shift_y=float(camera.shift_y) * to_larger,
         projection=projection,
         ortho_scale=float(camera.ortho_scale) / to_larger)
+    if frame is not None:
+        data.pixel_aspect = frame.pixel_aspect
+        data.region = frame.region
     dof = camera.dof
     if dof.use_dof and projection == "perspective":
         data.aperture_radius, data.focus_distance = _depth_of_field(camera_object, matrix)

@@ -116,9 +116,10 @@ def _concatenate(arrays, dtype):
     return np.ascontiguousarray(np.concatenate(arrays), dtype=dtype)
 
 
-def export_scene(depsgraph, camera_object, width, height, test_break=None):
+def export_scene(depsgraph, camera_object, width, height, test_break=None, frame=None):
     """SceneData for an evaluated depsgraph; raises ExportError for a scene that
-    cannot render (no camera). test_break() returning True stops early (None)."""
+    cannot render (no camera). test_break() returning True stops early (None).
+    frame (a RenderFrame) gives the pixels' shape and the render region."""
     start = time.perf_counter()
     scene = depsgraph.scene
     if camera_object is None:
@@ -140,7 +141,7 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None):
                                     geometry_cache)
     positions, indices, normals, uvs, material_ids = builder.geometry()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
-                            builder.warn)
+                            builder.warn, frame)
     environment, environment_texture, environment_to_world = convert_world(
         scene.world, builder.warn, builder.textures)
     return SceneData(

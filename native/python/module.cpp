@@ -4,8 +4,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "gl/egl_context.h"
@@ -322,7 +324,8 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<Camera>(m, "Camera")
         .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
                          float fov_x, float shift_x, float shift_y, const std::string& projection,
-                         float ortho_scale, float aperture_radius, float focus_distance) {
+                         float ortho_scale, float aperture_radius, float focus_distance,
+                         float pixel_aspect, std::optional<std::array<int, 4>> region) {
                  if (to_world.ndim() != 2 || to_world.shape(0) != 4 || to_world.shape(1) != 4)
                      throw py::value_error("Camera to_world: expected a 4x4 matrix");
                  Camera c;
@@ -340,12 +343,26 @@ PYBIND11_MODULE(_glslppm, m) {
                  c.ortho_scale = ortho_scale;
                  c.aperture_radius = aperture_radius;
                  c.focus_distance = focus_distance;
+                 if (!(pixel_aspect > 0.0f) || !std::isfinite(pixel_aspect))
+                     throw py::value_error("Camera pixel_aspect: must be a positive finite number");
+                 c.pixel_aspect = pixel_aspect;
+                 if (region) {
+                     const auto [x, y, w, h] = *region;
+                     if (w < 1 || h < 1 || x < 0 || y < 0 || x >= w || y >= h)
+                         throw py::value_error("Camera region: expected (x, y, full_width, "
+                                               "full_height) with the corner inside the frame");
+                     c.region_x = x;
+                     c.region_y = y;
+                     c.full_width = w;
+                     c.full_height = h;
+                 }
                  return c;
              }),
              py::arg("to_world"), py::arg("fov_x") = 0.691111f, py::arg("shift_x") = 0.0f,
              py::arg("shift_y") = 0.0f, py::arg("projection") = "perspective",
              py::arg("ortho_scale") = 6.0f, py::arg("aperture_radius") = 0.0f,
-             py::arg("focus_distance") = 10.0f);
+             py::arg("focus_distance") = 10.0f, py::arg("pixel_aspect") = 1.0f,
+             py::arg("region") = py::none());
 
     py::class_<Scene>(m, "Scene")
         .def(py::init(&make_py_scene), py::arg("positions"), py::arg("indices"),
