@@ -229,6 +229,9 @@ def socket_color(socket, warn, clamp=True, linked=True):
         else:
             warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
                  "is not supported; using the input's own value")
+    if not all(math.isfinite(c) for c in color):
+        warn(f"'{socket.name}' is ({', '.join(f'{c:g}' for c in color)}); "
+             "using 0 for what is not a finite number")
     return _clamp01(color) if clamp else tuple(_finite(c) for c in color)
 
 
@@ -244,6 +247,8 @@ def socket_value(socket, warn):
         else:
             warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
                  "is not supported; using the input's own value")
+    if not math.isfinite(value):
+        warn(f"'{socket.name}' is {value:g}; using 0")
     return _finite(value)
 
 

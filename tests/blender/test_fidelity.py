@@ -132,3 +132,92 @@ def test_pixel_aspect_matches_cycles():
               f"{means[1]:.4f}; pixel error {measured:.4f} (tolerances 0.02, 0.05)")
         assert abs(means[0] - means[1]) < 0.02 * means[1], means
         assert measured < 0.05, measured
+
+
+# Light numbers that are not finite
+
+def _floor_and_light(size=(32, 32)):
+    """A white diffuse floor (albedo 0.8) under a 300 W point light 3 m above it."""
+    scene = helpers.reset_scene(size=size)
+    scene.glslppm.passes = 16
+    scene.glslppm.photons_per_pass = 8192
+    white = diffuse_material("White", (0.8, 0.8, 0.8))
+    add_mesh_object("Floor", [(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)],
+                    [(0, 1, 2, 3)], material=white)
+    light = add_light('POINT', 300.0, location=(0, 0, 3), shadow_soft_size=0.0)
+    location = (0, -4, 2)
+    add_camera(location, helpers.look_at_rotation(location, (0, 0, 0)), lens=35.0)
+    return scene, light
+
+
+def test_infinite_or_nan_light_is_off_with_a_warning():
+    """A light whose power is inf, or whose colour is NaN, is left out (as Cycles leaves
+    it dark) with a warning naming it: the image is finite and equals the render without
+    that light to 1e-5 relative."""
+    _floor_and_light()
+    clean, error, engine = _render("light_clean")
+    assert error is None, error
+    cases = ((dict(energy=math.inf), "light 'Bad': power is inf; the light is off"),
+             (dict(color=(1.0, math.nan, 1.0)),
+              "light 'Bad': colour G is nan; the light is off"),
+             (dict(energy=math.nan), "light 'Bad': power is nan; the light is off"))
+    for settings, expected in cases:
+        bad = add_light('POINT', 100.0, location=(1, 1, 2))
+        bad.name = bad.data.name = "Bad"
+        for key, value in settings.items():
+            setattr(bad.data, key, value)
+        if not all(math.isfinite(v) for v in (bad.data.energy, *bad.data.color)):
+            image, error, engine = _render("light_bad")
+            assert error is None, error
+            assert expected in _warnings(engine), (expected, engine.reports)
+            assert np.isfinite(image).all()
+            difference = float(np.abs(image - clean).max() / clean[..., :3].max())
+            print(f"  {expected}: largest difference from the clean render {difference:.2e}")
+            assert difference < 1e-5, difference
+        else:
+            print(f"  Blender stored {settings} as finite numbers; nothing to check")
+        bpy.data.objects.remove(bad)
+        bpy.data.lights.remove(bpy.data.lights["Bad"])
+
+
+# Light node trees
+
+def _emission_node(light):
+    light.use_nodes = True
+    tree = light.node_tree
+    return tree, next(node for node in tree.nodes if node.type == 'EMISSION')
+
+
+def test_light_node_emission_matches_cycles():
+    """The Emission node of a light's node tree (strength 3, colour (1, 0.5, 0.25))
+    scales the light as in Cycles: the floor's centre within 5% per channel."""
+    scene, light = _floor_and_light()
+    scene.glslppm.passes = 64
+    tree, emission = _emission_node(light.data)
+    emission.inputs["Strength"].default_value = 3.0
+    emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    ours, error, engine = _render("light_nodes")
+    assert error is None, error
+    reference = _cycles("light_nodes")
+    a = ours[8:24, 8:24, :3].mean(axis=(0, 1))
+    b = reference[8:24, 8:24, :3].mean(axis=(0, 1))
+    errors = np.abs(a - b) / b
+    print(f"  light node tree: centre GLSLPPM {[round(float(x), 4) for x in a]} Cycles "
+          f"{[round(float(x), 4) for x in b]}; errors "
+          f"{[round(float(x), 4) for x in errors]} (tolerance 0.05)")
+    assert errors.max() < 0.05, (a, b)
+
+
+def test_light_ies_texture_warns():
+    """An IES Texture in a light's node tree is named in a warning; the light still
+    lights the floor and the image is written."""
+    scene, light = _floor_and_light()
+    tree, emission = _emission_node(light.data)
+    ies = tree.nodes.new("ShaderNodeTexIES")
+    tree.links.new(ies.outputs[0], emission.inputs["Strength"])
+    image, error, engine = _render("light_ies")
+    assert error is None, error
+    expected = f"light '{light.data.name}': IES textures are not supported; the light emits " \
+               "evenly"
+    assert expected in _warnings(engine), engine.reports
+    assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
