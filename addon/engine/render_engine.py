@@ -16,7 +16,7 @@ import numpy as np
 from .. import native_module
 from ..export import ExportError, export_scene
 from ..export.frame import FrameError, render_frame
-from .native_scene import native_renderer, native_scene
+from .native_scene import film_options, native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
 
 
@@ -80,10 +80,12 @@ class GlslppmEngineMixin:
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
+        film = film_options(scene)
         if not data.has_surfaces():
             self.report_to_user('WARNING', "the scene has no geometry; the image shows "
                                 "only the world")
-            self._fill(width, height, tuple(data.environment) + (1.0,))
+            self._fill(width, height, (0.0, 0.0, 0.0, 0.0) if film["transparent"]
+                       else tuple(data.environment) + (1.0,))
             return
         if not data.emits_light():
             self.report_to_user('WARNING', "the scene has no lights, emissive materials "
@@ -95,7 +97,7 @@ class GlslppmEngineMixin:
         settings = scene.glslppm
         try:
             renderer = native_renderer(native, native_scene(native, data), settings,
-                                       width, height, scene.frame_current)
+                                       width, height, scene.frame_current, film)
         except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
             self._fail(f"the renderer could not start: {error}", width, height)
             return

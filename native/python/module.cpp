@@ -414,7 +414,8 @@ PYBIND11_MODULE(_glslppm, m) {
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
                          float initial_radius, int max_depth, const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
-                         bool profile, bool full_variant, int max_texture_size) {
+                         bool profile, bool full_variant, int max_texture_size,
+                         bool transparent, bool transparent_glass) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -430,6 +431,8 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.profile = profile;
                  s.full_variant = full_variant;
                  s.max_texture_size = max_texture_size;
+                 s.transparent = transparent;
+                 s.transparent_glass = transparent_glass;
                  validate(s);
                  return s;
              }),
@@ -437,7 +440,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
              py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
              py::arg("seed") = 0, py::arg("leaf_size") = 4, py::arg("profile") = false,
-             py::arg("full_variant") = false, py::arg("max_texture_size") = 0)
+             py::arg("full_variant") = false, py::arg("max_texture_size") = 0,
+             py::arg("transparent") = false, py::arg("transparent_glass") = false)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);
 

@@ -397,6 +397,15 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
     feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
+    // Not features but outputs: the full variant leaves them as the settings say.
+    if (settings.transparent) {
+        g.defines.push_back({"FILM_TRANSPARENT", "1"});
+        features.push_back("transparent");
+        if (settings.transparent_glass) {
+            g.defines.push_back({"FILM_TRANSPARENT_GLASS", "1"});
+            features.push_back("transparent-glass");
+        }
+    }
     g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
     g.defines.push_back({"RNG_STATE_BINDING", "11"});
     g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
