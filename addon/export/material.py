@@ -57,6 +57,20 @@ def convert_material(material, warn, textures=None):
     return converter(node, _Inputs(material_warn, textures))
 
 
+def volume_only(material):
+    """True for a material whose output feeds only its Volume: a volume object, which
+    has no surface to render."""
+    if material is None or not material.use_nodes or material.node_tree is None:
+        return False
+    tree = material.node_tree
+    output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
+    if output is None:
+        return False
+    volume = output.inputs.get("Volume")
+    return (_linked_node(output.inputs["Surface"]) is None and volume is not None
+            and _linked_node(volume) is not None)
+
+
 def _viewport_fallback(material):
     return MaterialData("diffuse", _clamp01(material.diffuse_color[:3]))
 

@@ -277,3 +277,82 @@ def test_transparent_glass_alpha_matches_cycles():
     assert abs(means[0] - means[1]) < 0.03, means
     assert difference < 0.03, difference
     assert 0.05 < means[1] < 0.9, "the glass should be partly transparent"
+
+
+# Volumes, motion blur, UDIM: warnings, and the image still written
+
+def _volume_material(name):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    tree = material.node_tree
+    for node in list(tree.nodes):
+        if node.type != 'OUTPUT_MATERIAL':
+            tree.nodes.remove(node)
+    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
+    volume = tree.nodes.new("ShaderNodeVolumePrincipled")
+    tree.links.new(volume.outputs[0], output.inputs["Volume"])
+    return material
+
+
+def test_volume_object_is_left_out_with_a_warning():
+    """A cube whose material has only a Volume output is left out (not an opaque black
+    cube): the exact warning, and the image equals the scene without it."""
+    scene, light = _floor_and_light()
+    clean, error, engine = _render("volume_clean")
+    assert error is None, error
+    helpers.add_cube("Smoke", location=(0, 0, 1), scale=(0.6, 0.6, 0.6),
+                     material=_volume_material("Smoke"))
+    image, error, engine = _render("volume_object")
+    assert error is None, error
+    expected = "object 'Smoke': its material 'Smoke' has only a Volume output; volumes " \
+               "are not supported, so the object is left out"
+    assert expected in _warnings(engine), engine.reports
+    difference = float(np.abs(image - clean).max())
+    print(f"  volume object: largest difference from the scene without it {difference:.2e}")
+    assert difference == 0.0, difference
+
+
+def test_world_volume_warns():
+    scene, light = _floor_and_light()
+    world = helpers.set_world((0.05, 0.05, 0.05))
+    output = next(node for node in world.node_tree.nodes if node.type == 'OUTPUT_WORLD')
+    volume = world.node_tree.nodes.new("ShaderNodeVolumeScatter")
+    world.node_tree.links.new(volume.outputs[0], output.inputs["Volume"])
+    image, error, engine = _render("world_volume")
+    assert error is None, error
+    expected = "world 'World': world volumes are not supported; rendering without it"
+    assert expected in _warnings(engine), engine.reports
+    assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
+
+
+def test_motion_blur_warns():
+    scene, light = _floor_and_light()
+    scene.render.use_motion_blur = True
+    image, error, engine = _render("motion_blur")
+    assert error is None, error
+    expected = "motion blur is not supported; the frame renders at one instant " \
+               "(Output > Motion Blur)"
+    assert expected in _warnings(engine), engine.reports
+    assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
+
+
+def test_udim_image_warns():
+    """A UDIM image of two tiles as a base colour: the warning names it and the tile
+    used; the render is written."""
+    scene, light = _floor_and_light()
+    image = bpy.data.images.new("Tiles", 8, 8, tiled=True)
+    image.generated_color = (0.8, 0.6, 0.4, 1.0)
+    image.tiles.new(tile_number=1002)
+    floor = bpy.data.objects["Floor"]
+    floor.data.uv_layers.new().data.foreach_set("uv", [0, 0, 2, 0, 2, 1, 0, 1])
+    material = floor.data.materials[0]
+    texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    diffuse = next(node for node in material.node_tree.nodes if node.type == 'BSDF_DIFFUSE')
+    material.node_tree.links.new(texture.outputs["Color"], diffuse.inputs["Color"])
+    result, error, engine = _render("udim")
+    assert error is None, error
+    expected = "material 'White': image 'Tiles' is a UDIM image of 2 tiles; only tile 1001 " \
+               "is used, for every UV"
+    assert expected in _warnings(engine), engine.reports
+    assert np.isfinite(result).all() and result[..., :3].mean() > 1e-3
