@@ -34,11 +34,14 @@ def horizontal_fov(camera, width, height):
     return 2.0 * math.atan(half_tan)
 
 
-def convert_camera(camera_object, width, height, warn, frame=None):
+def convert_camera(camera_object, width, height, warn, frame=None, view=None):
     """CameraData for a camera object (evaluated) at the given image size; frame (a
-    RenderFrame) adds non-square pixels and a render region of a larger frame."""
+    RenderFrame) adds non-square pixels and a render region of a larger frame; view is
+    (matrix, shift_x) of one multi-view eye, from the RenderEngine's camera_model_matrix
+    and camera_shift_x, in place of the object's."""
     camera = camera_object.data
-    matrix = np.array(camera_object.matrix_world, dtype=np.float64)
+    matrix = np.array(view[0] if view else camera_object.matrix_world, dtype=np.float64)
+    shift_x = float(view[1]) if view else float(camera.shift_x)
     to_world = _without_scale(matrix).astype(np.float32)
     if frame is not None:
         # Blender fits the sensor to the frame's shape on screen, pixel aspect included.
@@ -56,7 +59,7 @@ def convert_camera(camera_object, width, height, warn, frame=None):
     data = CameraData(
         to_world=np.ascontiguousarray(to_world),
         fov_x=horizontal_fov(camera, width, height),
-        shift_x=float(camera.shift_x) * to_larger,
+        shift_x=shift_x * to_larger,
         shift_y=float(camera.shift_y) * to_larger,
         projection=projection,
         ortho_scale=float(camera.ortho_scale) / to_larger)

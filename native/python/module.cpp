@@ -1,5 +1,6 @@
 // The pybind11 module `_glslppm`: scenes from numpy arrays (used in place where dtype and
 // layout fit), renderers run in steps with the GIL released, films back as numpy arrays.
+#include <epoxy/gl.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -540,6 +541,36 @@ PYBIND11_MODULE(_glslppm, m) {
         d["queries"] = c.queries;
         return d;
     }, "EGL contexts and GL objects glslppm created and has not deleted (process-wide).");
+    m.def("device_limits", [](int device) {
+        // What a render may allocate on a device, asked before allocating anything: the
+        // largest storage buffer, and the GPU's memory where the driver says
+        // (GL_NVX_gpu_memory_info; 0 where unknown; software renderers use host memory).
+        std::int64_t largest = 0, memory = 0;
+        bool software = false;
+        std::string renderer;
+        {
+            py::gil_scoped_release release;
+            gl::EglContext context(device);
+            GLint64 value = 0;
+            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
+            largest = value;
+            if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+                GLint kib = 0;
+                glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+                memory = static_cast<std::int64_t>(kib) * 1024;
+            }
+            software = context.info().software;
+            renderer = context.info().renderer;
+        }
+        py::dict d;
+        d["max_storage_buffer_bytes"] = largest;
+        d["memory_bytes"] = memory;
+        d["software"] = software;
+        d["renderer"] = renderer;
+        return d;
+    }, py::arg("device") = -1,
+       "Limits of an EGL device: max_storage_buffer_bytes, memory_bytes (0: unknown), "
+       "software, renderer.");
     m.def("list_devices", [] {
         py::list out;
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));
