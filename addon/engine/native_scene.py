@@ -29,9 +29,10 @@ def film_options(scene):
 
 
 def native_settings(native, settings, width, height, seed_offset=0, initial_radius=None,
-                    film=None):
+                    film=None, device=None):
     """settings is scene.glslppm; seed_offset varies the noise per animation frame;
-    initial_radius (absolute) overrides the settings' own radius; film is film_options()."""
+    initial_radius (absolute) overrides the settings' own radius; film is film_options();
+    device (the preferences' choice, resolved by the engine) overrides settings.device."""
     return native.Settings(
         **(film or {}),
         width=width, height=height,
@@ -41,11 +42,12 @@ def native_settings(native, settings, width, height, seed_offset=0, initial_radi
         max_depth=settings.max_bounces,
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
-        device=settings.device,
+        device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31))
 
 
-def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None):
+def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
+                    device=None):
     """A Renderer for scene (a native Scene) with settings (scene.glslppm).
 
     A radius scale other than 1 multiplies the module's automatic radius, which only the
@@ -55,7 +57,7 @@ def native_renderer(native, scene, settings, width, height, seed_offset=0, film=
     build and GL set-up (the compiled programs are reused).
     """
     renderer = native.Renderer(scene, native_settings(native, settings, width, height,
-                                                      seed_offset, film=film))
+                                                      seed_offset, film=film, device=device))
     scale = settings.automatic_radius_scale()
     if scale is None:
         return renderer
@@ -64,4 +66,5 @@ def native_renderer(native, scene, settings, width, height, seed_offset=0, film=
     finally:
         renderer.close()
     return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, scale * automatic, film))
+                                                  seed_offset, scale * automatic, film,
+                                                  device))

@@ -17,6 +17,7 @@ from .. import native_module
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera
 from ..export.frame import FrameError, render_frame
+from ..properties.preferences import render_device
 from . import memory
 from .native_scene import film_options, native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
@@ -69,9 +70,10 @@ class GlslppmEngineMixin:
             return
         settings = scene.glslppm
         views = view_names(scene.render)
+        device = render_device(settings)
         problem = memory.refusal(
             memory.estimate(width, height, settings.photons_per_pass, len(views)),
-            _device_limits(native, settings.device), memory.host_available())
+            _device_limits(native, device), memory.host_available())
         if problem is not None:
             # No result either: Blender's own would be the largest allocation of all.
             self.report_to_user('ERROR', problem)
@@ -121,7 +123,7 @@ class GlslppmEngineMixin:
             self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
             try:
                 renderer = native_renderer(native, native_scene(native, data), settings,
-                                           width, height, scene.frame_current, film)
+                                           width, height, scene.frame_current, film, device)
             except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
                 self._fail(f"the renderer could not start: {error}", width, height)
                 return

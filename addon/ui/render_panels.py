@@ -61,7 +61,10 @@ class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "hash_mode")
         column.prop(settings, "rng")
-        column.prop(settings, "device")
+        if settings.device >= 0:  # set by a script or an older file
+            column.prop(settings, "device")
+        else:
+            column.label(text="Device: Edit > Preferences > Add-ons > GLSLPPM", icon='INFO')
 
 
 class RENDER_PT_glslppm_film(GlslppmRenderPanel, bpy.types.Panel):

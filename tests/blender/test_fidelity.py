@@ -467,3 +467,37 @@ def test_stereo_views_match_cycles():
         assert measured < 0.05, measured
         assert ours[eye][..., 3].min() == 1.0
     assert _pixel_error(ours["left"], ours["right"]) > 0.2
+
+
+# The device, by name, in the add-on preferences
+
+def test_device_preferences_list_devices_by_name():
+    """The preferences list "Automatic" and every EGL device the module lists, by index
+    and name; the device chosen there is the one renders use (unless a scene overrides
+    it), and a render on it finishes."""
+    native = helpers.load_native()
+    preferences = helpers.ADDON.properties.preferences
+    names = list(native.list_devices())
+    items = preferences.device_items(None, bpy.context)
+    assert items[0][:2] == ("AUTO", "Automatic"), items
+    assert [item[:2] for item in items[1:]] == \
+        [(str(i), f"{i}: {name}") for i, name in enumerate(names)], (items, names)
+    print(f"  devices: {[item[1] for item in items]}")
+    if helpers.SOURCE_MODE:
+        raise helpers.Skip("the add-on's preferences exist only when it is enabled")
+    if not names:
+        raise helpers.Skip("EGL lists no devices here")
+    addon_preferences = bpy.context.preferences.addons[helpers.ADDON_NAME].preferences
+    scene, light = _floor_and_light()
+    addon_preferences.device = str(len(names) - 1)
+    try:
+        assert preferences.render_device(scene.glslppm) == len(names) - 1
+        scene.glslppm.device = 0
+        assert preferences.render_device(scene.glslppm) == 0
+        scene.glslppm.device = -1
+        image, error, engine = _render("preferred_device")
+        assert error is None, error
+        assert image[..., :3].mean() > 1e-3
+    finally:
+        addon_preferences.device = "AUTO"
+    assert preferences.render_device(scene.glslppm) == -1
