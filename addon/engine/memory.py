@@ -64,8 +64,10 @@ def refusal(needs, limits, available):
             problems.append(f"its largest GPU buffer needs {needs['largest_buffer'] / GIB:.2f} "
                             f"GiB, more than the {largest / GIB:.2f} GiB this GPU allows in one "
                             "buffer")
-        memory = limits.get("memory_bytes", 0)
-        if memory and needs["gpu"] > memory:
+        # Only a hardware GPU's own figure counts (some software renderers answer the
+        # NVX query with a meaningless number; their buffers are host memory, below).
+        memory = 0 if limits.get("software") else limits.get("memory_bytes", 0)
+        if memory > 0 and needs["gpu"] > memory:
             problems.append(f"it needs {needs['gpu'] / GIB:.2f} GiB of GPU memory, more than "
                             f"the GPU's {memory / GIB:.2f} GiB")
     host = needs["host"]

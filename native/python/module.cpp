@@ -557,7 +557,8 @@ PYBIND11_MODULE(_glslppm, m) {
             if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
                 GLint kib = 0;
                 glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
-                memory = static_cast<std::int64_t>(kib) * 1024;
+                // Mesa's llvmpipe answers with a negative number: unknown, then.
+                memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
             }
             software = context.info().software;
             renderer = context.info().renderer;
