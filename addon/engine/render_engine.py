@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import native_module
 from ..export import ExportError, export_scene
-from ..export.camera import convert_camera
+from ..export.camera import convert_camera, view_camera
 from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_device
 from . import memory
@@ -113,7 +113,7 @@ class GlslppmEngineMixin:
             if view:
                 # Each view (stereo eye) through its own camera, as Blender places it.
                 self.active_view_set(view)
-                camera = camera_object.evaluated_get(depsgraph)
+                camera = view_camera(scene, camera_object, view).evaluated_get(depsgraph)
                 spherical = self.use_spherical_stereo(camera)
                 data.camera = convert_camera(
                     camera, width, height, lambda message: None, frame,

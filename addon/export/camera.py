@@ -72,6 +72,26 @@ def convert_camera(camera_object, width, height, warn, frame=None, view=None):
     return data
 
 
+def view_camera(scene, camera_object, view):
+    """The camera object a multi-view view renders through: with Output > Views set to
+    Multi-View, the object named as camera_object with its view suffix swapped for this
+    view's ("Cam_L" -> "Cam_R"), as Blender picks it (BKE_camera_multiview_render); the
+    camera itself for Stereo 3D, or where no such object exists."""
+    render = scene.render
+    if not view or not render.use_multiview or render.views_format != 'MULTIVIEW':
+        return camera_object
+    suffix = render.views[view].camera_suffix if view in render.views else ""
+    name, stem_length, best = camera_object.name, None, -1
+    for other in render.views:
+        ending = other.camera_suffix
+        if len(ending) >= best and len(ending) <= len(name) and name.endswith(ending):
+            stem_length, best = len(name) - len(ending), len(ending)
+    if stem_length is None:
+        return camera_object
+    candidate = scene.objects.get(name[:stem_length] + suffix)
+    return candidate if candidate is not None and candidate.type == 'CAMERA' else camera_object
+
+
 def _without_scale(matrix):
     """Rotation and translation only: Blender ignores camera object scale for rays."""
     result = matrix.copy()
