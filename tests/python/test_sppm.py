@@ -107,8 +107,9 @@ def test_point_light_over_diffuse_plane(glslppm):
 
 def test_emitted_power_equals_light_power(glslppm):
     """The mean flux of the photons of the first pass (all stored: a closed diffuse sphere
-    around the lights) is the total power of the lights: emissive triangles (pi Le A), a
-    point light and a spot light (its cone's share of P)."""
+    around the lights) is the total power of the lights: emissive triangles (pi Le A from
+    each side, as Cycles' mesh lights emit), a point light and a spot light (its cone's
+    share of P)."""
     g = glslppm
     p, t, n = sphere((0.0, 0.0, 0.0), 2.0, 16, 32, inward=True)
     lp, lt = quad((-0.2, 0.5, -0.2), (0.2, 0.5, -0.2), (0.2, 0.5, 0.2), (-0.2, 0.5, 0.2))
@@ -130,7 +131,7 @@ def test_emitted_power_equals_light_power(glslppm):
     stored = photons[:, 11] == 1.0
     flux = photons[stored, 8:11].astype(np.float64)
     area = 0.4 * 0.4
-    expected = math.pi * le * area + 25.0 + spot_power * (1 - math.cos(spot_size / 2)) / 2
+    expected = 2.0 * math.pi * le * area + 25.0 + spot_power * (1 - math.cos(spot_size / 2)) / 2
     # Every photon hits the closed sphere or the (black, diffuse) emitter and is stored.
     assert stored.sum() == count
     mean = flux.sum(axis=0) / count
