@@ -18,6 +18,7 @@
 #include "python/loaders_module.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
 
 namespace py = pybind11;
@@ -508,6 +509,13 @@ PYBIND11_MODULE(_glslppm, m) {
         return make_cornell_box(o);
     }, py::arg("mirror_sphere") = true, py::arg("glass_sphere") = true, py::arg("sphere_rings") = 48,
        "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere.");
+
+    m.def("caustic_scene", [](int sphere_rings) {
+        CausticSceneOptions o;
+        o.sphere_rings = sphere_rings;
+        return make_caustic_scene(o);
+    }, py::arg("sphere_rings") = 64,
+       "The benchmarks' caustic scene: a glass sphere focusing a small light onto a floor.");
 
     m.def("read_exr", [](const std::string& path) {
         std::map<std::string, std::string> attributes;
