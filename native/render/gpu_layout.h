@@ -87,6 +87,9 @@ struct Counters {
 };
 static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 
+// Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
+inline constexpr unsigned kRadiusStatsThreads = 256;
+
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
 // shaders/common/bsdf.glsl: three vec4 per material.
 struct GpuMaterial {

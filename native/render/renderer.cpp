@@ -107,7 +107,7 @@ struct Renderer::Gpu {
     std::vector<std::string> warnings;
     int programs_compiled = 0, programs_reused = 0;
     double compile_seconds = 0.0;
-    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
+    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
 
     const gl::ComputeProgram* eye = nullptr;
     const gl::ComputeProgram* photon = nullptr;
@@ -117,6 +117,7 @@ struct Renderer::Gpu {
     const gl::ComputeProgram* gather = nullptr;
     const gl::ComputeProgram* end_pass = nullptr;
     const gl::ComputeProgram* resolve = nullptr;
+    const gl::ComputeProgram* radius_reduce = nullptr;
 
     // Before anything is allocated for it: a buffer larger than the driver allows is an
     // error that says what to lower (llvmpipe allows 128 MiB).
@@ -380,6 +381,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
     g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
     g.defines.push_back({"LOCAL_SIZE", std::to_string(kLocalSize) + "u"});
+    g.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
     features.push_back("rng=" + to_string(settings.rng));
     features.push_back("hash=" + to_string(settings.hash));
     for (const std::string& f : features) g.variant += (g.variant.empty() ? "" : ",") + f;
@@ -516,6 +518,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.gather = program("gather.comp", nullptr);
             g.end_pass = program("end_pass.comp", nullptr);
             g.resolve = program("resolve_film.comp", nullptr);
+            g.radius_reduce = program("radius_stats.comp", nullptr);
             for (const gl::ComputeProgram* p : {g.eye, g.photon, g.hash_a, g.hash_b, g.scan[0],
                                                 g.scan[1], g.scan[2], g.gather, g.end_pass,
                                                 g.resolve}) {
@@ -606,6 +609,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             const std::size_t sorted = exact ? ph + g.hash_cells / 1024 : 1;
             g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
+            g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
+                                           "radius statistics");
             glFinish();
         } catch (...) {
             g.release();
@@ -687,22 +692,26 @@ std::vector<float> Renderer::photons() {
 RenderStats Renderer::stats() {
     Gpu& g = *gpu_;
     RenderStats s;
-    std::vector<glm::vec4> pixel_stats(std::size_t(g.pixels) * 2);
+    std::vector<glm::vec2> radius_stats(kRadiusStatsThreads);
     Counters c{};
     g.thread->call([&] {
         // One consistent snapshot: runs change these on this thread only.
         s.passes = g.passes;
         s.seconds = g.seconds;
         c = g.read_counters();
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.pixel_stats);
+        // The radii reduced on the GPU: a few KiB read back, not every pixel's statistics.
+        g.radius_reduce->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.radius_stats);
         glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                           static_cast<GLsizeiptr>(pixel_stats.size() * sizeof(glm::vec4)),
-                           pixel_stats.data());
+                           static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
+                           radius_stats.data());
     });
     double sum = 0.0, largest = 0.0;
-    for (std::size_t i = 0; i < g.pixels; ++i) {
-        sum += pixel_stats[2 * i + 1].x;
-        largest = std::max(largest, static_cast<double>(pixel_stats[2 * i + 1].x));
+    for (const glm::vec2& t : radius_stats) {
+        sum += t.x;
+        largest = std::max(largest, static_cast<double>(t.y));
     }
     s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
     s.rays = Gpu::total(c.rays_lo, c.rays_hi);
