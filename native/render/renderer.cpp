@@ -490,6 +490,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                 : 2.0f * distance * tan_x / static_cast<float>(frame_width);
         radius = std::min(2.0f * footprint, 0.05f * diagonal);
         if (!(radius > 0.0f)) radius = 0.01f * diagonal;
+        radius *= settings.radius_scale;
     }
     g.initial_radius = radius;
     f.sppm_alpha = settings.alpha;
