@@ -27,7 +27,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     EmitterTable table;
     std::vector<std::array<glm::vec4, 4>> list;
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power) {
-        if (!(weight_of(power) > 0.0f)) return;
+        if (!(weight_of(power) > 0.0f)) return;  // dark; bad values were rejected earlier
         list.push_back({glm::vec4(a, as_float(static_cast<int>(kind))), b, glm::vec4(c, 0.0f),
                         glm::vec4(power, 0.0f)});
         table.has[static_cast<int>(kind)] = true;
