@@ -47,17 +47,19 @@ def native_settings(native, settings, width, height, seed_offset=0, initial_radi
 
 
 def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
-                    device=None):
+                    device=None, cancel=None):
     """A Renderer for scene (a native Scene) with settings (scene.glslppm).
 
     A radius scale other than 1 multiplies the module's automatic radius, which only the
     module can compute (median camera-ray hit distance through its BVH): a first
     renderer reports it in stats()["initial_radius"] and a second one renders with the
     scaled value. Rendering settings are unchanged otherwise; the cost is one more BVH
-    build and GL set-up (the compiled programs are reused).
+    build and GL set-up (the compiled programs are reused). cancel (a native CancelFlag)
+    set from another thread stops either construction: native.Cancelled.
     """
     renderer = native.Renderer(scene, native_settings(native, settings, width, height,
-                                                      seed_offset, film=film, device=device))
+                                                      seed_offset, film=film, device=device),
+                               cancel=cancel)
     scale = settings.automatic_radius_scale()
     if scale is None:
         return renderer
@@ -67,4 +69,4 @@ def native_renderer(native, scene, settings, width, height, seed_offset=0, film=
         renderer.close()
     return native.Renderer(scene, native_settings(native, settings, width, height,
                                                   seed_offset, scale * automatic, film,
-                                                  device))
+                                                  device), cancel=cancel)

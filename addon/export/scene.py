@@ -25,6 +25,30 @@ class ExportError(Exception):
     """The scene cannot be rendered; the message says why and what to do."""
 
 
+class _Cancelled(Exception):
+    """The user cancelled during export (raised between steps, caught by export_scene)."""
+
+
+class CancelPoll:
+    """Asks test_break() at most every POLL_SECONDS, between the steps of export: a large
+    mesh's steps take tenths of a second each, a thousand instances' much less."""
+    POLL_SECONDS = 0.02
+
+    def __init__(self, test_break):
+        self._test_break = test_break
+        self._last = time.perf_counter()
+
+    def __call__(self):
+        if self._test_break is None:
+            return
+        now = time.perf_counter()
+        if now - self._last < self.POLL_SECONDS:
+            return
+        self._last = now
+        if self._test_break():
+            raise _Cancelled()
+
+
 class SceneBuilder:
     """Collects world-space triangles, the material table, lights and warnings."""
 
@@ -40,6 +64,7 @@ class SceneBuilder:
         self._warned = set()
         self.dropped_triangles = 0
         self.textures = TextureTable(self.warn)
+        self.check_cancel = CancelPoll(None)
 
     def warn(self, message):
         """Keeps each distinct warning once (one per material, not per instance)."""
@@ -126,11 +151,18 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
         raise ExportError("the scene has no camera: add one, or set the scene's "
                           "active camera")
     builder = SceneBuilder()
+    builder.check_cancel = CancelPoll(test_break)
+    try:
+        return _export(depsgraph, scene, camera_object, width, height, frame, builder, start)
+    except _Cancelled:
+        return None
+
+
+def _export(depsgraph, scene, camera_object, width, height, frame, builder, start):
     geometry_cache = {}
     instance_count = 0
     for instance in depsgraph.object_instances:
-        if test_break is not None and instance_count % 256 == 0 and test_break():
-            return None
+        builder.check_cancel()
         instance_count += 1
         obj = instance.object
         if obj.type == 'LIGHT':
@@ -139,7 +171,9 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
         elif obj.type in GEOMETRY_TYPES and instance.show_self:
             _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                     geometry_cache)
+    builder.check_cancel()
     positions, indices, normals, uvs, material_ids = builder.geometry()
+    builder.check_cancel()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                             builder.warn, frame)
     environment, environment_texture, environment_to_world = convert_world(
@@ -168,7 +202,9 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
     geometry, slot_materials = cached
     if geometry is None:
         return
+    builder.check_cancel()
     world = transform_geometry(geometry, matrix)
+    builder.check_cancel()
     slots = np.clip(geometry.slot_indices, 0, len(slot_materials) - 1)
     builder.add_triangles(world.positions, slot_materials[slots], world.normals, world.uvs,
                           source=f"object '{obj.name}'")
@@ -189,13 +225,15 @@ def _read_object(obj, builder):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "
                      "Volume output; volumes are not supported, so the object is left out")
         return None, None
+    builder.check_cancel()
     try:
         mesh = obj.to_mesh()
     except RuntimeError as error:
         builder.warn(f"object '{obj.name}' could not be converted to a mesh: {error}")
         return None, None
     try:
-        geometry = mesh_geometry(mesh, need_uvs) if mesh is not None else None
+        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel)
+                    if mesh is not None else None)
     finally:
         obj.to_mesh_clear()
     if volumes and geometry is not None:

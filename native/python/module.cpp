@@ -190,8 +190,8 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
 // cancels that run and frees the GPU when it returns, never under it.
 class PyRenderer {
 public:
-    PyRenderer(const Scene& scene, const RenderSettings& settings)
-        : renderer_(std::make_shared<Renderer>(scene, settings)) {}
+    PyRenderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
+        : renderer_(std::make_shared<Renderer>(scene, settings, cancel)) {}
     std::shared_ptr<Renderer> get() {
         std::lock_guard lock(mutex_);
         if (!renderer_) throw std::runtime_error("this Renderer was closed");
@@ -250,9 +250,12 @@ py::dict stats_dict(const RenderStats& s) {
 PYBIND11_MODULE(_glslppm, m) {
     m.doc() = "glslppm: stochastic progressive photon mapping on the GPU through headless OpenGL";
     static py::exception<std::runtime_error> error(m, "GlslppmError", PyExc_RuntimeError);
+    static py::exception<Cancelled> cancelled(m, "Cancelled", error.ptr());
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const Cancelled& e) {
+            cancelled(e.what());
         } catch (const gl::GlError& e) {
             error(e.what());
         } catch (const gl::ShaderError& e) {
@@ -446,12 +449,21 @@ PYBIND11_MODULE(_glslppm, m) {
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);
 
+    // Set from any thread while a Renderer is being constructed with it: the construction
+    // (BVH build, GL set-up) stops within milliseconds and raises Cancelled.
+    py::class_<CancelFlag, std::shared_ptr<CancelFlag>>(m, "CancelFlag")
+        .def(py::init([] { return std::make_shared<CancelFlag>(false); }))
+        .def("set", [](CancelFlag& flag) { flag = true; })
+        .def("clear", [](CancelFlag& flag) { flag = false; })
+        .def_property_readonly("is_set", [](const CancelFlag& flag) { return flag.load(); });
+
     py::class_<PyRenderer>(m, "Renderer")
-        .def(py::init([](const Scene& scene, const RenderSettings& settings) {
+        .def(py::init([](const Scene& scene, const RenderSettings& settings,
+                         std::shared_ptr<CancelFlag> cancel) {
                  py::gil_scoped_release release;
-                 return std::make_unique<PyRenderer>(scene, settings);
+                 return std::make_unique<PyRenderer>(scene, settings, cancel.get());
              }),
-             py::arg("scene"), py::arg("settings"))
+             py::arg("scene"), py::arg("settings"), py::arg("cancel") = nullptr)
         .def("run", [](PyRenderer& r, int passes) {
             if (passes < 0) throw py::value_error("passes: must be >= 0");
             py::gil_scoped_release release;
