@@ -7,6 +7,7 @@ thousand instances of one mesh cost one read and a thousand numpy transforms.
 """
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from .light import convert_light
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .scene_data import SceneData
+from .visibility import object_visibility
 from .world import convert_world
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'FONT', 'META'}
@@ -212,13 +214,21 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
 
 def _read_object(obj, builder):
     """(object-space MeshGeometry or None, material table index per slot). UVs are read
-    only when one of the object's materials has a texture."""
+    only when one of the object's materials has a texture. An object hidden from camera
+    rays or casting no shadow gets its own copies of its materials, flagged so."""
+    visibility = object_visibility(obj, builder.warn)
+
+    def flagged(material):
+        return replace(material, visible_to_camera=visibility.camera,
+                       casts_shadow=visibility.shadow)
+
     slot_materials = np.array(
-        [builder.material_id(_material_key(slot.material),
-                             lambda slot=slot: convert_material(slot.material, builder.warn,
-                                                                builder.textures))
+        [builder.material_id((_material_key(slot.material), visibility),
+                             lambda slot=slot: flagged(convert_material(
+                                 slot.material, builder.warn, builder.textures)))
          for slot in obj.material_slots] or
-        [builder.material_id(None, lambda: DEFAULT_MATERIAL)], dtype=np.uint32)
+        [builder.material_id((None, visibility), lambda: flagged(DEFAULT_MATERIAL))],
+        dtype=np.uint32)
     need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):

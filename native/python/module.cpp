@@ -86,7 +86,8 @@ py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_
 }
 
 Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
-                       std::array<float, 3> emission, int color_texture) {
+                       std::array<float, 3> emission, int color_texture,
+                       bool visible_to_camera, bool casts_shadow) {
     Material m;
     if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
     else if (kind == "conductor") m.kind = MaterialKind::Conductor;
@@ -96,6 +97,8 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.ior = ior;
     m.emission = {emission[0], emission[1], emission[2]};
     m.color_texture = color_texture;
+    m.visible_to_camera = visible_to_camera;
+    m.casts_shadow = casts_shadow;
     return m;
 }
 
@@ -268,7 +271,8 @@ PYBIND11_MODULE(_glslppm, m) {
         .def(py::init(&make_material), py::arg("kind") = "diffuse",
              py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
              py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
-             py::arg("color_texture") = -1);
+             py::arg("color_texture") = -1, py::arg("visible_to_camera") = true,
+             py::arg("casts_shadow") = true);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

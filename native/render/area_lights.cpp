@@ -43,7 +43,10 @@ SceneGeometry with_area_lights(const Scene& scene) {
     SceneGeometry g;
     g.mesh = scene.mesh;
     g.materials = scene.materials;
-    g.flags.assign(g.materials.size(), 0u);
+    g.flags.reserve(g.materials.size());
+    for (const Material& m : g.materials)
+        g.flags.push_back((m.visible_to_camera ? 0u : kMaterialHiddenFromCamera) |
+                          (m.casts_shadow ? 0u : kMaterialCastsNoShadow));
     bool any = false;
     for (const Light& light : scene.lights) any |= light.kind == LightKind::Area;
     if (!any) return g;

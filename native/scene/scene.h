@@ -23,6 +23,10 @@ struct Material {
     float ior = 1.5f;          // dielectric only
     glm::vec3 emission{0.0f};  // emitted radiance, one-sided along the geometric normal
     std::int32_t color_texture = -1;  // index into Scene::textures: colour = color * texel
+    // Blender's ray visibility: camera rays pass through surfaces not visible to the camera;
+    // photons pass through (depositing on diffuse ones) surfaces that cast no shadow.
+    bool visible_to_camera = true;
+    bool casts_shadow = true;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
