@@ -14,6 +14,7 @@ import bpy
 import numpy as np
 
 from .. import native_module
+from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera
 from ..export.frame import FrameError, render_frame
@@ -265,8 +266,6 @@ def _set_rect(render_pass, film):
     pixels = np.ascontiguousarray(film[::-1], dtype=np.float32).reshape(-1, 4)
     render_pass.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
 
-
-FLAT_RECT = bpy.app.version >= (4, 0, 0)
 
 # How long a cancel waits for the pass in flight before leaving it to finish alone.
 PASS_GRACE_SECONDS = 0.25

@@ -8,11 +8,9 @@ normal and UV are gathered by its loop index. Geometry stays in object space her
 
 from dataclasses import dataclass
 
-import bpy
 import numpy as np
 
-# Blender 4.1 replaced calc_normals_split() and MeshLoop.normal with corner_normals.
-HAS_CORNER_NORMALS = bpy.app.version >= (4, 1, 0)
+from ..compat import HAS_CORNER_NORMALS
 
 
 @dataclass

@@ -179,7 +179,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                             builder.warn, frame)
     environment, environment_texture, environment_to_world = convert_world(
-        scene.world, builder.warn, builder.textures)
+        scene.world, builder.warn, builder.textures, builder.add_light)
     if scene.render.use_motion_blur:
         builder.warn("motion blur is not supported; the frame renders at one instant "
                      "(Output > Motion Blur)")
