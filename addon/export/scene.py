@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from .camera import convert_camera
+from .curves import TriangleBudget, curves_object, hair_systems, point_cloud
 from .image import TextureTable
 from .light import convert_light
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
@@ -163,6 +164,8 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
 def _export(depsgraph, scene, camera_object, width, height, frame, builder, start):
     geometry_cache = {}
     instance_count = 0
+    budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
+                            builder.warn)
     for instance in depsgraph.object_instances:
         builder.check_cancel()
         instance_count += 1
@@ -170,9 +173,19 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         if obj.type == 'LIGHT':
             convert_light(obj.data, instance.matrix_world, builder,
                           getattr(obj, "visible_camera", True))
-        elif obj.type in GEOMETRY_TYPES and instance.show_self:
+            continue
+        if obj.type in GEOMETRY_TYPES and instance.show_self:
             _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                     geometry_cache)
+        if obj.type == 'CURVES' and instance.show_self:
+            _add_strands(obj, builder, [(0, curves_object(
+                obj, instance.matrix_world, budget, builder.warn))])
+        elif obj.type == 'POINTCLOUD' and instance.show_self:
+            _add_strands(obj, builder, [(0, point_cloud(
+                obj, instance.matrix_world, budget, builder.warn))])
+        if obj.type == 'MESH' and not instance.is_instance and len(obj.particle_systems):
+            _add_strands(obj, builder, hair_systems(obj, depsgraph.mode, budget,
+                                                    builder.warn))
     builder.check_cancel()
     positions, indices, normals, uvs, material_ids = builder.geometry()
     builder.check_cancel()
@@ -212,10 +225,25 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
                           source=f"object '{obj.name}'")
 
 
-def _read_object(obj, builder):
-    """(object-space MeshGeometry or None, material table index per slot). UVs are read
-    only when one of the object's materials has a texture. An object hidden from camera
-    rays or casting no shadow gets its own copies of its materials, flagged so."""
+def _add_strands(obj, builder, parts):
+    """Adds (material slot, (positions, normals) or None) parts of hair, curves or points
+    (world space) with the object's slot materials."""
+    slot_materials = None
+    for slot, triangles in parts:
+        if triangles is None:
+            continue
+        if slot_materials is None:
+            slot_materials = _slot_materials(obj, builder)
+        positions, normals = triangles
+        builder.add_triangles(positions, slot_materials[min(slot, len(slot_materials) - 1)],
+                              normals, source=f"object '{obj.name}'")
+        builder.check_cancel()
+
+
+def _slot_materials(obj, builder):
+    """The material table index of each of obj's slots (one default when it has none).
+    An object hidden from camera rays or casting no shadow gets its own copies of its
+    materials, flagged so."""
     visibility = object_visibility(obj, builder.warn)
 
     def flagged(material):
@@ -229,6 +257,13 @@ def _read_object(obj, builder):
          for slot in obj.material_slots] or
         [builder.material_id((None, visibility), lambda: flagged(DEFAULT_MATERIAL))],
         dtype=np.uint32)
+    return slot_materials
+
+
+def _read_object(obj, builder):
+    """(object-space MeshGeometry or None, material table index per slot). UVs are read
+    only when one of the object's materials has a texture."""
+    slot_materials = _slot_materials(obj, builder)
     need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):

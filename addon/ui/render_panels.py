@@ -47,6 +47,7 @@ class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
             column.prop(settings, "initial_radius")
         column.prop(settings, "alpha")
         column.prop(settings, "max_bounces")
+        column.prop(settings, "curve_triangle_limit")
 
 
 class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
