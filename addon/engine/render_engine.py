@@ -144,20 +144,23 @@ class GlslppmEngineMixin:
 
     def _build_renderer(self, native, data, settings, width, height, frame, film, device):
         """The native renderer, built on a worker thread that a cancel stops within
-        milliseconds (a 2M-triangle BVH takes seconds); None when cancelled or failed."""
+        milliseconds (a 2M-triangle BVH takes seconds); None when cancelled or failed.
+        A driver's program compile cannot be interrupted: one still running after the
+        grace period is left to finish, and its renderer to the garbage collector."""
         flag = native.CancelFlag()
         try:
             renderer, stopped = call_cancellable(
                 lambda: native_renderer(native, native_scene(native, data), settings, width,
                                         height, frame, film, device, cancel=flag),
-                self.should_stop, flag.set)
+                self.should_stop, flag.set, grace=PASS_GRACE_SECONDS)
         except native.Cancelled:
             return None
         except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
             self._fail(f"the renderer could not start: {error}", width, height)
             return None
         if stopped:
-            renderer.close()  # the cancel came after the last point that polls it
+            if renderer is not None:
+                renderer.close()  # the cancel came after the last point that polls it
             return None
         return renderer
 
@@ -267,7 +270,8 @@ def _set_rect(render_pass, film):
     render_pass.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
 
 
-# How long a cancel waits for the pass in flight before leaving it to finish alone.
+# How long a cancel waits for the pass (or compile) in flight before leaving it to finish
+# alone.
 PASS_GRACE_SECONDS = 0.25
 
 
