@@ -6,6 +6,7 @@ Mesh data is read once per evaluated object and placed once per instance, so a
 thousand instances of one mesh cost one read and a thousand numpy transforms.
 """
 
+import math
 import time
 from dataclasses import replace
 
@@ -191,8 +192,14 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     builder.check_cancel()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                             builder.warn, frame)
+    world_lights = []
     environment, environment_texture, environment_to_world = convert_world(
-        scene.world, builder.warn, builder.textures, builder.add_light)
+        scene.world, builder.warn, builder.textures, world_lights.append)
+    for light in world_lights:
+        builder.add_light(light)
+        if _in_view(camera, width, height, -np.asarray(light.direction)):
+            builder.warn(f"world '{scene.world.name}': the Sky Texture's sun disc is in "
+                         "view but not drawn; it lights the scene as a sun light")
     if scene.render.use_motion_blur:
         builder.warn("motion blur is not supported; the frame renders at one instant "
                      "(Output > Motion Blur)")
@@ -207,6 +214,18 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "dropped_triangles": builder.dropped_triangles})
+
+
+def _in_view(camera, width, height, direction):
+    """True when a world direction lies within a perspective camera's frame."""
+    if camera.projection != "perspective":
+        return False
+    local = np.asarray(camera.to_world, dtype=np.float64)[:3, :3].T @ direction
+    if local[2] >= 0.0:
+        return False
+    half_x = math.tan(0.5 * camera.fov_x)
+    half_y = half_x * height * camera.pixel_aspect / width
+    return abs(local[0] / -local[2]) <= half_x and abs(local[1] / -local[2]) <= half_y
 
 
 def _export_object_instance(obj, matrix, builder, geometry_cache):

@@ -66,6 +66,22 @@ def test_default_nishita_sky_matches_cycles():
     assert not _warnings(engine), engine.reports
 
 
+def test_sun_disc_in_view_warns():
+    """Looking towards the default sun: a warning in these words; the image is written
+    and the floor and sky still there."""
+    scene = _sky_scene()
+    scene.glslppm.passes = 4
+    location = (0, -8, 1.5)
+    scene.camera.rotation_euler = helpers.look_at_rotation(location, (0, 0, 1.5))
+    scene.camera.location = location
+    image, error, engine = _render("sky_sun_in_view")
+    assert error is None, error
+    expected = ("world 'Sky': the Sky Texture's sun disc is in view but not drawn; it "
+                "lights the scene as a sun light")
+    assert _warnings(engine) == [expected], engine.reports
+    assert np.isfinite(image).all() and image[..., :3].mean() > 1.0
+
+
 def test_hosek_wilkie_sky_matches_cycles():
     _sky_scene('HOSEK_WILKIE', sun_direction=(0.3, -0.6, 0.5))
     engine = _compare("sky_hosek")
