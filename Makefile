@@ -25,7 +25,7 @@ test-native:
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
 test-python:
-	PYTHONPATH=$(CURDIR)/$(BUILD) $(PYTHON) -m pytest -q -rs tests/python
+	PYTHONPATH=$(CURDIR)/$(BUILD) $(PYTHON) -m pytest -q -rs tests/python tests/scripts
 
 # Each glslppm-bench subcommand once on a tiny configuration, its JSON checked.
 .PHONY: test-bench test-mutations

@@ -13,6 +13,7 @@
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$repo/scripts/apt-wait.sh"
 root=${GLSLPPM_CHROOT:-$repo/build/trixie}
 stamp=$root/.glslppm-ready
 mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
@@ -58,7 +59,9 @@ create() {
   if [ ! -x "$root/usr/bin/apt-get" ]; then
     command -v debootstrap >/dev/null || {
       echo "installing debootstrap"
-      DEBIAN_FRONTEND=noninteractive apt-get install -y -qq debootstrap >/dev/null
+      wait_for_apt
+      DEBIAN_FRONTEND=noninteractive apt-get "${APT_LOCK_OPTIONS[@]}" install -y -qq \
+        debootstrap >/dev/null
     }
     rm -rf "$root"
     mkdir -p "$(dirname "$root")"
@@ -73,8 +76,11 @@ create() {
   # No daemons may start inside the chroot.
   printf '#!/bin/sh\nexit 101\n' >"$root/usr/sbin/policy-rc.d"
   chmod +x "$root/usr/sbin/policy-rc.d"
+  # The chroot's apt has its own locks (another user of this chroot may hold them).
+  wait_for_apt "$root"
+  local apt="apt-get ${APT_LOCK_OPTIONS[*]}"
   CHROOT_WORKDIR=/ in_chroot /bin/bash -c \
-    "apt-get update -qq && apt-get install -y -qq --no-install-recommends ${packages[*]} >/dev/null && apt-get clean"
+    "$apt update -qq && $apt install -y -qq --no-install-recommends ${packages[*]} >/dev/null && $apt clean"
   echo "${packages[*]}" >"$stamp"
   echo "chroot: ready in $((SECONDS - t0)) s"
 }

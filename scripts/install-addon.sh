@@ -84,5 +84,30 @@ echo installed extension glslppm into Blender 4.3
 " 2>&1 | grep -v "^$"
 }
 
-[ "$only" = 4.3 ] || install_blender3
-[ "$only" = 3.4 ] || install_blender4
+# Each Blender on its own: one that fails (a locked apt, a chroot that cannot be made) does
+# not undo or skip the other; the summary says which is installed.
+results=()
+status=0
+install_one() {
+  local label=$1; shift
+  set +e
+  (set -e; "$@")
+  local rc=$?
+  set -e
+  if [ $rc -eq 0 ]; then
+    results+=("$label: installed")
+  else
+    results+=("$label: FAILED (exit $rc; see above)")
+    status=1
+  fi
+}
+if [ "$only" != 4.3 ]; then
+  if command -v blender >/dev/null; then
+    install_one "Blender 3.4 (host)" install_blender3
+  else
+    results+=("Blender 3.4 (host): not found, skipped (apt-get install blender)")
+  fi
+fi
+[ "$only" = 3.4 ] || install_one "Blender 4.3 (chroot)" install_blender4
+printf 'install: %s\n' "${results[@]}"
+exit $status

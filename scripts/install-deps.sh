@@ -2,6 +2,7 @@
 # Installs the Debian packages the build, the tests and the demo need, only those missing.
 # Usage: scripts/install-deps.sh [build|test|demo|bench]
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/apt-wait.sh"
 what=${1:-build}
 pkgs=(cmake ninja-build g++ pkg-config python3-dev python3-numpy pybind11-dev
       libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
@@ -21,5 +22,7 @@ done
 echo "installing: ${missing[*]}"
 sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
 export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+wait_for_apt
+$sudo apt-get "${APT_LOCK_OPTIONS[@]}" update -qq
+wait_for_apt
+$sudo apt-get "${APT_LOCK_OPTIONS[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -78,9 +78,14 @@ void main() {
         Surface s = surface_at(ray, hit);
         bool front = dot(ray.dir, s.geometric_normal) < 0.0;
         int flags = material_flags(s.material);
+        bool hidden = seen_by_camera && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
+        if (hidden && (flags & MATERIAL_LIGHT_SURFACE) == 0) {
+            // Not visible to the camera: camera rays go on as if it were not there.
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            bool hidden = seen_by_camera && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
             if (front && !hidden) direct += throughput * material_emission(s.material);
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;

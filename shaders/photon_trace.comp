@@ -43,7 +43,10 @@ void main() {
         Surface s = surface_at(make_ray(origin, dir), hit);
         int kind = material_kind(s.material);
         bounces += 1.0;
-        if ((material_flags(s.material) & MATERIAL_LIGHT_SURFACE) != 0) {
+        int flags = material_flags(s.material);
+        bool shadowless = (flags & MATERIAL_CASTS_NO_SHADOW) != 0;
+        if ((flags & MATERIAL_LIGHT_SURFACE) != 0 ||
+            (shadowless && kind != MATERIAL_DIFFUSE)) {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces >= float(max_depth)) bounces = -1.0;
@@ -58,7 +61,11 @@ void main() {
             bool front = dot(dir, s.geometric_normal) < 0.0;
             vec3 n = front ? s.normal : -s.normal;
             vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
-            if (bounces >= float(max_depth) || rng_next(rng) >= q) {
+            if (shadowless) {
+                // Casting no shadow: lit where the photon lands, which then goes on unchanged.
+                origin = offset_origin(s.position, s.geometric_normal, dir);
+                if (bounces >= float(max_depth)) bounces = -1.0;
+            } else if (bounces >= float(max_depth) || rng_next(rng) >= q) {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;

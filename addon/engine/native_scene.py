@@ -47,8 +47,11 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
 
 
 def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
-                    device=None):
+                    device=None, cancel=None):
     """A Renderer for scene (a native Scene) with settings (scene.glslppm). The radius
-    scale multiplies the module's automatic radius (it is ignored with an absolute one)."""
+    scale multiplies the module's automatic radius (it is ignored with an absolute one).
+    cancel (a native CancelFlag) set from another thread stops construction:
+    native.Cancelled."""
     return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, film=film, device=device))
+                                                  seed_offset, film=film, device=device),
+                           cancel=cancel)

@@ -14,11 +14,13 @@ import bpy
 import numpy as np
 
 from .. import native_module
+from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera
 from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_device
 from . import memory
+from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
 
@@ -39,8 +41,10 @@ class GlslppmEngineMixin:
 
     passes_done = 0
     last_stats = {}
+    stage_clock = None
 
     def render(self, depsgraph):
+        self.stage_clock = StageClock()
         try:
             self._render(depsgraph)
         except Exception as error:  # noqa: BLE001 - the last line of defence
@@ -80,6 +84,7 @@ class GlslppmEngineMixin:
             return
 
         self.update_stats("", "GLSLPPM | exporting scene")
+        self.stage_clock.enter("export")
         camera_object = self.camera_override or scene.camera
         try:
             data = export_scene(depsgraph, camera_object, width, height, self.should_stop,
@@ -88,7 +93,8 @@ class GlslppmEngineMixin:
             self._fail(str(error), width, height)
             return
         if data is None:
-            return  # cancelled during export
+            self._cancelled(width, height)
+            return
         for warning in data.warnings:
             self.report_to_user('WARNING', warning)
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
@@ -121,12 +127,13 @@ class GlslppmEngineMixin:
                           self.camera_shift_x(camera, use_spherical_stereo=spherical)))
             label = f" ({view})" if view else ""
             self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
-            try:
-                renderer = native_renderer(native, native_scene(native, data), settings,
-                                           width, height, scene.frame_current, film, device)
-            except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
-                self._fail(f"the renderer could not start: {error}", width, height)
-                return
+            self.stage_clock.enter("build")
+            renderer = self._build_renderer(native, data, settings, width, height,
+                                            scene.frame_current, film, device)
+            if renderer is None:
+                if self.should_stop():
+                    self._cancelled(width, height)
+                return  # else failed, with a report and an image
             if index == 0:
                 for warning in renderer.stats().get("warnings", []):
                     self.report_to_user('WARNING', warning)
@@ -135,6 +142,28 @@ class GlslppmEngineMixin:
             finally:
                 renderer.close()
 
+    def _build_renderer(self, native, data, settings, width, height, frame, film, device):
+        """The native renderer, built on a worker thread that a cancel stops within
+        milliseconds (a 2M-triangle BVH takes seconds); None when cancelled or failed.
+        A driver's program compile cannot be interrupted: one still running after the
+        grace period is left to finish, and its renderer to the garbage collector."""
+        flag = native.CancelFlag()
+        try:
+            renderer, stopped = call_cancellable(
+                lambda: native_renderer(native, native_scene(native, data), settings, width,
+                                        height, frame, film, device, cancel=flag),
+                self.should_stop, flag.set, grace=PASS_GRACE_SECONDS)
+        except native.Cancelled:
+            return None
+        except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
+            self._fail(f"the renderer could not start: {error}", width, height)
+            return None
+        if stopped:
+            if renderer is not None:
+                renderer.close()  # the cancel came after the last point that polls it
+            return None
+        return renderer
+
     def _render_passes(self, native, renderer, settings, width, height, view=""):
         schedule = PassSchedule(settings.passes, settings.time_limit)
         clock = DisplayClock()
@@ -142,6 +171,8 @@ class GlslppmEngineMixin:
         combined = result.layers[0].passes["Combined"]
         start = time.perf_counter()
         film_ok = False
+        abandoned = False
+        self.stage_clock.enter("render")
         try:
             while not self.should_stop():
                 elapsed = time.perf_counter() - start
@@ -149,8 +180,17 @@ class GlslppmEngineMixin:
                 if batch == 0:
                     break
                 began = time.perf_counter()
-                renderer.run(passes=batch)
-                schedule.record(batch, time.perf_counter() - began)
+                # A pass cannot be interrupted (the first can take a second on
+                # llvmpipe): after a cancel the one in flight ends on its own, and
+                # close() frees the GPU when it has.
+                ran, stopped = call_cancellable(lambda: renderer.run(passes=batch),
+                                                self.should_stop, renderer.cancel,
+                                                grace=PASS_GRACE_SECONDS)
+                if ran:
+                    schedule.record(ran, time.perf_counter() - began)
+                if stopped:
+                    abandoned = ran is None
+                    break
                 self.passes_done = schedule.done
                 elapsed = time.perf_counter() - start
                 self.last_stats = renderer.stats()
@@ -160,7 +200,8 @@ class GlslppmEngineMixin:
                 if clock.due(elapsed):
                     film_ok = self._write_film(renderer, combined)
                     self.update_result(result)
-            film_ok = self._write_film(renderer, combined)
+            if not abandoned:
+                film_ok = self._write_film(renderer, combined)
         except native.GlslppmError as error:
             self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "
                                 f"{error}")
@@ -184,6 +225,11 @@ class GlslppmEngineMixin:
             if render_pass.name == "Combined":
                 _set_rect(render_pass, pixels)
         self.end_result(result)
+
+    def _cancelled(self, width, height):
+        """Cancelled before any pass: an empty (transparent) result, since Blender 3.4
+        crashes when a cancelled render ends without one."""
+        self._fill(width, height, (0.0, 0.0, 0.0, 0.0))
 
     def _fail(self, message, width, height):
         self.report_to_user('ERROR', message)
@@ -224,7 +270,9 @@ def _set_rect(render_pass, film):
     render_pass.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
 
 
-FLAT_RECT = bpy.app.version >= (4, 0, 0)
+# How long a cancel waits for the pass (or compile) in flight before leaving it to finish
+# alone.
+PASS_GRACE_SECONDS = 0.25
 
 
 class GlslppmRenderEngine(GlslppmEngineMixin, bpy.types.RenderEngine):

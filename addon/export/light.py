@@ -14,13 +14,12 @@ option (4.x) is off, where L = P / π whatever the size: the power passed is the
 
 import math
 
-import bpy
 import numpy as np
 
+from ..compat import BLENDER_4
 from .material import _linked_node, socket_color, socket_value
 from .scene_data import LightData
 
-BLENDER_4 = bpy.app.version >= (4, 0, 0)
 
 # Cycles' area light radiance per W/m² relative to 1/π: 1 from Blender 4.0, π/4 before.
 AREA_POWER_FACTOR = 1.0 if BLENDER_4 else math.pi / 4.0

@@ -8,11 +8,9 @@ normal and UV are gathered by its loop index. Geometry stays in object space her
 
 from dataclasses import dataclass
 
-import bpy
 import numpy as np
 
-# Blender 4.1 replaced calc_normals_split() and MeshLoop.normal with corner_normals.
-HAS_CORNER_NORMALS = bpy.app.version >= (4, 1, 0)
+from ..compat import HAS_CORNER_NORMALS
 
 
 @dataclass
@@ -38,9 +36,13 @@ class MeshGeometry:
                             self.slot_indices[keep])
 
 
-def mesh_geometry(mesh, need_uvs=False):
-    """Reads an (evaluated) mesh; returns None for a mesh without faces."""
+def mesh_geometry(mesh, need_uvs=False, check_cancel=None):
+    """Reads an (evaluated) mesh; returns None for a mesh without faces. check_cancel()
+    runs between the steps (each a few tenths of a second for millions of triangles)
+    and may raise to stop."""
+    check_cancel = check_cancel or (lambda: None)
     mesh.calc_loop_triangles()
+    check_cancel()
     triangles = mesh.loop_triangles
     count = len(triangles)
     if count == 0:
@@ -51,14 +53,17 @@ def mesh_geometry(mesh, need_uvs=False):
     triangles.foreach_get("vertices", corner_vertices)
     slot_indices = np.empty(count, dtype=np.int32)
     triangles.foreach_get("material_index", slot_indices)
+    check_cancel()
 
     vertex_positions = np.empty(3 * len(mesh.vertices), dtype=np.float32)
     mesh.vertices.foreach_get("co", vertex_positions)
     positions = vertex_positions.reshape(-1, 3)[corner_vertices]
+    check_cancel()
 
     normals = None
     if _needs_normals(mesh):
         normals = _corner_normals(mesh)[corner_loops]
+        check_cancel()
 
     uvs = None
     if need_uvs and mesh.uv_layers.active is not None:

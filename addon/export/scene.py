@@ -6,16 +6,20 @@ Mesh data is read once per evaluated object and placed once per instance, so a
 thousand instances of one mesh cost one read and a thousand numpy transforms.
 """
 
+import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from .camera import convert_camera
+from .curves import TriangleBudget, curves_object, hair_systems, point_cloud
 from .image import TextureTable
 from .light import convert_light
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .scene_data import SceneData
+from .visibility import object_visibility
 from .world import convert_world
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'FONT', 'META'}
@@ -23,6 +27,30 @@ GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'FONT', 'META'}
 
 class ExportError(Exception):
     """The scene cannot be rendered; the message says why and what to do."""
+
+
+class _Cancelled(Exception):
+    """The user cancelled during export (raised between steps, caught by export_scene)."""
+
+
+class CancelPoll:
+    """Asks test_break() at most every POLL_SECONDS, between the steps of export: a large
+    mesh's steps take tenths of a second each, a thousand instances' much less."""
+    POLL_SECONDS = 0.02
+
+    def __init__(self, test_break):
+        self._test_break = test_break
+        self._last = time.perf_counter()
+
+    def __call__(self):
+        if self._test_break is None:
+            return
+        now = time.perf_counter()
+        if now - self._last < self.POLL_SECONDS:
+            return
+        self._last = now
+        if self._test_break():
+            raise _Cancelled()
 
 
 class SceneBuilder:
@@ -40,6 +68,7 @@ class SceneBuilder:
         self._warned = set()
         self.dropped_triangles = 0
         self.textures = TextureTable(self.warn)
+        self.check_cancel = CancelPoll(None)
 
     def warn(self, message):
         """Keeps each distinct warning once (one per material, not per instance)."""
@@ -126,24 +155,51 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
         raise ExportError("the scene has no camera: add one, or set the scene's "
                           "active camera")
     builder = SceneBuilder()
+    builder.check_cancel = CancelPoll(test_break)
+    try:
+        return _export(depsgraph, scene, camera_object, width, height, frame, builder, start)
+    except _Cancelled:
+        return None
+
+
+def _export(depsgraph, scene, camera_object, width, height, frame, builder, start):
     geometry_cache = {}
     instance_count = 0
+    budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
+                            builder.warn)
     for instance in depsgraph.object_instances:
-        if test_break is not None and instance_count % 256 == 0 and test_break():
-            return None
+        builder.check_cancel()
         instance_count += 1
         obj = instance.object
         if obj.type == 'LIGHT':
             convert_light(obj.data, instance.matrix_world, builder,
                           getattr(obj, "visible_camera", True))
-        elif obj.type in GEOMETRY_TYPES and instance.show_self:
+            continue
+        if obj.type in GEOMETRY_TYPES and instance.show_self:
             _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                     geometry_cache)
+        if obj.type == 'CURVES' and instance.show_self:
+            _add_strands(obj, builder, [(0, curves_object(
+                obj, instance.matrix_world, budget, builder.warn))])
+        elif obj.type == 'POINTCLOUD' and instance.show_self:
+            _add_strands(obj, builder, [(0, point_cloud(
+                obj, instance.matrix_world, budget, builder.warn))])
+        if obj.type == 'MESH' and not instance.is_instance and len(obj.particle_systems):
+            _add_strands(obj, builder, hair_systems(obj, depsgraph.mode, budget,
+                                                    builder.warn))
+    builder.check_cancel()
     positions, indices, normals, uvs, material_ids = builder.geometry()
+    builder.check_cancel()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                             builder.warn, frame)
+    world_lights = []
     environment, environment_texture, environment_to_world = convert_world(
-        scene.world, builder.warn, builder.textures)
+        scene.world, builder.warn, builder.textures, world_lights.append)
+    for light in world_lights:
+        builder.add_light(light)
+        if _in_view(camera, width, height, -np.asarray(light.direction)):
+            builder.warn(f"world '{scene.world.name}': the Sky Texture's sun disc is in "
+                         "view but not drawn; it lights the scene as a sun light")
     if scene.render.use_motion_blur:
         builder.warn("motion blur is not supported; the frame renders at one instant "
                      "(Output > Motion Blur)")
@@ -160,6 +216,18 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
                "dropped_triangles": builder.dropped_triangles})
 
 
+def _in_view(camera, width, height, direction):
+    """True when a world direction lies within a perspective camera's frame."""
+    if camera.projection != "perspective":
+        return False
+    local = np.asarray(camera.to_world, dtype=np.float64)[:3, :3].T @ direction
+    if local[2] >= 0.0:
+        return False
+    half_x = math.tan(0.5 * camera.fov_x)
+    half_y = half_x * height * camera.pixel_aspect / width
+    return abs(local[0] / -local[2]) <= half_x and abs(local[1] / -local[2]) <= half_y
+
+
 def _export_object_instance(obj, matrix, builder, geometry_cache):
     key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
     cached = geometry_cache.get(key)
@@ -168,34 +236,68 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
     geometry, slot_materials = cached
     if geometry is None:
         return
+    builder.check_cancel()
     world = transform_geometry(geometry, matrix)
+    builder.check_cancel()
     slots = np.clip(geometry.slot_indices, 0, len(slot_materials) - 1)
     builder.add_triangles(world.positions, slot_materials[slots], world.normals, world.uvs,
                           source=f"object '{obj.name}'")
 
 
+def _add_strands(obj, builder, parts):
+    """Adds (material slot, (positions, normals) or None) parts of hair, curves or points
+    (world space) with the object's slot materials."""
+    slot_materials = None
+    for slot, triangles in parts:
+        if triangles is None:
+            continue
+        if slot_materials is None:
+            slot_materials = _slot_materials(obj, builder)
+        positions, normals = triangles
+        builder.add_triangles(positions, slot_materials[min(slot, len(slot_materials) - 1)],
+                              normals, source=f"object '{obj.name}'")
+        builder.check_cancel()
+
+
+def _slot_materials(obj, builder):
+    """The material table index of each of obj's slots (one default when it has none).
+    An object hidden from camera rays or casting no shadow gets its own copies of its
+    materials, flagged so."""
+    visibility = object_visibility(obj, builder.warn)
+
+    def flagged(material):
+        return replace(material, visible_to_camera=visibility.camera,
+                       casts_shadow=visibility.shadow)
+
+    slot_materials = np.array(
+        [builder.material_id((_material_key(slot.material), visibility),
+                             lambda slot=slot: flagged(convert_material(
+                                 slot.material, builder.warn, builder.textures)))
+         for slot in obj.material_slots] or
+        [builder.material_id((None, visibility), lambda: flagged(DEFAULT_MATERIAL))],
+        dtype=np.uint32)
+    return slot_materials
+
+
 def _read_object(obj, builder):
     """(object-space MeshGeometry or None, material table index per slot). UVs are read
     only when one of the object's materials has a texture."""
-    slot_materials = np.array(
-        [builder.material_id(_material_key(slot.material),
-                             lambda slot=slot: convert_material(slot.material, builder.warn,
-                                                                builder.textures))
-         for slot in obj.material_slots] or
-        [builder.material_id(None, lambda: DEFAULT_MATERIAL)], dtype=np.uint32)
+    slot_materials = _slot_materials(obj, builder)
     need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "
                      "Volume output; volumes are not supported, so the object is left out")
         return None, None
+    builder.check_cancel()
     try:
         mesh = obj.to_mesh()
     except RuntimeError as error:
         builder.warn(f"object '{obj.name}' could not be converted to a mesh: {error}")
         return None, None
     try:
-        geometry = mesh_geometry(mesh, need_uvs) if mesh is not None else None
+        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel)
+                    if mesh is not None else None)
     finally:
         obj.to_mesh_clear()
     if volumes and geometry is not None:

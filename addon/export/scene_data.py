@@ -18,6 +18,8 @@ class MaterialData:
     ior: float = 1.5
     emission: tuple = (0.0, 0.0, 0.0)
     color_texture: int = -1          # index into SceneData.textures; colour x texel(uv)
+    visible_to_camera: bool = True   # False: camera rays pass through
+    casts_shadow: bool = True        # False: photons pass through (lighting it on the way)
 
 
 @dataclass

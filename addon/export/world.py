@@ -10,6 +10,7 @@ node's own colour with a warning; the render goes on.
 import numpy as np
 
 from .material import _linked_node, socket_color, socket_value
+from .sky import bake_sky
 
 BLACK = (0.0, 0.0, 0.0)
 
@@ -18,15 +19,16 @@ BLACK = (0.0, 0.0, 0.0)
 MODULE_FROM_BLENDER_MAP = np.eye(3)
 
 
-def convert_world(world, warn, textures=None):
+def convert_world(world, warn, textures=None, add_light=None):
     """(environment rgb, environment texture index or -1, environment_to_world float32
     4x4 or None) for a world (None: black). textures is the scene's TextureTable (None:
-    an Environment Texture counts as its mean colour)."""
-    rgb, texture, to_world = _convert_world(world, warn, textures)
+    an Environment Texture counts as its mean colour); add_light(LightData) takes a Sky
+    Texture's sun disc."""
+    rgb, texture, to_world = _convert_world(world, warn, textures, add_light)
     return rgb, texture, to_world if texture >= 0 else None
 
 
-def _convert_world(world, warn, textures):
+def _convert_world(world, warn, textures, add_light):
     if world is None:
         return BLACK, -1, None
     if not world.use_nodes or world.node_tree is None:
@@ -60,6 +62,15 @@ def _convert_world(world, warn, textures):
             lookup = _lookup_rotation(source.inputs["Vector"], world_warn)
             return (max(0.0, strength),) * 3, texture, _to_world(lookup)
         color = socket_color(color_socket, world_warn, clamp=False, linked=False)
+    elif textures is not None and source is not None and source.type == 'TEX_SKY':
+        vector = source.inputs.get("Vector")  # 4.x's Nishita sky has none
+        if vector is not None and _linked_node(vector) is not None:
+            world_warn("the Sky Texture's Vector input is ignored; the sky is unturned")
+        texture = bake_sky(source, max(0.0, strength), world_warn, textures,
+                           add_light or (lambda light: None))
+        if texture >= 0:
+            return (max(0.0, strength),) * 3, texture, np.eye(4, dtype=np.float32)
+        color = (0.5, 0.5, 0.5)
     else:
         color = socket_color(color_socket, world_warn, clamp=False)
     return tuple(max(0.0, c * strength) for c in color), -1, None

@@ -54,6 +54,11 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
             name="Device Override", default=-1, min=-1, max=64,
             description="EGL device index for this scene only; -1 uses the device chosen "
                         "in the add-on preferences"),
+        "curve_triangle_limit": IntProperty(
+            name="Curve Triangle Limit", default=4_000_000, min=0, max=INT_MAX,
+            description="Most triangles that hair, Curves objects and point clouds may "
+                        "become (12 per curve segment, 20 per point); past it the rest "
+                        "are left out with a warning"),
         "seed": IntProperty(
             name="Seed", default=0, min=0, max=INT_MAX,
             description="Random seed; renders with the same seed and settings repeat"),

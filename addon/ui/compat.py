@@ -13,6 +13,13 @@ EXCLUDED = {
     'RENDER_PT_freestyle',
     'DATA_PT_area',           # 3.x only; the engine's light panel draws the shape
 }
+# Whole families that do not apply: light probes (EEVEE's baked lighting), Volume objects
+# (not rendered: export warns) and Freestyle's line settings (not drawn).
+EXCLUDED_PREFIXES = (
+    'DATA_PT_lightprobe', 'DATA_PT_context_lightprobe',
+    'DATA_PT_volume', 'DATA_PT_context_volume', 'DATA_PT_custom_props_volume',
+    'VIEWLAYER_PT_freestyle',
+)
 
 # EEVEE's and Cycles' panels that draw nothing specific to those engines.
 EXTRA = (
@@ -30,11 +37,15 @@ def compatible_panels():
     panels = []
     for panel in bpy.types.Panel.__subclasses__():
         engines = getattr(panel, "COMPAT_ENGINES", None)
-        if engines is None or panel.__name__ in EXCLUDED:
+        if engines is None or excluded(panel.__name__):
             continue
         if 'BLENDER_RENDER' in engines or panel.__name__ in EXTRA:
             panels.append(panel)
     return panels
+
+
+def excluded(name):
+    return name in EXCLUDED or name.startswith(EXCLUDED_PREFIXES)
 
 
 def register():

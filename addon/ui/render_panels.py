@@ -46,7 +46,19 @@ class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
         else:
             column.prop(settings, "initial_radius")
         column.prop(settings, "alpha")
-        column.prop(settings, "max_bounces")
+        column.prop(settings, "curve_triangle_limit")
+
+
+class RENDER_PT_glslppm_light_paths(GlslppmRenderPanel, bpy.types.Panel):
+    """Where Cycles users look for bounces: one limit, for eye and photon paths alike."""
+    bl_label = "Light Paths"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.column().prop(context.scene.glslppm, "max_bounces", text="Max Bounces")
 
 
 class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
@@ -83,7 +95,9 @@ class RENDER_PT_glslppm_film(GlslppmRenderPanel, bpy.types.Panel):
             row = column.row()
             row.active = scene.render.film_transparent
             row.prop(cycles, "film_transparent_glass", text="Transparent Glass")
+        # Each pixel's estimate is its own (a box one pixel wide): no filter to size.
+        column.label(text="Pixel Filter: 1 px box (fixed)", icon='INFO')
 
 
-classes = (RENDER_PT_glslppm_sampling, RENDER_PT_glslppm_photons, RENDER_PT_glslppm_film,
-           RENDER_PT_glslppm_advanced)
+classes = (RENDER_PT_glslppm_sampling, RENDER_PT_glslppm_photons,
+           RENDER_PT_glslppm_light_paths, RENDER_PT_glslppm_film, RENDER_PT_glslppm_advanced)

@@ -78,6 +78,7 @@ class Builder {
 
     // Appends the subtree of `range` to `out` in preorder (left first); returns its depth.
     int build(const Range& range, std::vector<BvhNode>& out) {
+        throw_if_cancelled(options_.cancel);
         if (range.depth >= spawn_depth_ || range.size() < kParallelMinTriangles)
             return build_serial(range, out);
         Split split;
@@ -120,6 +121,7 @@ class Builder {
         int max_depth = 0;
         Split split;
         while (!stack.empty()) {
+            throw_if_cancelled(options_.cancel);
             const Item item = stack.back();
             stack.pop_back();
             const auto index = static_cast<std::int32_t>(out.size());
@@ -287,6 +289,7 @@ Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
         r.begin = begin;
         r.end = end;
         for (std::uint32_t i = begin; i < end; ++i) {
+            if ((i & 0xFFFFu) == 0) throw_if_cancelled(options.cancel);
             const std::uint32_t id = mesh.kept[i];
             const glm::uvec3 tri = mesh.view.triangles[id];
             const Aabb b = Aabb::of_triangle(mesh.view.positions[tri.x], mesh.view.positions[tri.y],

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bvh/aabb.h"
+#include "scene/cancel.h"
 #include "scene/mesh.h"
 
 namespace glslppm {
@@ -18,6 +19,9 @@ struct BvhBuildOptions {
     int bins = 16;         // SAH bins per axis (2..256); a node of n < bins triangles uses
                            // max(n, 4)
     bool parallel = true;  // build the two subtrees of the top levels on separate threads
+    // Polled between nodes and every few thousand triangles: when set, the build throws
+    // Cancelled (the caller keeps the flag alive until the build returns).
+    const CancelFlag* cancel = nullptr;
 };
 
 // One node. Nodes are stored in depth-first preorder, left child first: node 0 is the root
@@ -40,7 +44,8 @@ struct Bvh {
 
 // Builds over the kept (non-degenerate) triangles of `mesh`. Deterministic: the same input
 // gives the same tree whether or not it is built in parallel. An empty mesh gives no nodes.
-// Throws std::invalid_argument for leaf_size < 1 or bins outside 2..256.
+// Throws std::invalid_argument for leaf_size < 1 or bins outside 2..256, Cancelled when
+// options.cancel is set meanwhile.
 Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options);
 
 }  // namespace glslppm

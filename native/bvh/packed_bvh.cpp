@@ -17,7 +17,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, bool parallel) {
+PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, bool parallel,
+                   const CancelFlag* cancel) {
     if (threaded.node_count != bvh.nodes.size())
         throw std::invalid_argument("pack_bvh: the links were threaded from another BVH");
     PackedBvh packed;
@@ -30,6 +31,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     // reverse preorder (children come after their parent), so containment stays exact.
     std::vector<Aabb> boxes(bvh.nodes.size());
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+        if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];
         if (node.is_leaf()) {
             boxes[i] = pad_box(node.box);
@@ -40,6 +42,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     }
     packed.nodes.resize(2 * bvh.nodes.size());
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+        if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];
         packed.nodes[2 * i] =
             glm::vec4(boxes[i].lo, int_bits(static_cast<std::int32_t>(node.first)));
@@ -54,6 +57,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     if (!view.uvs.empty()) packed.uvs.resize(2 * n);
     auto fill = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
+            if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
             const std::uint32_t id = bvh.triangles[i];
             const glm::uvec3 tri = view.triangles[id];
             const std::uint32_t material = view.material_ids.empty() ? 0 : view.material_ids[id];
@@ -99,10 +103,10 @@ PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options
     const Bvh bvh = build_sah_bvh(mesh, options);
     const double build_seconds = seconds_since(start);
     start = std::chrono::steady_clock::now();
-    ThreadedBvh threaded = thread_bvh(bvh, order_count, options.parallel);
+    ThreadedBvh threaded = thread_bvh(bvh, order_count, options.parallel, options.cancel);
     const double thread_seconds = seconds_since(start);
     start = std::chrono::steady_clock::now();
-    PackedBvh packed = pack_bvh(mesh, bvh, std::move(threaded), options.parallel);
+    PackedBvh packed = pack_bvh(mesh, bvh, std::move(threaded), options.parallel, options.cancel);
     packed.stats.pack_seconds = seconds_since(start);
     packed.stats.build_seconds = build_seconds;
     packed.stats.thread_seconds = thread_seconds;

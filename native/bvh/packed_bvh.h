@@ -57,9 +57,10 @@ struct PackedBvh {
 
 // Packs an already built and threaded BVH (for building the MTBVH and the TBVH of one tree).
 PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
-                   bool parallel = true);
+                   bool parallel = true, const CancelFlag* cancel = nullptr);
 
-// Builds (binned SAH), threads (order_count 6 or 1) and packs, with timings in stats.
+// Builds (binned SAH), threads (order_count 6 or 1) and packs, with timings in stats; all
+// three stages poll options.cancel (Cancelled).
 PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options, int order_count);
 
 }  // namespace glslppm

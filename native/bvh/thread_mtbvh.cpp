@@ -16,12 +16,14 @@ struct Branch {
 
 // One link set: an iterative preorder walk carrying each node's miss link (the node after
 // its subtree), so no recursion and no parent pointers are needed.
-void thread_order(const std::vector<Branch>& branches, int order, glm::ivec2* links) {
+void thread_order(const std::vector<Branch>& branches, int order, glm::ivec2* links,
+                  const CancelFlag* cancel) {
     struct Item {
         std::int32_t node, miss;
     };
     std::vector<Item> stack{{0, -1}};
-    while (!stack.empty()) {
+    for (std::uint32_t step = 0; !stack.empty(); ++step) {
+        if ((step & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const Item item = stack.back();
         stack.pop_back();
         const Branch& branch = branches[item.node];
@@ -46,7 +48,8 @@ bool right_child_first(const BvhNode& left, const BvhNode& right, int order) {
     return (order & 1) == 0 ? r < l : r > l;
 }
 
-ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
+ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel,
+                       const CancelFlag* cancel) {
     if (order_count != kMtbvhOrderCount && order_count != kTbvhOrderCount)
         throw std::invalid_argument("a threaded BVH has 6 (MTBVH) or 1 (TBVH) link orders, not " +
                                     std::to_string(order_count));
@@ -57,6 +60,7 @@ ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
     if (threaded.node_count == 0) return threaded;
     std::vector<Branch> branches(bvh.nodes.size());
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+        if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];
         if (node.is_leaf()) continue;
         Branch& b = branches[i];
@@ -71,7 +75,8 @@ ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel) {
         for (int order = begin; order < end; ++order)
             thread_order(
                 branches, order,
-                threaded.links.data() + static_cast<std::size_t>(order) * threaded.node_count);
+                threaded.links.data() + static_cast<std::size_t>(order) * threaded.node_count,
+                cancel);
     };
     if (parallel && order_count > 1 && threaded.node_count > 4096) {
         auto upper = std::async(std::launch::async, run, order_count / 2, order_count);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bvh/build_sah_bvh.h"
+#include "scene/cancel.h"
 
 namespace glslppm {
 
@@ -31,8 +32,10 @@ struct ThreadedBvh {
 // the larger one; ties keep the build order.
 bool right_child_first(const BvhNode& left, const BvhNode& right, int order);
 
-// order_count 6: MTBVH; 1: TBVH. Throws std::invalid_argument for any other count.
-ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel = true);
+// order_count 6: MTBVH; 1: TBVH. Throws std::invalid_argument for any other count, Cancelled
+// when `cancel` is set meanwhile.
+ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel = true,
+                       const CancelFlag* cancel = nullptr);
 inline ThreadedBvh thread_mtbvh(const Bvh& bvh) { return thread_bvh(bvh, kMtbvhOrderCount); }
 inline ThreadedBvh thread_tbvh(const Bvh& bvh) { return thread_bvh(bvh, kTbvhOrderCount); }
 

@@ -88,7 +88,7 @@ py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_
 
 Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
                        std::array<float, 3> emission, int color_texture,
-                       bool emission_two_sided) {
+                       bool emission_two_sided, bool visible_to_camera, bool casts_shadow) {
     Material m;
     if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
     else if (kind == "conductor") m.kind = MaterialKind::Conductor;
@@ -99,6 +99,8 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.emission = {emission[0], emission[1], emission[2]};
     m.color_texture = color_texture;
     m.emission_two_sided = emission_two_sided;
+    m.visible_to_camera = visible_to_camera;
+    m.casts_shadow = casts_shadow;
     return m;
 }
 
@@ -193,8 +195,8 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
 // cancels that run and frees the GPU when it returns, never under it.
 class PyRenderer {
 public:
-    PyRenderer(const Scene& scene, const RenderSettings& settings)
-        : renderer_(std::make_shared<Renderer>(scene, settings)) {}
+    PyRenderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
+        : renderer_(std::make_shared<Renderer>(scene, settings, cancel)) {}
     std::shared_ptr<Renderer> get() {
         std::lock_guard lock(mutex_);
         if (!renderer_) throw std::runtime_error("this Renderer was closed");
@@ -253,9 +255,12 @@ py::dict stats_dict(const RenderStats& s) {
 PYBIND11_MODULE(_glslppm, m) {
     m.doc() = "glslppm: stochastic progressive photon mapping on the GPU through headless OpenGL";
     static py::exception<std::runtime_error> error(m, "GlslppmError", PyExc_RuntimeError);
+    static py::exception<Cancelled> cancelled(m, "Cancelled", error.ptr());
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const Cancelled& e) {
+            cancelled(e.what());
         } catch (const gl::GlError& e) {
             error(e.what());
         } catch (const gl::ShaderError& e) {
@@ -268,7 +273,8 @@ PYBIND11_MODULE(_glslppm, m) {
         .def(py::init(&make_material), py::arg("kind") = "diffuse",
              py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
              py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
-             py::arg("color_texture") = -1, py::arg("emission_two_sided") = true);
+             py::arg("color_texture") = -1, py::arg("emission_two_sided") = true,
+             py::arg("visible_to_camera") = true, py::arg("casts_shadow") = true);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
@@ -448,12 +454,21 @@ PYBIND11_MODULE(_glslppm, m) {
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale);
 
+    // Set from any thread while a Renderer is being constructed with it: the construction
+    // (BVH build, GL set-up) stops within milliseconds and raises Cancelled.
+    py::class_<CancelFlag, std::shared_ptr<CancelFlag>>(m, "CancelFlag")
+        .def(py::init([] { return std::make_shared<CancelFlag>(false); }))
+        .def("set", [](CancelFlag& flag) { flag = true; })
+        .def("clear", [](CancelFlag& flag) { flag = false; })
+        .def_property_readonly("is_set", [](const CancelFlag& flag) { return flag.load(); });
+
     py::class_<PyRenderer>(m, "Renderer")
-        .def(py::init([](const Scene& scene, const RenderSettings& settings) {
+        .def(py::init([](const Scene& scene, const RenderSettings& settings,
+                         std::shared_ptr<CancelFlag> cancel) {
                  py::gil_scoped_release release;
-                 return std::make_unique<PyRenderer>(scene, settings);
+                 return std::make_unique<PyRenderer>(scene, settings, cancel.get());
              }),
-             py::arg("scene"), py::arg("settings"))
+             py::arg("scene"), py::arg("settings"), py::arg("cancel") = nullptr)
         .def("run", [](PyRenderer& r, int passes) {
             if (passes < 0) throw py::value_error("passes: must be >= 0");
             py::gil_scoped_release release;

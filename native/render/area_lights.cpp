@@ -43,9 +43,11 @@ SceneGeometry with_area_lights(const Scene& scene) {
     SceneGeometry g;
     g.mesh = scene.mesh;
     g.materials = scene.materials;
-    g.flags.assign(g.materials.size(), 0u);
-    for (std::size_t k = 0; k < g.materials.size(); ++k)
-        if (!g.materials[k].emission_two_sided) g.flags[k] = kMaterialOneSidedEmission;
+    g.flags.reserve(g.materials.size());
+    for (const Material& m : g.materials)
+        g.flags.push_back((m.visible_to_camera ? 0u : kMaterialHiddenFromCamera) |
+                          (m.emission_two_sided ? 0u : kMaterialOneSidedEmission) |
+                          (m.casts_shadow ? 0u : kMaterialCastsNoShadow));
     bool any = false;
     for (const Light& light : scene.lights) any |= light.kind == LightKind::Area;
     if (!any) return g;

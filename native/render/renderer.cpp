@@ -89,6 +89,7 @@ struct Renderer::Gpu {
     std::uint64_t passes = 0;
     double seconds = 0.0;
     std::atomic<bool> cancel{false};
+    const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
     float initial_radius = 0.0f;
     std::size_t gpu_bytes = 0;
 
@@ -125,6 +126,7 @@ struct Renderer::Gpu {
     }
 
     GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {
+        throw_if_cancelled(setup_cancel);  // large uploads take a while on llvmpipe
         GLuint id = 0;
         glGenBuffers(1, &id);
         gl::count_gl_objects(gl::GlObject::Buffer, 1);
@@ -292,12 +294,13 @@ struct Renderer::Gpu {
     }
 };
 
-Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), gpu_(std::make_unique<Gpu>()) {
     validate(settings);
     validate_scene(scene);
     Gpu& g = *gpu_;
     g.settings = settings;
+    g.setup_cancel = cancel;
 
     // Area lights join the geometry; textures count only where the mesh has uvs for them.
     SceneGeometry geometry = with_area_lights(scene);
@@ -311,6 +314,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                          " degenerate triangles dropped)");
     BvhBuildOptions options;
     options.leaf_size = settings.leaf_size;
+    options.cancel = cancel;
     g.bvh = build_packed_bvh(mesh, options, 6);
     g.bounds = scene_bounds(g.bvh);
     // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
@@ -329,7 +333,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             scene.textures[static_cast<std::size_t>(scene.environment_texture)],
             scene.environment));
     }
+    throw_if_cancelled(cancel);
     g.emitters = build_emitters(scene, geometry.materials, g.bvh, g.bounds, environment.get());
+    throw_if_cancelled(cancel);
 
     // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
     // scene requires").
@@ -488,12 +494,14 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;
 
+    throw_if_cancelled(cancel);
     g.thread = std::make_unique<gl::GlThread>(settings.device);
     g.thread->call([&] {
         try {
             const auto compile_start = std::chrono::steady_clock::now();
             gl::ProgramCache& cache = g.thread->context().programs();
             auto program = [&](const char* file, const char* phase) -> const gl::ComputeProgram* {
+                throw_if_cancelled(cancel);  // a compile on llvmpipe takes up to a second
                 gl::Defines d = g.defines;
                 if (phase) d.push_back({phase, "1"});
                 return &cache.get(file, d);
@@ -525,6 +533,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                 glUniform1ui(p->uniform("bvh_node_count"), g.bvh.node_count);
             }
 
+            throw_if_cancelled(cancel);
             if (settings.profile) {
                 glGenQueries(5, g.queries);
                 gl::count_gl_objects(gl::GlObject::Query, 5);
@@ -604,6 +613,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
+            g.setup_cancel = nullptr;
             glFinish();
         } catch (...) {
             g.release();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "render/settings.h"
+#include "scene/cancel.h"
 #include "scene/scene.h"
 
 namespace glslppm {
@@ -45,8 +46,10 @@ class Renderer {
 public:
     // Validates the scene and settings (std::invalid_argument / SceneError), builds the
     // MTBVH, creates the GL context (gl::GlError) and compiles the programs
-    // (gl::ShaderError). The scene's arrays may be freed afterwards.
-    Renderer(const Scene& scene, const RenderSettings& settings);
+    // (gl::ShaderError). The scene's arrays may be freed afterwards. Setting `cancel` (from
+    // another thread) meanwhile stops the set-up within milliseconds: Cancelled.
+    Renderer(const Scene& scene, const RenderSettings& settings,
+             const CancelFlag* cancel = nullptr);
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;

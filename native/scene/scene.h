@@ -26,6 +26,10 @@ struct Material {
     // Blender's meshes emit from both faces (Cycles); false: from the front face only, along
     // the winding's normal (the built-in scenes' ceiling lights, single-sided glTF materials).
     bool emission_two_sided = true;
+    // Blender's ray visibility: camera rays pass through surfaces not visible to the camera;
+    // photons pass through (depositing on diffuse ones) surfaces that cast no shadow.
+    bool visible_to_camera = true;
+    bool casts_shadow = true;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

@@ -14,10 +14,12 @@ int material_texture(int m) { return floatBitsToInt(materials[3 * m + 2].x); }
 int material_flags(int m) { return floatBitsToInt(materials[3 * m + 2].y); }
 
 // Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
-// through; some are hidden from camera rays.
+// through; some surfaces are hidden from camera rays; some cast no shadow (photons and
+// shadow rays pass through them).
 const int MATERIAL_LIGHT_SURFACE = 1;
 const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
 const int MATERIAL_ONE_SIDED_EMISSION = 4;
+const int MATERIAL_CASTS_NO_SHADOW = 8;
 
 // The surface's colour: the material's, times its base-colour texture at the hit's uv.
 vec3 surface_color(Surface s) {

@@ -2,6 +2,7 @@
 
 import math
 import os
+import time
 
 import bpy
 import numpy as np
@@ -241,8 +242,16 @@ def recording_engine_class():
         bl_label = "GLSLPPM (test recorder)"
         reports = []
         break_after_passes = None
+        break_in_stage = None       # (stage, seconds in it): cancel there, as Esc would
+        break_requested_at = None   # perf_counter() of the first cancel answered
+        break_stage = None          # the stage it was answered in
+        render_returned_at = None
         last_passes = 0
         last_stats = {}
+
+        def render(self, depsgraph):
+            super().render(depsgraph)
+            GlslppmRecordingEngine.render_returned_at = time.perf_counter()
 
         def report_to_user(self, level, message):
             GlslppmRecordingEngine.reports.append((level, message))
@@ -253,6 +262,14 @@ def recording_engine_class():
             GlslppmRecordingEngine.last_passes = self.passes_done
             GlslppmRecordingEngine.last_stats = self.last_stats
             if limit is not None and self.passes_done >= limit:
+                return True
+            stage = GlslppmRecordingEngine.break_in_stage
+            clock = self.stage_clock
+            if stage is not None and clock is not None and clock.stage == stage[0] and \
+                    time.perf_counter() - clock.since >= stage[1]:
+                if GlslppmRecordingEngine.break_requested_at is None:
+                    GlslppmRecordingEngine.break_requested_at = time.perf_counter()
+                    GlslppmRecordingEngine.break_stage = clock.stage
                 return True
             return super().should_stop()
 
@@ -271,6 +288,10 @@ def recording_engine():
     cls = _recording[0]
     cls.reports.clear()
     cls.break_after_passes = None
+    cls.break_in_stage = None
+    cls.break_requested_at = None
+    cls.break_stage = None
+    cls.render_returned_at = None
     cls.last_passes = 0
     cls.last_stats = {}
     return cls
@@ -285,3 +306,29 @@ def look_at_rotation(location, target):
 
 def degrees(value):
     return math.radians(value)
+
+
+def add_bumpy_grid(quads_per_side, name="Grid"):
+    """A grid of 2 * n^2 triangles over [-1, 1]^2 with random heights (so a BVH build does
+    real work), built with foreach_set: a million quads take about a second."""
+    n = quads_per_side
+    xs, ys = np.meshgrid(np.linspace(-1, 1, n + 1), np.linspace(-1, 1, n + 1))
+    heights = 0.05 * np.random.default_rng(1).random(xs.size)
+    vertices = np.stack([xs.ravel(), ys.ravel(), heights], 1)
+    i, j = np.meshgrid(np.arange(n), np.arange(n))
+    base = (j * (n + 1) + i).ravel()
+    quads = np.stack([base, base + 1, base + n + 2, base + n + 1], 1)
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(vertices))
+    mesh.vertices.foreach_set("co", vertices.astype(np.float32).ravel())
+    mesh.loops.add(quads.size)
+    mesh.loops.foreach_set("vertex_index", quads.astype(np.int32).ravel())
+    mesh.polygons.add(len(quads))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
+    if not BLENDER_4:
+        mesh.polygons.foreach_set("loop_total", np.full(len(quads), 4, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    mesh.validate()
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj

@@ -14,7 +14,8 @@ BLENDER_PANELS = ("RENDER_PT_format", "RENDER_PT_output", "RENDER_PT_color_manag
                   "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
                   "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface", "WORLD_PT_context_world")
 OWN_PANELS = ("RENDER_PT_glslppm_sampling", "RENDER_PT_glslppm_photons",
-              "RENDER_PT_glslppm_advanced", "DATA_PT_glslppm_light")
+              "RENDER_PT_glslppm_advanced", "RENDER_PT_glslppm_light_paths",
+              "RENDER_PT_glslppm_film", "DATA_PT_glslppm_light")
 
 
 def test_engine_is_a_render_engine():
@@ -73,6 +74,28 @@ def test_panels_show_for_engine():
     assert not missing, f"panels not shown for GLSLPPM: {missing}"
     # EEVEE-only settings stay hidden.
     assert 'GLSLPPM' not in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+
+
+def test_panels_that_do_not_apply_are_hidden_and_cycles_users_find_theirs():
+    """Light probes, Volume objects and Freestyle's line sets are hidden; Stereoscopy
+    (supported) stays; Film (transparent, its filter) and Light Paths (Max Bounces, the
+    eye and photon path limit) are the engine's own panels, as Cycles users expect."""
+    hidden_families = ("DATA_PT_lightprobe", "DATA_PT_context_lightprobe", "DATA_PT_volume",
+                       "DATA_PT_context_volume", "VIEWLAYER_PT_freestyle")
+    panels = bpy.types.Panel.__subclasses__()
+    family_members = [panel.__name__ for panel in panels
+                      if panel.__name__.startswith(hidden_families)]
+    assert len(family_members) >= 10, family_members  # the families exist in this Blender
+    shown = [name for name in family_members
+             if 'GLSLPPM' in getattr(bpy.types, name).COMPAT_ENGINES]
+    assert not shown, f"panels that do not apply shown for GLSLPPM: {shown}"
+    for name in ("RENDER_PT_stereoscopy", "DATA_PT_camera_stereoscopy",
+                 "RENDER_PT_glslppm_film", "RENDER_PT_glslppm_light_paths"):
+        assert 'GLSLPPM' in getattr(bpy.types, name).COMPAT_ENGINES, name
+    assert bpy.types.RENDER_PT_glslppm_light_paths.bl_label == "Light Paths"
+    assert bpy.types.RENDER_PT_glslppm_film.bl_label == "Film"
+    properties = bpy.types.Scene.bl_rna.properties["glslppm"].fixed_type.properties
+    assert properties["max_bounces"].name == "Max Bounces"
 
 
 def test_disable_and_enable_again():
