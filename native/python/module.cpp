@@ -225,6 +225,7 @@ py::dict stats_dict(const RenderStats& s) {
     d["initial_radius"] = s.initial_radius;
     d["renderer"] = s.renderer;
     d["variant"] = s.variant;
+    d["direct_light"] = s.direct_light;
     d["triangles"] = s.triangles;
     d["degenerate_dropped"] = s.degenerate_dropped;
     d["emitters"] = s.emitters;
@@ -397,7 +398,8 @@ PYBIND11_MODULE(_glslppm, m) {
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
                          float initial_radius, int max_depth, const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
-                         bool profile, bool full_variant, int max_texture_size) {
+                         bool profile, bool full_variant, int max_texture_size,
+                         const std::string& direct_light) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -407,6 +409,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.max_depth = max_depth;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
+                 s.direct_light = parse_direct_light(direct_light);
                  s.device = device;
                  s.seed = seed;
                  s.leaf_size = leaf_size;
@@ -420,7 +423,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
              py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
              py::arg("seed") = 0, py::arg("leaf_size") = 4, py::arg("profile") = false,
-             py::arg("full_variant") = false, py::arg("max_texture_size") = 0)
+             py::arg("full_variant") = false, py::arg("max_texture_size") = 0,
+             py::arg("direct_light") = to_string(RenderSettings{}.direct_light))
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);
 
