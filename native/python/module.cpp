@@ -16,6 +16,7 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "scenes/cornell_box.h"
+#include "scenes/caustic_scene.h"
 
 namespace py = pybind11;
 using namespace glslppm;
@@ -490,6 +491,13 @@ PYBIND11_MODULE(_glslppm, m) {
         return make_cornell_box(o);
     }, py::arg("mirror_sphere") = true, py::arg("glass_sphere") = true, py::arg("sphere_rings") = 48,
        "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere.");
+
+    m.def("caustic_scene", [](int sphere_rings) {
+        CausticSceneOptions o;
+        o.sphere_rings = sphere_rings;
+        return make_caustic_scene(o);
+    }, py::arg("sphere_rings") = 64,
+       "glslppm-bench's caustic scene: a glass sphere on a diffuse floor, a small quad light.");
 
     m.def("read_exr", [](const std::string& path) {
         std::map<std::string, std::string> attributes;

@@ -232,7 +232,8 @@ def test_closed_furnace_in_both_modes(glslppm, direct):
     expected_after = expected - missing
     error = image.mean() / expected_after - 1.0
     blocks = image.reshape(6, 4, 6, 4, 3).mean(axis=(1, 3, 4)) / expected_after - 1.0
-    print(f"  {direct}: mean relative error {error:+.5f}, 4x4 blocks max {np.abs(blocks).max():.4f}")
+    print(f"  {direct}: mean relative error {error:+.5f}, "
+          f"4x4 blocks max {np.abs(blocks).max():.4f}")
     # As in test_sppm.py: 0.5% on the mean, 4% on every 4x4 block.
     assert abs(error) < 0.005, (image.mean(), expected_after)
     assert np.all(np.abs(blocks) <= 0.04), blocks
@@ -288,7 +289,8 @@ def test_spot_light_sampled_matches_the_closed_form(glslppm, cosine):
     x, y = pixel_centres(size)
     r = np.hypot(x, y)
     edge = h * math.tan(size_angle / 2)
-    inner = h * math.tan(math.acos(math.cos(size_angle / 2) + (1 - math.cos(size_angle / 2)) * blend))
+    cos_half = math.cos(size_angle / 2)
+    inner = h * math.tan(math.acos(cos_half + (1 - cos_half) * blend))
     pixel = 2 * HALF / size
     core = r < inner - pixel
     core_error = np.abs(e[core] / expected[core] - 1.0).max()
@@ -372,7 +374,7 @@ def test_environment_sampled_on_a_convex_object(glslppm, as_map):
     size = 32
     r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=4096, seed=4,
                                      hash="exact", direct_light="sampled"))
-    r.run(64 if as_map else 16)
+    r.run(128 if as_map else 16)
     film = r.film()[..., 0]
     assert np.isfinite(film).all()
     c = ((np.arange(size) + 0.5) / size * 2 - 1) * 1.2
@@ -392,8 +394,9 @@ def test_environment_sampled_on_a_convex_object(glslppm, as_map):
         assert worst < 0.07
     else:
         # A constant map sampled uniformly over the sphere: per-sample spread about 100%
-        # (half the directions are below the surface); after 64 passes the mean's noise is
-        # 0.5% and a 4x4 block's 3%. Bounds 2% and 15%.
+        # (half the directions are below the surface); after 128 passes the mean's noise
+        # is 0.5% (measured over seeds at 256 passes: +0.57%, +0.08%, pixel spread 8%) and a
+        # 4x4 block's 3%. Bounds 2% (4 sigma) and 15%.
         assert abs(error) < 0.02
         assert np.abs(inner).max() < 0.15
 
@@ -460,11 +463,12 @@ def test_both_modes_converge_to_the_same_cornell_box(glslppm, kind):
     mean = images[0].mean() / images[1].mean() - 1.0
     print(f"  blocks rms {np.sqrt(np.mean(rel ** 2)):.4f} max {rel.max():.4f}, "
           f"image mean {mean:+.4f}")
-    # The photons-only image after 48 passes has block noise of about 4% rms (the hash and
-    # generator comparison in test_sppm.py bounds the same at 10%); its kernel bias at
-    # the light's edges and in the corners moves light between blocks but keeps it.
-    assert np.sqrt(np.mean(rel ** 2)) < 0.10, rel
-    assert abs(mean) < 0.03
+    # Measured (seed 1): blocks rms 3.1% (Cornell) and 2.5% (diffuse), max 10% and 5%
+    # (the blocks at the light's edge, where the photons' kernel blurs the direct light),
+    # image means +0.30% and -0.14%. Bounds: 7% rms (test_sppm.py's comparison of hash
+    # modes allows 10%), 1.5% on the mean.
+    assert np.sqrt(np.mean(rel ** 2)) < 0.07, rel
+    assert abs(mean) < 0.015
 
 
 def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):
@@ -505,3 +509,32 @@ def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):
     assert len(stored["sampled"][0]) == 0
     assert len(second) == pytest.approx(count * share, abs=5 * math.sqrt(count * share))
     assert np.all(second[:, 1] > 0.5)
+
+
+def test_both_modes_converge_to_the_same_caustic_scene(glslppm):
+    """glslppm-bench's caustic scene (a glass sphere focusing a small quad light on the
+    floor): the caustic comes from photons in both modes, the direct light from light
+    sampling or photons. With one seed both modes trace the same camera rays and specular
+    choices, so the light seen through the glass (the noisiest pixels) is the same in both;
+    8x8 block means agree within the photons' noise."""
+    g = glslppm
+    images = []
+    for direct in ("sampled", "photons"):
+        r = g.Renderer(g.caustic_scene(sphere_rings=32),
+                       g.Settings(width=48, height=48, photons_per_pass=16384, seed=1,
+                                  direct_light=direct))
+        r.run(64)
+        image = r.film()[..., :3]
+        assert np.isfinite(image).all()
+        images.append(image)
+    blocks = [im.reshape(6, 8, 6, 8, 3).mean(axis=(1, 3)) for im in images]
+    ref = blocks[1].mean(axis=-1)
+    rel = np.abs(blocks[0] - blocks[1]).mean(axis=-1) / ref
+    mean = images[0].mean() / images[1].mean() - 1.0
+    print(f"  blocks rms {np.sqrt(np.mean(rel ** 2)):.4f} max {rel.max():.4f}, "
+          f"image mean {mean:+.4f}")
+    # Measured (seed 1): blocks rms 2.4%, max 5.0%, image mean +0.13%. Bounds: 7% rms, 15%
+    # for any block, 1.5% on the mean.
+    assert np.sqrt(np.mean(rel ** 2)) < 0.07, rel
+    assert rel.max() < 0.15
+    assert abs(mean) < 0.015
