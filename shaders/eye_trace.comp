@@ -54,6 +54,12 @@ void main() {
     uint i = thread_index();
     if (i >= sizes.x * sizes.y) return;
     RNG_STATE rng = rng_load(i);
+#ifdef DIRECT_LIGHT_SAMPLED
+    // The light sample's numbers come first, so that draws only some variants make (the
+    // lens) do not change them: every variant of a scene renders the same image.
+    float light_pick = rng_next(rng);
+    vec4 light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
+#endif
     Ray ray = camera_ray(i % sizes.x, i / sizes.x, rng);
 
     vec3 throughput = vec3(1.0);
@@ -95,7 +101,8 @@ void main() {
             direct += throughput * direct_light_sampled(s.position, normal,
                                                         front ? s.geometric_normal
                                                               : -s.geometric_normal,
-                                                        -ray.dir, s.material, color, rng, rays);
+                                                        -ray.dir, s.material, color,
+                                                        light_pick, light_u, rays);
 #endif
             break;
         }

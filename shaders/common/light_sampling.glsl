@@ -26,23 +26,22 @@ const float DISTANT_LIGHT = 3.0e38;
 // One light sample seen from p: the unit direction towards it, the distance to the sampled
 // point (DISTANT_LIGHT for the sun and the world) and L_e / (p_pick p(wi)). `ng` is the
 // surface's normal at p on the side the light must be on (only the constant world's cosine
-// sampling reads it).
+// sampling reads it). `pick` chooses the emitter, `u` the point or direction on it.
 struct LightSample {
     vec3 wi;
     float distance;
     vec3 radiance_over_pdf;
 };
 
-LightSample sample_light(vec3 p, vec3 ng, inout RNG_STATE rng) {
+LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
-    uint k = pick_emitter(rng_next(rng));
+    uint k = pick_emitter(pick);
     vec4 a = emitters[4u * k + 0u];
     vec4 b = emitters[4u * k + 1u];
     vec4 c = emitters[4u * k + 2u];
     vec4 d = emitters[4u * k + 3u];
     int kind = floatBitsToInt(a.w);
-    float u1 = rng_next(rng), u2 = rng_next(rng);
-    float u3 = rng_next(rng), u4 = rng_next(rng);
+    float u1 = u.x, u2 = u.y, u3 = u.z, u4 = u.w;
     vec3 power = d.rgb / d.w;  // the emitter's power over its pick probability
 #ifdef HAS_TRIANGLE_EMITTERS
     if (kind == EMITTER_TRIANGLE) {
@@ -143,11 +142,11 @@ LightSample sample_light(vec3 p, vec3 ng, inout RNG_STATE rng) {
 }
 
 // The direct light reflected towards wo at a visible point: one light sample, one shadow
-// ray. n: shading normal and ng: geometric normal, both on wo's side. `rays` counts the
-// shadow ray.
+// ray. n: shading normal and ng: geometric normal, both on wo's side; pick and u: the
+// sample's random numbers (sample_light). `rays` counts the shadow ray.
 vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 color,
-                          inout RNG_STATE rng, inout uint rays) {
-    LightSample ls = sample_light(p, ng, rng);
+                          float pick, vec4 u, inout uint rays) {
+    LightSample ls = sample_light(p, ng, pick, u);
     // The cosine of the true surface, as the photons' density estimate has it (photons per
     // area of the surface they land on), so that both estimates meet without a seam; the
     // shading normal only decides, in bsdf_eval, which side is lit, as in the gather.
