@@ -40,8 +40,8 @@ test-mutations: build
 test-blender:
 	@scripts/test-blender.sh
 
-# The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer (issue 7,
-# point 6), in a second build without the Python module. Mesa's DRI driver is preloaded
+# The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer, in a second
+# build without the Python module. Mesa's DRI driver is preloaded
 # (after libasan, which must come first) so that its globals stay mapped until
 # LeakSanitizer runs: see tests/sanitize/lsan.supp. The resident-memory test is left out:
 # ASan's quarantine and shadow memory grow RSS by themselves, and LeakSanitizer checks
@@ -59,7 +59,7 @@ test-sanitize:
 	$(SANITIZE_ENV) ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) \
 		-E HundredCreateDestroyCyclesDoNotLeak
 
-# libFuzzer targets fuzz/<target>_fuzz.cpp (issue 7, point 7), built by clang.
+# libFuzzer targets fuzz/<target>_fuzz.cpp, built by clang.
 # test-fuzz-replay runs each once on every kept input in tests/fuzz/<target>/;
 # `make fuzz FUZZ_TARGET=scene FUZZ_SECONDS=1800 [FUZZ_FLAGS=-dict=...]` fuzzes one
 # target, niced (corpus in $(FUZZ_BUILD)/corpus/<target>, seeded from tests/fuzz/<target>;

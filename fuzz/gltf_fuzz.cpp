@@ -1,4 +1,4 @@
-// libFuzzer target: the glTF loader (issue 7, point 7) on .gltf text or .glb bytes (chosen
+// libFuzzer target: the glTF loader on .gltf text or .glb bytes (chosen
 // by the "glTF" magic), entirely in memory: external buffers and images are never read.
 //
 // Oracles, each an abort() when it fails:

@@ -1,4 +1,4 @@
-// libFuzzer target: the OBJ/MTL loader (issue 7, point 7), in memory. The input is the .obj
+// libFuzzer target: the OBJ/MTL loader, in memory. The input is the .obj
 // text, then optionally a NUL byte and the .mtl text that answers every mtllib line.
 //
 // Oracles, each an abort() when it fails:

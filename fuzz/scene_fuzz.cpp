@@ -1,4 +1,4 @@
-// libFuzzer target: scene validation and the BVH from raw buffers (issue 7, point 7).
+// libFuzzer target: scene validation and the BVH from raw buffers.
 //
 // The bytes are read as a mesh (counts, positions, indices, normals, uvs, material ids; NaN
 // and Inf bit patterns, out-of-range indices and mismatched lengths included) and a few

@@ -20,6 +20,8 @@ import tempfile
 import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+# Debian's Python, which has pytest and numpy (the Makefile's PYTHON).
+PYTHON = os.environ.get("PYTHON", "/usr/bin/python3")
 
 # name: (what the bug does, shader file, text, replacement)
 MUTATIONS = {
@@ -36,7 +38,8 @@ MUTATIONS = {
         "photon_trace.comp", "flux *= albedo / q;", "flux *= 0.98 * albedo / q;"),
     "emitter-cosine-dropped": (
         "emissive triangles emit uniformly over the hemisphere instead of by cosine",
-        "common/emitters.glsl", "dir = sample_cosine_hemisphere(n, u3, u4);\n        origin = offset_origin(p, n, dir);",
+        "common/emitters.glsl",
+        "dir = sample_cosine_hemisphere(n, u3, u4);\n        origin = offset_origin(p, n, dir);",
         "dir = sample_sphere(u3, u4);\n        if (dot(dir, n) < 0.0) dir = -dir;\n"
         "        origin = offset_origin(p, n, dir);"),
     "mtbvh-order-flipped": (
@@ -73,14 +76,16 @@ def caught_by(suite, build, env, log):
     """The names of the tests of `suite` that failed."""
     if suite == "python":
         env = dict(env, PYTHONPATH=os.path.join(ROOT, build))
-        _, out = run([sys.executable, "-m", "pytest", "-q", "-rf", "-p", "no:cacheprovider",
+        _, out = run([PYTHON, "-m", "pytest", "-q", "-rf", "-p", "no:cacheprovider",
                       "tests/python"], env, log)
+        if not re.search(r"\d+ (passed|failed)", out):
+            raise SystemExit(f"pytest did not run (see {log})")
         return sorted(set(re.findall(r"^FAILED (\S+?)(?: - .*)?$", out, re.M)))
     if suite == "native":
         _, out = run(["ctest", "--test-dir", build, "-j", str(os.cpu_count() or 2)], env, log)
         return sorted(set(re.findall(r"^\s*\d+ - (\S+) \(Failed\)", out, re.M)))
     if suite == "bench":
-        rc, out = run([sys.executable, "tests/bench/check_bench.py",
+        rc, out = run([PYTHON, "tests/bench/check_bench.py",
                        os.path.join(build, "glslppm-bench")], env, log)
         fails = re.findall(r"^\s*FAIL (.*)$", out, re.M)
         return fails or (["check_bench.py (exit %d)" % rc] if rc else [])

@@ -30,7 +30,8 @@ def ctest(text):
         return None
     failed, total = int(m[-1][1]), int(m[-1][2])
     skipped = re.findall(r"^\s*\d+ - (\S+).*\(Skipped\)", text, re.M)
-    return dict(ran=total - len(skipped), failed=failed, skipped=[(s, "ctest skip") for s in skipped],
+    return dict(ran=total - len(skipped), failed=failed,
+                skipped=[(s, "ctest skip") for s in skipped],
                 what=f"ctest: {total - failed - len(skipped)} passed, {failed} failed")
 
 
@@ -79,7 +80,8 @@ def fuzz(text):
         return None
     inputs = sum(int(n) for _, n in replays)
     return dict(ran=inputs, failed=failed, skipped=[],
-                what=f"{len(replays)} fuzz targets, {inputs} kept inputs replayed, {failed} crashed")
+                what=f"{len(replays)} fuzz targets, {inputs} kept inputs replayed, "
+                     f"{failed} crashed")
 
 
 PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,

@@ -69,10 +69,28 @@ void main() {
     vec3 weight = vec3(0.0);
     uint rays = 0u;
     bool camera_ray = true;  // until the first specular bounce
+#ifdef FILM_TRANSPARENT
+    // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
+    // The world is then not seen by such rays (Blender's Film > Transparent).
+    float transparent = 0.0;
+    bool through_glass = true;  // every bounce so far a transmission through glass
+#endif
     for (uint depth = 0u; depth < pass_info.z; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {
+#ifdef FILM_TRANSPARENT
+            if (camera_ray) {
+                transparent = 1.0;
+                break;
+            }
+#ifdef FILM_TRANSPARENT_GLASS
+            if (through_glass) {
+                transparent = (throughput.r + throughput.g + throughput.b) / 3.0;
+                break;
+            }
+#endif
+#endif
             direct += throughput * environment_radiance(ray.dir);
             break;
         }
@@ -86,7 +104,8 @@ void main() {
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
-        if (front) direct += throughput * material_emission(s.material);
+        // Meshes emit from both sides, as in Cycles (area lights, above, from the front).
+        direct += throughput * material_emission(s.material);
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {
@@ -108,6 +127,10 @@ void main() {
         }
         vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
                                     rng_next(rng), throughput);
+#ifdef FILM_TRANSPARENT
+        through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&
+                        dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
+#endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
         camera_ray = false;
     }
@@ -122,7 +145,15 @@ void main() {
     precise vec3 t = sum.xyz + y;
     precise vec3 c = (t - sum.xyz) - y;
     comp.xyz = c;
+#ifdef FILM_TRANSPARENT
+    // The transparency's sum rides in w, compensated the same way.
+    precise float ya = transparent - comp.w;
+    precise float ta = sum.w + ya;
+    comp.w = (ta - sum.w) - ya;
+    direct_light[2 * i + 0] = vec4(t, ta);
+#else
     direct_light[2 * i + 0] = vec4(t, 0.0);
+#endif
     direct_light[2 * i + 1] = comp;
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);

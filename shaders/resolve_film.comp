@@ -15,5 +15,10 @@ void main() {
     float r = pixel_stats[2 * i + 1].x;
     vec3 photon_light = tau * (sppm.w / (PI * r * r));
     vec3 direct = direct_light[2 * i + 0].xyz * sppm.z;
+#ifdef FILM_TRANSPARENT
+    float alpha = clamp(1.0 - direct_light[2 * i + 0].w * sppm.z, 0.0, 1.0);
+    film[i] = vec4(photon_light + direct, alpha);
+#else
     film[i] = vec4(photon_light + direct, 1.0);
+#endif
 }

@@ -19,10 +19,22 @@ def native_scene(native, data):
         environment_to_world=data.environment_to_world)
 
 
-def native_settings(native, settings, width, height, seed_offset=0, initial_radius=None):
+def film_options(scene):
+    """The module's transparent and transparent_glass: Blender's Film > Transparent, and
+    Cycles' Transparent Glass beside it (off where the Cycles add-on is absent)."""
+    transparent = bool(scene.render.film_transparent)
+    cycles = getattr(scene, "cycles", None)
+    glass = bool(getattr(cycles, "film_transparent_glass", False))
+    return {"transparent": transparent, "transparent_glass": transparent and glass}
+
+
+def native_settings(native, settings, width, height, seed_offset=0, initial_radius=None,
+                    film=None, device=None):
     """settings is scene.glslppm; seed_offset varies the noise per animation frame;
-    initial_radius (absolute) overrides the settings' own radius."""
+    initial_radius (absolute) overrides the settings' own radius; film is film_options();
+    device (the preferences' choice, resolved by the engine) overrides settings.device."""
     return native.Settings(
+        **(film or {}),
         width=width, height=height,
         photons_per_pass=settings.photons_per_pass,
         alpha=settings.alpha,
@@ -31,11 +43,12 @@ def native_settings(native, settings, width, height, seed_offset=0, initial_radi
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
-        device=settings.device,
+        device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31))
 
 
-def native_renderer(native, scene, settings, width, height, seed_offset=0):
+def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
+                    device=None):
     """A Renderer for scene (a native Scene) with settings (scene.glslppm).
 
     A radius scale other than 1 multiplies the module's automatic radius, which only the
@@ -45,7 +58,7 @@ def native_renderer(native, scene, settings, width, height, seed_offset=0):
     build and GL set-up (the compiled programs are reused).
     """
     renderer = native.Renderer(scene, native_settings(native, settings, width, height,
-                                                      seed_offset))
+                                                      seed_offset, film=film, device=device))
     scale = settings.automatic_radius_scale()
     if scale is None:
         return renderer
@@ -54,4 +67,5 @@ def native_renderer(native, scene, settings, width, height, seed_offset=0):
     finally:
         renderer.close()
     return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, scale * automatic))
+                                                  seed_offset, scale * automatic, film,
+                                                  device))

@@ -15,13 +15,21 @@ import numpy as np
 
 from .. import native_module
 from ..export import ExportError, export_scene
-from .native_scene import native_renderer, native_scene
+from ..export.camera import convert_camera, view_camera
+from ..export.frame import FrameError, render_frame
+from ..properties.preferences import render_device
+from . import memory
+from .native_scene import film_options, native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
 
 
 def render_size(render):
-    scale = render.resolution_percentage / 100.0
-    return max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+    """The image Blender expects: the render region's size, or the frame's."""
+    try:
+        frame = render_frame(render)
+    except FrameError:
+        return 1, 1
+    return frame.width, frame.height
 
 
 class GlslppmEngineMixin:
@@ -51,15 +59,31 @@ class GlslppmEngineMixin:
     def _render(self, depsgraph):
         scene = depsgraph.scene
         width, height = render_size(scene.render)
+        try:
+            frame = render_frame(scene.render)
+        except FrameError as error:
+            self._fail(str(error), width, height)
+            return
         native, problem = native_module.load()
         if native is None:
             self._fail(problem, width, height)
             return
+        settings = scene.glslppm
+        views = view_names(scene.render)
+        device = render_device(settings)
+        problem = memory.refusal(
+            memory.estimate(width, height, settings.photons_per_pass, len(views)),
+            _device_limits(native, device), memory.host_available())
+        if problem is not None:
+            # No result either: Blender's own would be the largest allocation of all.
+            self.report_to_user('ERROR', problem)
+            return
 
         self.update_stats("", "GLSLPPM | exporting scene")
+        camera_object = self.camera_override or scene.camera
         try:
-            data = export_scene(depsgraph, self.camera_override or scene.camera,
-                                width, height, self.should_stop)
+            data = export_scene(depsgraph, camera_object, width, height, self.should_stop,
+                                frame)
         except ExportError as error:
             self._fail(str(error), width, height)
             return
@@ -70,10 +94,12 @@ class GlslppmEngineMixin:
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
+        film = film_options(scene)
         if not data.has_surfaces():
             self.report_to_user('WARNING', "the scene has no geometry; the image shows "
                                 "only the world")
-            self._fill(width, height, tuple(data.environment) + (1.0,))
+            self._fill(width, height, (0.0, 0.0, 0.0, 0.0) if film["transparent"]
+                       else tuple(data.environment) + (1.0,))
             return
         if not data.emits_light():
             self.report_to_user('WARNING', "the scene has no lights, emissive materials "
@@ -81,25 +107,38 @@ class GlslppmEngineMixin:
             self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
             return
 
-        self.update_stats("", "GLSLPPM | building BVH and GL programs")
-        settings = scene.glslppm
-        try:
-            renderer = native_renderer(native, native_scene(native, data), settings,
-                                       width, height, scene.frame_current)
-        except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
-            self._fail(f"the renderer could not start: {error}", width, height)
-            return
-        for warning in renderer.stats().get("warnings", []):
-            self.report_to_user('WARNING', warning)
-        try:
-            self._render_passes(native, renderer, settings, width, height)
-        finally:
-            renderer.close()
+        for index, view in enumerate(views):
+            if index > 0 and self.should_stop():
+                break
+            if view:
+                # Each view (stereo eye) through its own camera, as Blender places it.
+                self.active_view_set(view)
+                camera = view_camera(scene, camera_object, view).evaluated_get(depsgraph)
+                spherical = self.use_spherical_stereo(camera)
+                data.camera = convert_camera(
+                    camera, width, height, lambda message: None, frame,
+                    view=(self.camera_model_matrix(camera, use_spherical_stereo=spherical),
+                          self.camera_shift_x(camera, use_spherical_stereo=spherical)))
+            label = f" ({view})" if view else ""
+            self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
+            try:
+                renderer = native_renderer(native, native_scene(native, data), settings,
+                                           width, height, scene.frame_current, film, device)
+            except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
+                self._fail(f"the renderer could not start: {error}", width, height)
+                return
+            if index == 0:
+                for warning in renderer.stats().get("warnings", []):
+                    self.report_to_user('WARNING', warning)
+            try:
+                self._render_passes(native, renderer, settings, width, height, view)
+            finally:
+                renderer.close()
 
-    def _render_passes(self, native, renderer, settings, width, height):
+    def _render_passes(self, native, renderer, settings, width, height, view=""):
         schedule = PassSchedule(settings.passes, settings.time_limit)
         clock = DisplayClock()
-        result = self.begin_result(0, 0, width, height)
+        result = self.begin_result(0, 0, width, height, view=view)
         combined = result.layers[0].passes["Combined"]
         start = time.perf_counter()
         film_ok = False
@@ -141,12 +180,39 @@ class GlslppmEngineMixin:
         result = self.begin_result(0, 0, width, height)
         pixels = np.empty((height, width, 4), dtype=np.float32)
         pixels[:] = rgba
-        _set_rect(result.layers[0].passes["Combined"], pixels)
+        for render_pass in result.layers[0].passes:  # one Combined per view
+            if render_pass.name == "Combined":
+                _set_rect(render_pass, pixels)
         self.end_result(result)
 
     def _fail(self, message, width, height):
         self.report_to_user('ERROR', message)
         self._fill(width, height, (0.0, 0.0, 0.0, 1.0))
+
+
+def view_names(render):
+    """The views Blender renders: [""] (the one camera) without multi-view; else the views
+    in use (Stereo 3D: its left and right), each rendered through its own camera."""
+    if not render.use_multiview:
+        return [""]
+    stereo = render.views_format == 'STEREO_3D'
+    names = [view.name for view in render.views
+             if view.use and (not stereo or view.name in ("left", "right"))]
+    return names or [""]
+
+
+_limits = {}
+
+
+def _device_limits(native, device):
+    """The module's device_limits() for a device, asked once per session (None when the
+    device cannot be opened: the renderer will then say why)."""
+    if device not in _limits:
+        try:
+            _limits[device] = native.device_limits(device)
+        except (native.GlslppmError, RuntimeError, AttributeError):
+            _limits[device] = None
+    return _limits[device]
 
 
 def _set_rect(render_pass, film):

@@ -34,11 +34,18 @@ def horizontal_fov(camera, width, height):
     return 2.0 * math.atan(half_tan)
 
 
-def convert_camera(camera_object, width, height, warn):
-    """CameraData for a camera object (evaluated) at the given image size."""
+def convert_camera(camera_object, width, height, warn, frame=None, view=None):
+    """CameraData for a camera object (evaluated) at the given image size; frame (a
+    RenderFrame) adds non-square pixels and a render region of a larger frame; view is
+    (matrix, shift_x) of one multi-view eye, from the RenderEngine's camera_model_matrix
+    and camera_shift_x, in place of the object's."""
     camera = camera_object.data
-    matrix = np.array(camera_object.matrix_world, dtype=np.float64)
+    matrix = np.array(view[0] if view else camera_object.matrix_world, dtype=np.float64)
+    shift_x = float(view[1]) if view else float(camera.shift_x)
     to_world = _without_scale(matrix).astype(np.float32)
+    if frame is not None:
+        # Blender fits the sensor to the frame's shape on screen, pixel aspect included.
+        width, height = frame.film_size
 
     horizontal = fit_is_horizontal(camera.sensor_fit, width, height)
     fit_side = width if horizontal else height
@@ -52,14 +59,37 @@ def convert_camera(camera_object, width, height, warn):
     data = CameraData(
         to_world=np.ascontiguousarray(to_world),
         fov_x=horizontal_fov(camera, width, height),
-        shift_x=float(camera.shift_x) * to_larger,
+        shift_x=shift_x * to_larger,
         shift_y=float(camera.shift_y) * to_larger,
         projection=projection,
         ortho_scale=float(camera.ortho_scale) / to_larger)
+    if frame is not None:
+        data.pixel_aspect = frame.pixel_aspect
+        data.region = frame.region
     dof = camera.dof
     if dof.use_dof and projection == "perspective":
         data.aperture_radius, data.focus_distance = _depth_of_field(camera_object, matrix)
     return data
+
+
+def view_camera(scene, camera_object, view):
+    """The camera object a multi-view view renders through: with Output > Views set to
+    Multi-View, the object named as camera_object with its view suffix swapped for this
+    view's ("Cam_L" -> "Cam_R"), as Blender picks it (BKE_camera_multiview_render); the
+    camera itself for Stereo 3D, or where no such object exists."""
+    render = scene.render
+    if not view or not render.use_multiview or render.views_format != 'MULTIVIEW':
+        return camera_object
+    suffix = render.views[view].camera_suffix if view in render.views else ""
+    name, stem_length, best = camera_object.name, None, -1
+    for other in render.views:
+        ending = other.camera_suffix
+        if len(ending) >= best and len(ending) <= len(name) and name.endswith(ending):
+            stem_length, best = len(name) - len(ending), len(ending)
+    if stem_length is None:
+        return camera_object
+    candidate = scene.objects.get(name[:stem_length] + suffix)
+    return candidate if candidate is not None and candidate.type == 'CAMERA' else camera_object
 
 
 def _without_scale(matrix):

@@ -70,6 +70,10 @@ def image_pixels(image, warn):
     if missing is not None:
         warn(f"image '{image.name}' is missing ({missing}); using the input's own colour")
         return None
+    if image.source == 'TILED' and len(image.tiles) > 1:
+        first = image.tiles[0].number
+        warn(f"image '{image.name}' is a UDIM image of {len(image.tiles)} tiles; only tile "
+             f"{first} is used, for every UV")
     width, height = image.size
     channels = image.channels
     if width * height * channels == 0:

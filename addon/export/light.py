@@ -17,6 +17,7 @@ import math
 import bpy
 import numpy as np
 
+from .material import _linked_node, socket_color, socket_value
 from .scene_data import LightData
 
 BLENDER_4 = bpy.app.version >= (4, 0, 0)
@@ -35,9 +36,85 @@ def convert_light(light, matrix, builder, visible_to_camera=True):
     if converter is None:
         builder.warn(f"light '{light.name}': {light.type.lower()} lights are not supported")
         return
-    if light.energy <= 0.0:
+    matrix = np.asarray(matrix, dtype=np.float64)
+    problem = _non_finite_setting(light, matrix)
+    if problem is not None:
+        # Cycles leaves such a light dark; an inf or NaN would otherwise fill the image.
+        builder.warn(f"light '{light.name}': {problem}; the light is off")
         return
-    converter(light, np.asarray(matrix, dtype=np.float64), builder, visible_to_camera)
+    strength, color = light_node_emission(light, builder.warn)
+    if light.energy <= 0.0 or strength <= 0.0 or max(color) <= 0.0:
+        return
+    scaled = _NodeScaledLight(light, strength, color)
+    with np.errstate(over='ignore'):
+        overflows = not np.isfinite(np.float32(scaled.energy) * np.float32(max(scaled.color)))
+    if overflows:
+        builder.warn(f"light '{light.name}': power {scaled.energy:g} x colour overflows "
+                     "single precision; the light is off")
+        return
+    converter(scaled, matrix, builder, visible_to_camera)
+
+
+def _non_finite_setting(light, matrix):
+    """'power is inf' (the first setting that is not a finite number), or None."""
+    energy_name = "strength" if light.type == 'SUN' else "power"
+    settings = [(energy_name, light.energy), ("radius", light.shadow_soft_size)]
+    settings += [(f"colour {'RGB'[i]}", c) for i, c in enumerate(light.color)]
+    if light.type == 'SPOT':
+        settings += [("spot size", light.spot_size), ("spot blend", light.spot_blend)]
+    elif light.type == 'SUN':
+        settings += [("angle", light.angle)]
+    elif light.type == 'AREA':
+        settings += [("size", light.size), ("size Y", light.size_y)]
+    for name, value in settings:
+        if not math.isfinite(value):
+            return f"{name} is {value}"
+    if not np.isfinite(matrix).all():
+        return "its object's transform is not finite"
+    return None
+
+
+def light_node_emission(light, warn):
+    """(strength, rgb) of the Emission node feeding the light's node tree output, which
+    Cycles multiplies into the light's power and colour: (1, white) without nodes."""
+    white = (1.0, 1.0, 1.0)
+    tree = light.node_tree if getattr(light, "use_nodes", False) else None
+    if tree is None:
+        return 1.0, white
+
+    def light_warn(message):
+        warn(f"light '{light.name}': {message}")
+
+    if any(node.type == 'TEX_IES' and not node.mute for node in tree.nodes):
+        light_warn("IES textures are not supported; the light emits evenly")
+    output = next((node for node in tree.nodes
+                   if node.type == 'OUTPUT_LIGHT' and node.is_active_output), None)
+    if output is None:
+        output = next((node for node in tree.nodes if node.type == 'OUTPUT_LIGHT'), None)
+    node = _linked_node(output.inputs["Surface"]) if output is not None else None
+    if node is None:
+        return 1.0, white
+    if node.type != 'EMISSION':
+        light_warn(f"the {node.bl_label or node.type} node on the Light Output is not "
+                   "supported; the light emits as if it had no nodes")
+        return 1.0, white
+    # Numbers that are not finite read as 0 (with a warning), which turns the light off.
+    strength = socket_value(node.inputs["Strength"], light_warn)
+    color = socket_color(node.inputs["Color"], light_warn, clamp=False)
+    return strength, tuple(max(0.0, c) for c in color)
+
+
+class _NodeScaledLight:
+    """A light datablock seen through its node tree: energy times the Emission node's
+    strength, colour times its colour; everything else as the datablock has it."""
+
+    def __init__(self, light, strength, color):
+        self._light = light
+        self.energy = float(light.energy) * strength
+        self.color = tuple(float(c) * k for c, k in zip(light.color, color))
+
+    def __getattr__(self, name):
+        return getattr(self._light, name)
 
 
 def _color(light):

@@ -57,6 +57,20 @@ def convert_material(material, warn, textures=None):
     return converter(node, _Inputs(material_warn, textures))
 
 
+def volume_only(material):
+    """True for a material whose output feeds only its Volume: a volume object, which
+    has no surface to render."""
+    if material is None or not material.use_nodes or material.node_tree is None:
+        return False
+    tree = material.node_tree
+    output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
+    if output is None:
+        return False
+    volume = output.inputs.get("Volume")
+    return (_linked_node(output.inputs["Surface"]) is None and volume is not None
+            and _linked_node(volume) is not None)
+
+
 def _viewport_fallback(material):
     return MaterialData("diffuse", _clamp01(material.diffuse_color[:3]))
 
@@ -229,6 +243,9 @@ def socket_color(socket, warn, clamp=True, linked=True):
         else:
             warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
                  "is not supported; using the input's own value")
+    if not all(math.isfinite(c) for c in color):
+        warn(f"'{socket.name}' is ({', '.join(f'{c:g}' for c in color)}); "
+             "using 0 for what is not a finite number")
     return _clamp01(color) if clamp else tuple(_finite(c) for c in color)
 
 
@@ -244,6 +261,8 @@ def socket_value(socket, warn):
         else:
             warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
                  "is not supported; using the input's own value")
+    if not math.isfinite(value):
+        warn(f"'{socket.name}' is {value:g}; using 0")
     return _finite(value)
 
 

@@ -27,6 +27,16 @@ class MeshGeometry:
     def triangle_count(self):
         return len(self.slot_indices)
 
+    def subset(self, keep):
+        """The triangles where keep (T,) is True, or None when none is."""
+        if not keep.any():
+            return None
+        corners = np.repeat(keep, 3)
+        return MeshGeometry(self.positions[corners],
+                            None if self.normals is None else self.normals[corners],
+                            None if self.uvs is None else self.uvs[corners],
+                            self.slot_indices[keep])
+
 
 def mesh_geometry(mesh, need_uvs=False):
     """Reads an (evaluated) mesh; returns None for a mesh without faces."""

@@ -13,7 +13,7 @@ import numpy as np
 from .camera import convert_camera
 from .image import TextureTable
 from .light import convert_light
-from .material import DEFAULT_MATERIAL, convert_material
+from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .scene_data import SceneData
 from .world import convert_world
@@ -116,9 +116,10 @@ def _concatenate(arrays, dtype):
     return np.ascontiguousarray(np.concatenate(arrays), dtype=dtype)
 
 
-def export_scene(depsgraph, camera_object, width, height, test_break=None):
+def export_scene(depsgraph, camera_object, width, height, test_break=None, frame=None):
     """SceneData for an evaluated depsgraph; raises ExportError for a scene that
-    cannot render (no camera). test_break() returning True stops early (None)."""
+    cannot render (no camera). test_break() returning True stops early (None).
+    frame (a RenderFrame) gives the pixels' shape and the render region."""
     start = time.perf_counter()
     scene = depsgraph.scene
     if camera_object is None:
@@ -140,9 +141,12 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None):
                                     geometry_cache)
     positions, indices, normals, uvs, material_ids = builder.geometry()
     camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
-                            builder.warn)
+                            builder.warn, frame)
     environment, environment_texture, environment_to_world = convert_world(
         scene.world, builder.warn, builder.textures)
+    if scene.render.use_motion_blur:
+        builder.warn("motion blur is not supported; the frame renders at one instant "
+                     "(Output > Motion Blur)")
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
         material_ids=material_ids, materials=builder.materials or [DEFAULT_MATERIAL],
@@ -180,6 +184,11 @@ def _read_object(obj, builder):
          for slot in obj.material_slots] or
         [builder.material_id(None, lambda: DEFAULT_MATERIAL)], dtype=np.uint32)
     need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
+    volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
+    if volumes and len(volumes) == len(obj.material_slots):
+        builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "
+                     "Volume output; volumes are not supported, so the object is left out")
+        return None, None
     try:
         mesh = obj.to_mesh()
     except RuntimeError as error:
@@ -189,6 +198,12 @@ def _read_object(obj, builder):
         geometry = mesh_geometry(mesh, need_uvs) if mesh is not None else None
     finally:
         obj.to_mesh_clear()
+    if volumes and geometry is not None:
+        builder.warn(f"object '{obj.name}': the faces with material '{volumes[0].name}' "
+                     "(only a Volume output) are left out; volumes are not supported")
+        volume_slots = np.array([volume_only(slot.material) for slot in obj.material_slots])
+        keep = ~volume_slots[np.clip(geometry.slot_indices, 0, len(volume_slots) - 1)]
+        geometry = geometry.subset(keep)
     if need_uvs and geometry is not None and geometry.uvs is None:
         builder.warn(f"object '{obj.name}' has a textured material but no UV map; "
                      "its texture is sampled at UV (0, 0)")

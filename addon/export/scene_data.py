@@ -65,6 +65,8 @@ class CameraData:
     ortho_scale: float = 1.0
     aperture_radius: float = 0.0
     focus_distance: float = 10.0
+    pixel_aspect: float = 1.0        # a pixel's height over its width
+    region: object = None            # (column, row from the top, full width, full height)
 
 
 @dataclass

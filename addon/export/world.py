@@ -40,6 +40,9 @@ def _convert_world(world, warn, textures):
                    if node.type == 'OUTPUT_WORLD' and node.is_active_output), None)
     if output is None:
         output = next((node for node in tree.nodes if node.type == 'OUTPUT_WORLD'), None)
+    volume = output.inputs.get("Volume") if output is not None else None
+    if volume is not None and _linked_node(volume) is not None:
+        world_warn("world volumes are not supported; rendering without it")
     surface = output.inputs["Surface"] if output is not None else None
     node = _linked_node(surface) if surface is not None else None
     if node is None:

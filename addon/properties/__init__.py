@@ -1,8 +1,9 @@
-"""Settings stored in .blend files: ``scene.glslppm``."""
+"""Settings: ``scene.glslppm`` (stored in .blend files) and the add-on preferences
+(stored with Blender's: the device)."""
 
-from . import presets, render_settings
+from . import preferences, presets, render_settings
 
-_modules = (render_settings, presets)
+_modules = (preferences, render_settings, presets)
 
 
 def register():

@@ -58,8 +58,9 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                    ('PAPER', "Float (paper)", "The float-only generator of Hachisuka's GLSL "
                     "rendering system, as printed (fails dieharder's bit tests at 24 bits)"))),
         "device": IntProperty(
-            name="Device", default=-1, min=-1, max=64,
-            description="EGL device index of the GPU to render on (-1 = automatic)"),
+            name="Device Override", default=-1, min=-1, max=64,
+            description="EGL device index for this scene only; -1 uses the device chosen "
+                        "in the add-on preferences"),
         "seed": IntProperty(
             name="Seed", default=0, min=0, max=INT_MAX,
             description="Random seed; renders with the same seed and settings repeat"),

@@ -62,7 +62,29 @@ class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "hash_mode")
         column.prop(settings, "rng")
-        column.prop(settings, "device")
+        if settings.device >= 0:  # set by a script or an older file
+            column.prop(settings, "device")
+        else:
+            column.label(text="Device: Edit > Preferences > Add-ons > GLSLPPM", icon='INFO')
 
 
-classes = (RENDER_PT_glslppm_sampling, RENDER_PT_glslppm_photons, RENDER_PT_glslppm_advanced)
+class RENDER_PT_glslppm_film(GlslppmRenderPanel, bpy.types.Panel):
+    bl_label = "Film"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        scene = context.scene
+        column = layout.column()
+        column.prop(scene.render, "film_transparent", text="Transparent")
+        cycles = getattr(scene, "cycles", None)
+        if cycles is not None and hasattr(cycles, "film_transparent_glass"):
+            row = column.row()
+            row.active = scene.render.film_transparent
+            row.prop(cycles, "film_transparent_glass", text="Transparent Glass")
+
+
+classes = (RENDER_PT_glslppm_sampling, RENDER_PT_glslppm_photons, RENDER_PT_glslppm_film,
+           RENDER_PT_glslppm_advanced)

@@ -1,4 +1,4 @@
-// glslppm-bench longrun: the long run of issue 7 point 3 (tests/long/long_run.py in C++, for
+// glslppm-bench longrun: the long run (tests/long/long_run.py in C++, for
 // machines without the Python module). Inside a closed box whose walls emit Le = 1 and
 // reflect a = 0.5, with one bounce (max depth 1) every pixel sees Le + a Le = 1.5 exactly and
 // every photon path ends after one bounce, so the photons emitted must be passes x photons

@@ -30,7 +30,7 @@ using namespace glslppm;
 
 namespace {
 
-constexpr GLuint kLocalSize = 64;  // bench_rays.comp's local_size_x
+constexpr GLuint kLocalSize = 64;  // bench/bench_rays.comp's local_size_x
 const char* const kModes[3] = {"primary", "shadow", "incoherent"};
 
 struct RaysOptions {
@@ -183,7 +183,7 @@ class RayBench {
                           "1"}};
         if (order_count == 1) d.push_back({"GLSLPPM_TBVH", "1"});
         if (counted) d.push_back({"BVH_COUNT_VISITS", "1"});
-        return context_.programs().get("bench_rays.comp", d);
+        return context_.programs().get("bench/bench_rays.comp", d);
     }
 
     // Fails with the size and what to lower when the driver's storage-buffer limit is hit.

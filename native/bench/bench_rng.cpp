@@ -183,8 +183,8 @@ int bench_rng(int argc, char** argv) {
     try {
         EglContext context(o.device);
         const std::string define = o.generator == "paper" ? "RNG_PAPER" : "RNG_PCG";
-        const ComputeProgram stream_program("rng_stream.comp", {{define, ""}});
-        const ComputeProgram sum_program("rng_stream.comp", {{define, ""}, {"RNG_STREAM_SUM", ""}});
+        const ComputeProgram stream_program("tests/rng_stream.comp", {{define, ""}});
+        const ComputeProgram sum_program("tests/rng_stream.comp", {{define, ""}, {"RNG_STREAM_SUM", ""}});
 
         const std::size_t count = std::size_t{o.threads} * o.per_thread;
         // The stream needs T*K floats in one SSBO; the summing kernel only T.

@@ -1,11 +1,14 @@
 // The pybind11 module `_glslppm`: scenes from numpy arrays (used in place where dtype and
 // layout fit), renderers run in steps with the GIL released, films back as numpy arrays.
+#include <epoxy/gl.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "gl/egl_context.h"
@@ -15,8 +18,8 @@
 #include "python/loaders_module.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
-#include "scenes/cornell_box.h"
 #include "scenes/caustic_scene.h"
+#include "scenes/cornell_box.h"
 
 namespace py = pybind11;
 using namespace glslppm;
@@ -324,7 +327,8 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<Camera>(m, "Camera")
         .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
                          float fov_x, float shift_x, float shift_y, const std::string& projection,
-                         float ortho_scale, float aperture_radius, float focus_distance) {
+                         float ortho_scale, float aperture_radius, float focus_distance,
+                         float pixel_aspect, std::optional<std::array<int, 4>> region) {
                  if (to_world.ndim() != 2 || to_world.shape(0) != 4 || to_world.shape(1) != 4)
                      throw py::value_error("Camera to_world: expected a 4x4 matrix");
                  Camera c;
@@ -342,12 +346,26 @@ PYBIND11_MODULE(_glslppm, m) {
                  c.ortho_scale = ortho_scale;
                  c.aperture_radius = aperture_radius;
                  c.focus_distance = focus_distance;
+                 if (!(pixel_aspect > 0.0f) || !std::isfinite(pixel_aspect))
+                     throw py::value_error("Camera pixel_aspect: must be a positive finite number");
+                 c.pixel_aspect = pixel_aspect;
+                 if (region) {
+                     const auto [x, y, w, h] = *region;
+                     if (w < 1 || h < 1 || x < 0 || y < 0 || x >= w || y >= h)
+                         throw py::value_error("Camera region: expected (x, y, full_width, "
+                                               "full_height) with the corner inside the frame");
+                     c.region_x = x;
+                     c.region_y = y;
+                     c.full_width = w;
+                     c.full_height = h;
+                 }
                  return c;
              }),
              py::arg("to_world"), py::arg("fov_x") = 0.691111f, py::arg("shift_x") = 0.0f,
              py::arg("shift_y") = 0.0f, py::arg("projection") = "perspective",
              py::arg("ortho_scale") = 6.0f, py::arg("aperture_radius") = 0.0f,
-             py::arg("focus_distance") = 10.0f);
+             py::arg("focus_distance") = 10.0f, py::arg("pixel_aspect") = 1.0f,
+             py::arg("region") = py::none());
 
     py::class_<Scene>(m, "Scene")
         .def(py::init(&make_py_scene), py::arg("positions"), py::arg("indices"),
@@ -400,6 +418,7 @@ PYBIND11_MODULE(_glslppm, m) {
                          float initial_radius, int max_depth, const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
+                         bool transparent, bool transparent_glass,
                          const std::string& direct_light) {
                  RenderSettings s;
                  s.width = width;
@@ -417,6 +436,8 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.profile = profile;
                  s.full_variant = full_variant;
                  s.max_texture_size = max_texture_size;
+                 s.transparent = transparent;
+                 s.transparent_glass = transparent_glass;
                  validate(s);
                  return s;
              }),
@@ -425,6 +446,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
              py::arg("seed") = 0, py::arg("leaf_size") = 4, py::arg("profile") = false,
              py::arg("full_variant") = false, py::arg("max_texture_size") = 0,
+             py::arg("transparent") = false, py::arg("transparent_glass") = false,
              py::arg("direct_light") = to_string(RenderSettings{}.direct_light))
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height);
@@ -497,7 +519,7 @@ PYBIND11_MODULE(_glslppm, m) {
         o.sphere_rings = sphere_rings;
         return make_caustic_scene(o);
     }, py::arg("sphere_rings") = 64,
-       "glslppm-bench's caustic scene: a glass sphere on a diffuse floor, a small quad light.");
+       "The benchmarks' caustic scene: a glass sphere focusing a small light onto a floor.");
 
     m.def("read_exr", [](const std::string& path) {
         std::map<std::string, std::string> attributes;
@@ -531,6 +553,37 @@ PYBIND11_MODULE(_glslppm, m) {
         d["queries"] = c.queries;
         return d;
     }, "EGL contexts and GL objects glslppm created and has not deleted (process-wide).");
+    m.def("device_limits", [](int device) {
+        // What a render may allocate on a device, asked before allocating anything: the
+        // largest storage buffer, and the GPU's memory where the driver says
+        // (GL_NVX_gpu_memory_info; 0 where unknown; software renderers use host memory).
+        std::int64_t largest = 0, memory = 0;
+        bool software = false;
+        std::string renderer;
+        {
+            py::gil_scoped_release release;
+            gl::EglContext context(device);
+            GLint64 value = 0;
+            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
+            largest = value;
+            if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+                GLint kib = 0;
+                glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+                // Mesa's llvmpipe answers with a negative number: unknown, then.
+                memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
+            }
+            software = context.info().software;
+            renderer = context.info().renderer;
+        }
+        py::dict d;
+        d["max_storage_buffer_bytes"] = largest;
+        d["memory_bytes"] = memory;
+        d["software"] = software;
+        d["renderer"] = renderer;
+        return d;
+    }, py::arg("device") = -1,
+       "Limits of an EGL device: max_storage_buffer_bytes, memory_bytes (0: unknown), "
+       "software, renderer.");
     m.def("list_devices", [] {
         py::list out;
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));

@@ -34,7 +34,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         table.total_power += power;
     };
 
-    // Emissive triangles radiate L one-sided over their area: power pi L A.
+    // Emissive triangles radiate L over their area: power pi L A from each side that emits.
+    // The scene's own materials emit from both sides, as Cycles' mesh lights do; the
+    // materials after them are area lights' (render/area_lights.h), one-sided as Blender's.
     for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
         const int material = std::bit_cast<int>(bvh.triangles[3 * t].w);
         const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
@@ -44,7 +46,10 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         // In double: the cross product squares the edges (float overflows at 1e10 scale).
         const float area = static_cast<float>(
             0.5 * glm::length(glm::cross(glm::dvec3(v1 - v0), glm::dvec3(v2 - v0))));
-        add(EmitterKind::Triangle, v0, glm::vec4(v1, 0.0f), v2, emission * (kPi * area));
+        const bool two_sided = static_cast<std::size_t>(material) < scene.materials.size();
+        const float sides = two_sided ? 2.0f : 1.0f;
+        add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2,
+            emission * (kPi * area * sides));
     }
     const float r = bounds.radius();
     for (const Light& light : scene.lights) {

@@ -2,7 +2,8 @@
 // emissive triangles, point, spot and sun lights and the environment, each with its
 // emitted power, picked in proportion to it. Four vec4 per emitter:
 //   [0] (a.xyz, intBitsToFloat(kind))
-//   [1] (b.xyz, b.w)       triangle: v1; point: (0, radius); spot: axis, cos(half angle);
+//   [1] (b.xyz, b.w)       triangle: v1, two-sided 0/1; point: (0, radius); spot: axis,
+//                          cos(half angle);
 //                          sun: direction, cos(half the angular diameter)
 //   [2] (c.xyz, cdf)       triangle: v2; spot: (smooth width, radius, cosine falloff 0/1);
 //                          cdf: cumulative pick

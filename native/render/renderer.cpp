@@ -397,6 +397,15 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
     feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
+    // Not features but outputs: the full variant leaves them as the settings say.
+    if (settings.transparent) {
+        g.defines.push_back({"FILM_TRANSPARENT", "1"});
+        features.push_back("transparent");
+        if (settings.transparent_glass) {
+            g.defines.push_back({"FILM_TRANSPARENT_GLASS", "1"});
+            features.push_back("transparent-glass");
+        }
+    }
     // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
     // only when asked for; its shadow rays skip area-light surfaces where the scene has them.
     if (settings.direct_light == DirectLight::Sampled) {
@@ -421,20 +430,49 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     g.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * g.photon_threads, 1024));
     const float diagonal = glm::length(g.bounds.hi - g.bounds.lo);
     const Camera& cam = scene.camera;
-    const float aspect = static_cast<float>(settings.height) / static_cast<float>(settings.width);
+    // The whole frame (larger than the image when the image is a render region).
+    const bool region = cam.full_width > 0;
+    if (region && (cam.region_x + settings.width > cam.full_width ||
+                   cam.region_y + settings.height > cam.full_height))
+        throw std::invalid_argument("camera region: the image (" +
+                                    std::to_string(settings.width) + "x" +
+                                    std::to_string(settings.height) + " at " +
+                                    std::to_string(cam.region_x) + ", " +
+                                    std::to_string(cam.region_y) + ") does not fit in the " +
+                                    std::to_string(cam.full_width) + "x" +
+                                    std::to_string(cam.full_height) + " frame");
+    const int frame_width = region ? cam.full_width : settings.width;
+    const int frame_height = region ? cam.full_height : settings.height;
+    // The film's height over its width; pixels may be non-square.
+    const float aspect = static_cast<float>(frame_height) * cam.pixel_aspect /
+                         static_cast<float>(frame_width);
+    const bool wide = static_cast<float>(frame_width) >=
+                      static_cast<float>(frame_height) * cam.pixel_aspect;
     const float tan_x = std::tan(0.5f * cam.fov_x);
-    const float tan_larger = settings.width >= settings.height ? tan_x : tan_x * aspect;
+    const float tan_larger = wide ? tan_x : tan_x * aspect;
     FrameBlock& f = g.frame;
     f.camera_to_world = cam.to_world;
     if (cam.projection == Projection::Orthographic) {
         // Blender's ortho_scale spans the larger image side.
         const float half_larger = 0.5f * cam.ortho_scale;
-        const float half_x = settings.width >= settings.height ? half_larger : half_larger / aspect;
+        const float half_x = wide ? half_larger : half_larger / aspect;
         f.camera_fov = glm::vec4(half_x, half_x * aspect, 2.0f * cam.shift_x * half_larger,
                                  2.0f * cam.shift_y * half_larger);
     } else {
         f.camera_fov = glm::vec4(tan_x, tan_x * aspect, 2.0f * cam.shift_x * tan_larger,
                                  2.0f * cam.shift_y * tan_larger);
+    }
+    if (region) {
+        // The window's half extent and centre in the frame's film coordinates ([-1, 1],
+        // y up, row 0 at the top).
+        const glm::vec2 frame(frame_width, frame_height);
+        const glm::vec2 size(settings.width, settings.height);
+        const glm::vec2 corner(cam.region_x, cam.region_y);
+        const glm::vec2 centre((2.0f * corner.x + size.x) / frame.x - 1.0f,
+                               1.0f - (2.0f * corner.y + size.y) / frame.y);
+        const glm::vec2 half(f.camera_fov.x, f.camera_fov.y);
+        f.camera_fov = glm::vec4(half * size / frame,
+                                 glm::vec2(f.camera_fov.z, f.camera_fov.w) + half * centre);
     }
     f.camera_lens = glm::vec4(static_cast<float>(cam.projection), 0.5f * cam.ortho_scale,
                               cam.aperture_radius, cam.focus_distance);
@@ -478,8 +516,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         }
         const float footprint =
             cam.projection == Projection::Orthographic
-                ? cam.ortho_scale / static_cast<float>(std::max(settings.width, settings.height))
-                : 2.0f * distance * tan_x / static_cast<float>(settings.width);
+                ? cam.ortho_scale / static_cast<float>(std::max(frame_width, frame_height))
+                : 2.0f * distance * tan_x / static_cast<float>(frame_width);
         radius = std::min(2.0f * footprint, 0.05f * diagonal);
         if (!(radius > 0.0f)) radius = 0.01f * diagonal;
     }

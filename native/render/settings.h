@@ -32,6 +32,11 @@ struct RenderSettings {
     // benchmark's baseline); off, programs model only what the scene requires.
     bool full_variant = false;
     int max_texture_size = 0;     // 0: the GPU's GL_MAX_TEXTURE_SIZE; smaller tests downscaling
+    // Film alpha = coverage: camera rays that leave the scene are transparent and show no
+    // world (Blender's Film > Transparent); with transparent_glass, so are those that leave
+    // through smooth glass, in proportion to what the glass transmits.
+    bool transparent = false;
+    bool transparent_glass = false;
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"

@@ -80,6 +80,16 @@ struct Camera {
     float ortho_scale = 6.0f;
     float aperture_radius = 0.0f;
     float focus_distance = 10.0f;
+    // A pixel's height over its width (Blender's pixel aspect y / x): the film spans
+    // width : height x pixel_aspect; 1 for square pixels.
+    float pixel_aspect = 1.0f;
+    // A window of a larger frame (Blender's render region): the frame's full size in pixels
+    // and the window's top-left pixel in it; the window is the image's own size.
+    // full_width 0: the image is the whole frame.
+    int full_width = 0;
+    int full_height = 0;
+    int region_x = 0;
+    int region_y = 0;
 };
 
 struct Scene {

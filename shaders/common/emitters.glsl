@@ -43,9 +43,14 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
 #ifdef HAS_TRIANGLE_EMITTERS
     if (kind == EMITTER_TRIANGLE) {
         // Uniform on the triangle, cosine-weighted about its front face: flux = pi L A / p.
+        // A two-sided emitter (b.w = 1, power 2 pi L A) picks either face evenly.
         vec2 bc = sample_triangle(u1, u2);
         vec3 p = a.xyz + bc.x * (b.xyz - a.xyz) + bc.y * (c.xyz - a.xyz);
         vec3 n = triangle_normal(a.xyz, b.xyz, c.xyz);
+        if (b.w > 0.5) {
+            n = u3 < 0.5 ? -n : n;
+            u3 = u3 < 0.5 ? 2.0 * u3 : 2.0 * u3 - 1.0;
+        }
         dir = sample_cosine_hemisphere(n, u3, u4);
         origin = offset_origin(p, n, dir);
         flux = power;

@@ -47,6 +47,7 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     if (kind == EMITTER_TRIANGLE) {
         // Uniform on the triangle (pdf 1 / A) of radiance L = P / (pi A), one-sided about its
         // winding: L cos_l / (d^2 p_pick / A) = (P / p_pick) cos_l / (pi d^2); A cancels.
+        // A two-sided (mesh) emitter, b.w = 1, has P = 2 pi L A and |cos_l| on either face.
         vec2 bc = sample_triangle(u1, u2);
         vec3 q = a.xyz + bc.x * (b.xyz - a.xyz) + bc.y * (c.xyz - a.xyz);
         vec3 to = q - p;
@@ -55,7 +56,8 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         ls.distance = sqrt(d2);
         ls.wi = to / ls.distance;
         float cos_l = -dot(triangle_normal(a.xyz, b.xyz, c.xyz), ls.wi);
-        if (cos_l > 0.0) ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        if (b.w > 0.5) ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
+        else if (cos_l > 0.0) ls.radiance_over_pdf = power * (cos_l / (PI * d2));
         return ls;
     }
 #endif

@@ -33,6 +33,11 @@ def reset_scene(engine='GLSLPPM', size=(64, 64)):
     scene.render.resolution_x, scene.render.resolution_y = size
     scene.render.resolution_percentage = 100
     scene.render.use_border = False
+    scene.render.use_crop_to_border = False
+    scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
+    scene.render.film_transparent = False
+    scene.render.use_motion_blur = False
+    scene.render.use_multiview = False
     scene.frame_start = scene.frame_end = scene.frame_current = 1
     scene.view_settings.view_transform = 'Standard'
     scene.view_settings.look = 'None'

@@ -22,7 +22,7 @@ import time
 import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles")
+TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles", "test_fidelity")
 
 
 def parse_args():

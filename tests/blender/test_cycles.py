@@ -46,21 +46,46 @@ def _relative_errors(ours, reference, grid):
 
 
 def test_diffuse_cornell_box_matches_cycles():
-    """Mean relative error over a 4x4 grid of regions below 6%, every region below 15%
-    (measured: 1.5% and 3.4% under 3.4, 1.4% and 3.3% under 4.3). The ceiling light,
-    which the demo shows, is hidden from the camera here: seen edge-on it is a sliver
-    one pixel tall, whose 40 W/m^2 sr Cycles' pixel filter spreads over its neighbours."""
+    """Mean relative error over a 4x4 grid of regions below 2.5%, every region below 7%
+    (measured before these bounds: 1.5% and 3.4% under 3.4, 1.4% and 3.3% under 4.3; a 3%
+    loss at diffuse surfaces gave 4.3% and 6.3%). The ceiling light, which the demo shows,
+    is hidden from the camera here: seen edge-on it is a sliver one pixel tall, whose
+    40 W/m^2 sr Cycles' pixel filter spreads over its neighbours."""
     helpers.reset_scene(size=(64, 64))
     _scenes_module().build_cornell_box(glass=False, mirror=False)
     bpy.data.objects["CeilingLight"].visible_camera = False
     ours, reference = _render_both("cornell", passes=128, photons=32768)
     errors, a, b = _relative_errors(ours, reference, 4)
-    print(f"  cornell: region errors mean {errors.mean():.3f} max {errors.max():.3f}; "
+    print(f"  cornell: region errors mean {errors.mean():.4f} max {errors.max():.4f}; "
           f"image mean GLSLPPM {np.nanmean(ours[..., :3]):.4f} "
           f"Cycles {np.nanmean(reference[..., :3]):.4f}")
-    assert errors.mean() < 0.06, (errors.round(3).tolist(), a.round(4).tolist(),
+    assert errors.mean() < 0.025, (errors.round(3).tolist(), a.round(4).tolist(),
+                                   b.round(4).tolist())
+    assert errors.max() < 0.07, errors.round(3).tolist()
+
+
+def test_demo_cornell_box_with_glass_and_mirror_spheres_matches_cycles():
+    """The demo scene itself: a glass sphere (IOR 1.5) and a mirror sphere in the Cornell
+    box, against Cycles with caustics on and no glossy blur. The light is hidden from the
+    camera as above. Cycles finds the glass sphere's caustic only by BSDF sampling through
+    the sphere onto a small light, so its reference is the noisier one: at 1024 samples two
+    other Cycles seeds differ from this one by 0.7% and 1.2% (mean region error) and 2.4%
+    and 4.8% (worst region, the caustic's). That noise keeps these bounds from catching a 1%
+    bias in the glass alone; tests/python/test_specular_closed_forms.py does. Measured under
+    3.4: mean 1.3%, worst 5.8%, image mean ratio 0.9955."""
+    helpers.reset_scene(size=(64, 64))
+    _scenes_module().build_cornell_box(glass=True, mirror=True)
+    bpy.data.objects["CeilingLight"].visible_camera = False
+    ours, reference = _render_both("cornell_spheres", passes=192, photons=32768,
+                                   samples=1024)
+    errors, a, b = _relative_errors(ours, reference, 4)
+    mean_ratio = np.nanmean(ours[..., :3]) / np.nanmean(reference[..., :3])
+    print(f"  cornell with spheres: region errors mean {errors.mean():.4f} "
+          f"max {errors.max():.4f}; image mean ratio {mean_ratio:.4f}")
+    assert abs(mean_ratio - 1.0) < 0.02, mean_ratio
+    assert errors.mean() < 0.03, (errors.round(3).tolist(), a.round(4).tolist(),
                                   b.round(4).tolist())
-    assert errors.max() < 0.15, errors.round(3).tolist()
+    assert errors.max() < 0.09, errors.round(3).tolist()
 
 
 def _floor_under_light(kind, energy, **settings):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The 200,000-pass run of issue 7 point 3, for a GPU (not part of make test: at llvmpipe
+"""The 200,000-pass run, for a GPU (not part of make test: at llvmpipe
 speed it takes hours). Prints one JSON object and exits 1 if a check failed.
 
 The scene is the box furnace of tests/python/test_stability.py: inside a closed box whose

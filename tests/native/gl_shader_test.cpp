@@ -129,9 +129,9 @@ TEST(GlShader, ProgramCacheCompilesOncePerKey) {
     const auto [same, different, size] = gl().call([] {
         ProgramCache& cache = gl().context().programs();
         cache.clear();
-        const ComputeProgram& a = cache.get("rng_stream.comp", {{"RNG_PCG", ""}});
-        const ComputeProgram& b = cache.get("rng_stream.comp", {{"RNG_PCG", ""}});
-        const ComputeProgram& c = cache.get("rng_stream.comp", {{"RNG_PAPER", ""}});
+        const ComputeProgram& a = cache.get("tests/rng_stream.comp", {{"RNG_PCG", ""}});
+        const ComputeProgram& b = cache.get("tests/rng_stream.comp", {{"RNG_PCG", ""}});
+        const ComputeProgram& c = cache.get("tests/rng_stream.comp", {{"RNG_PAPER", ""}});
         return std::tuple{&a == &b, &a != &c, cache.size()};
     });
     EXPECT_TRUE(same);
@@ -141,11 +141,11 @@ TEST(GlShader, ProgramCacheCompilesOncePerKey) {
 
 TEST(GlShader, RngIncludeRejectsNoOrBothGenerators) {
     const fs::path root = shader_dir();
-    const std::string none = compile_error(root, "rng_stream.comp");
+    const std::string none = compile_error(root, "tests/rng_stream.comp");
     EXPECT_NE(none.find("common/rng.glsl:"), std::string::npos) << none;
     EXPECT_NE(none.find("define exactly one of RNG_PAPER and RNG_PCG"), std::string::npos) << none;
     const std::string both =
-        compile_error(root, "rng_stream.comp", {{"RNG_PAPER", ""}, {"RNG_PCG", ""}});
+        compile_error(root, "tests/rng_stream.comp", {{"RNG_PAPER", ""}, {"RNG_PCG", ""}});
     EXPECT_NE(both.find("not both"), std::string::npos) << both;
 }
 
@@ -160,7 +160,7 @@ TEST(GlShader, ShaderDirDoesNotDependOnTheCurrentDirectory) {
     EXPECT_EQ(found, from_root);
     EXPECT_TRUE(found.is_absolute()) << found;
     EXPECT_TRUE(fs::exists(from_root / "common/rng.glsl"));
-    EXPECT_TRUE(fs::exists(from_root / "rng_stream.comp"));
+    EXPECT_TRUE(fs::exists(from_root / "tests/rng_stream.comp"));
 }
 
 TEST(GlShader, ShaderDirEnvironmentOverrides) {

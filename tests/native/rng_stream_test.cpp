@@ -73,7 +73,7 @@ struct Stream {
 Stream run_stream(bool paper, std::uint32_t threads, std::uint32_t per_thread,
                   const std::vector<glm::vec4>& seeds, std::uint32_t pcg_seed) {
     return gl_thread().call([&] {
-        ComputeProgram program("rng_stream.comp",
+        ComputeProgram program("tests/rng_stream.comp",
                                {{paper ? "RNG_PAPER" : "RNG_PCG", ""}, {"RNG_STREAM_STATES", ""}});
         const std::size_t n = std::size_t{threads} * per_thread;
         const std::size_t state_bytes = paper ? 16 : 4;

@@ -87,3 +87,60 @@ def test_focus_plane_stays_sharp_and_defocus_blurs(glslppm):
     coc_pixels = 0.2 / (2 * 2.5 * math.tan(fov / 2)) * width
     expected = 0.69 * coc_pixels
     assert abs(transition_width(blurred) - expected) <= 1.5, (transition_width(blurred), expected)
+
+
+def test_region_renders_the_window_of_the_full_frame(glslppm):
+    """A region (x 8..24, y 4..20 from the top, of 32 x 32) renders those pixels of the
+    full frame: the 1 x 1 square of a 4 x 4 orthographic view covers pixels 12..20 in both,
+    so the window sees it at 4..12 across and 8..16 down (exactly, away from its edges)."""
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0,
+                      region=(8, 4, 32, 32))
+    r = g.Renderer(emitter_scene(g, -2.0, camera),
+                   g.Settings(width=16, height=16, photons_per_pass=256))
+    r.run(16)
+    image = r.film()[..., 0]
+    assert image.shape == (16, 16)
+    assert image[9:15, 5:11].min() == pytest.approx(2.0)
+    inside = np.zeros((16, 16), dtype=bool)
+    inside[7:17, 3:13] = True
+    assert image[~inside].max() == 0.0
+    assert image.sum() / 2.0 == pytest.approx(64.0, rel=0.03)
+    with pytest.raises(ValueError, match="does not fit"):
+        g.Renderer(emitter_scene(g, -2.0, camera), g.Settings(width=32, height=16))
+
+
+def test_pixel_aspect_stretches_the_film_vertically(glslppm):
+    """Pixels twice as tall as wide: a 4-unit-wide orthographic view of 32 x 32 pixels spans
+    8 units vertically, so the 1 x 1 square covers 8 columns by 4 rows (32 pixels)."""
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=8.0,
+                      pixel_aspect=2.0)
+    covered, _ = covered_pixels(g, emitter_scene(g, -2.0, camera))
+    assert covered == pytest.approx(32.0, rel=0.03)
+
+
+def test_transparent_film_alpha_is_coverage(glslppm):
+    """With transparent on, alpha is the fraction of camera rays that hit something: the
+    1 x 1 square in a 4 x 4 view covers 1/16 of the image; the world (radiance 3) is not
+    seen, and without transparent the alpha is 1 everywhere."""
+    g = glslppm
+    camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0)
+    p, t = quad((-0.5, -0.5, -2.0), (0.5, -0.5, -2.0), (0.5, 0.5, -2.0), (-0.5, 0.5, -2.0))
+    scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(0, 0, 0),
+                                                emission=(2.0,) * 3)],
+                    camera=camera, environment=(3.0, 3.0, 3.0))
+    for transparent in (True, False):
+        r = g.Renderer(scene, g.Settings(width=32, height=32, photons_per_pass=256,
+                                         transparent=transparent))
+        r.run(16)
+        film = r.film()
+        if transparent:
+            assert "transparent" in r.stats()["variant"]
+            assert film[..., 3].mean() == pytest.approx(1.0 / 16.0, rel=0.03)
+            assert film[..., 3].min() == 0.0 and film[..., 3].max() == 1.0
+            assert np.all(film[film[..., 3] == 0.0][:, :3] == 0.0)
+        else:
+            assert np.all(film[..., 3] == 1.0)
+            assert film[0, 0, 0] == pytest.approx(3.0)
+        r.close()

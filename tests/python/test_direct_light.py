@@ -239,10 +239,11 @@ def test_closed_furnace_in_both_modes(glslppm, direct):
     assert np.all(np.abs(blocks) <= 0.04), blocks
 
 
-def test_emissive_triangles_are_sampled_one_sided(glslppm):
-    """An emissive (not area-light) quad facing down over the plane lights it as the
-    brute-force integral over the quad says; flipped to face up it lights nothing. The quad
-    hides the plane below it from the camera, so the pixels around it are compared."""
+def test_emissive_triangles_are_sampled_from_both_faces(glslppm):
+    """An emissive (not area-light) quad over the plane lights it as the brute-force
+    integral over the quad says, whichever way it is wound: mesh emission is two-sided, as
+    in Cycles. The quad hides the plane below it from the camera, so the pixels around it
+    are compared."""
     g = glslppm
     le, h, s = 2.0, 0.8, 0.5
     down = np.array([(-s, -s, h), (-s, s, h), (s, s, h), (s, -s, h)], dtype=np.float32)
@@ -259,13 +260,14 @@ def test_emissive_triangles_are_sampled_one_sided(glslppm):
     to_world[2, 3] = h
     points = np.stack([x[around], y[around], np.zeros(around.sum())], axis=1)
     want = area_irradiance_brute_force(to_world, "square", 2 * s, 2 * s, le, points, n=200)
-    got = results["down"][around]
-    mean = got.mean() / want.mean() - 1.0
-    print(f"  around the quad: mean {mean:+.5f}, worst pixel "
-          f"{np.abs(got / want - 1).max():.4f}; facing up: {results['up'][around].max():.3g}")
-    # Measured: mean within 0.2%, pixels within 6% (16 samples of the quad each).
-    assert abs(mean) < 0.01
-    assert results["up"][around].max() == 0.0
+    for name, e in results.items():
+        got = e[around]
+        mean = got.mean() / want.mean() - 1.0
+        print(f"  {name}: around the quad mean {mean:+.5f}, worst pixel "
+              f"{np.abs(got / want - 1).max():.4f}")
+        # Measured: means -0.4% and -0.6%, pixels within 70% (16 samples of the quad each,
+        # the nearest pixels at grazing angles). Bound 1.5% on the mean (its noise is 0.3%).
+        assert abs(mean) < 0.015
 
 
 def plane_lights_case(g, light, direct, size=32, passes=16, photons=16384):
@@ -452,23 +454,29 @@ def cornell_pair(g, passes=48, **scene_kw):
 def test_both_modes_converge_to_the_same_cornell_box(glslppm, kind):
     """The built-in Cornell box (mirror and glass spheres: caustics come from photons in
     both modes) and its diffuse variant: 8x8 block means of the two modes agree within
-    noise, and so do the image means."""
+    noise, and so do their means, but for the ceiling's (the top row) and the two that hold
+    the light. Its quad emits from both faces (mesh emission is two-sided) 2 cm below the
+    ceiling: half its photons land on the ceiling above it, and the photons' kernel carries
+    them to the visible ceiling within a radius of the light's edge (measured +30% to +55%
+    in the ceiling's blocks beside the light, +7% on the image), a bias that light sampling
+    does not have."""
     g = glslppm
     kw = {} if kind == "cornell" else dict(mirror_sphere=False, glass_sphere=False)
     images = cornell_pair(g, **kw)
     blocks = [im.reshape(6, 8, 6, 8, 3).mean(axis=(1, 3)) for im in images]
     ref = blocks[1].mean(axis=-1)
-    lit = ref > 0.02
-    rel = np.abs(blocks[0] - blocks[1]).mean(axis=-1)[lit] / ref[lit]
-    mean = images[0].mean() / images[1].mean() - 1.0
+    keep = ref > 0.02
+    keep[0, :] = False
+    keep[1, 2:4] = False
+    rel = np.abs(blocks[0] - blocks[1]).mean(axis=-1)[keep] / ref[keep]
+    mean = blocks[0][keep].mean() / blocks[1][keep].mean() - 1.0
     print(f"  blocks rms {np.sqrt(np.mean(rel ** 2)):.4f} max {rel.max():.4f}, "
           f"image mean {mean:+.4f}")
-    # Measured (seed 1): blocks rms 3.1% (Cornell) and 2.5% (diffuse), max 10% and 5%
-    # (the blocks at the light's edge, where the photons' kernel blurs the direct light),
-    # image means +0.30% and -0.14%. Bounds: 7% rms (test_sppm.py's comparison of hash
-    # modes allows 10%), 1.5% on the mean.
+    # Measured (seed 1): blocks rms 3.4% (Cornell) and 3.8% (diffuse), their means -1.2%
+    # and -0.9% (some of the kernel's halo reaches the blocks beside the light's). Bounds:
+    # 7% rms (test_sppm.py's comparison of hash modes allows 10%), 2% on the mean.
     assert np.sqrt(np.mean(rel ** 2)) < 0.07, rel
-    assert abs(mean) < 0.015
+    assert abs(mean) < 0.02
 
 
 def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):

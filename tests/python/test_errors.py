@@ -78,25 +78,3 @@ def test_degenerate_triangles_are_dropped_and_counted(glslppm):
     stats = r.stats()
     assert stats["triangles"] == 2
     assert stats["degenerate_dropped"] == 2
-
-
-def test_many_renderers_in_one_process(glslppm):
-    """A Blender session renders many times: create, run and close renderers repeatedly."""
-    scene = small_scene(glslppm)
-    for _ in range(10):
-        r = glslppm.Renderer(scene, glslppm.Settings(width=8, height=8, photons_per_pass=256))
-        r.run(2)
-        assert r.film().shape == (8, 8, 4)
-        r.close()
-        assert r.closed
-
-
-def test_too_large_a_render_is_a_clear_error_and_the_next_one_works(glslppm):
-    """Photons the GPU cannot hold: a GlslppmError that says what to lower, nothing kept,
-    and the next renderer works."""
-    scene = small_scene(glslppm)
-    with pytest.raises(glslppm.GlslppmError, match="photons per pass"):
-        glslppm.Renderer(scene, glslppm.Settings(width=8, height=8, photons_per_pass=1 << 26))
-    r = glslppm.Renderer(scene, glslppm.Settings(width=8, height=8, photons_per_pass=256))
-    r.run(1)
-    assert np.isfinite(r.film()).all()

@@ -1,4 +1,4 @@
-"""Faults (issue 7, point 5): renders too large for the GPU, a renderer closed or dropped
+"""Faults: renders too large for the GPU, a renderer closed or dropped
 while another thread runs it, many renderers in one process, and renders asked for at once
 from several threads. test_errors.py checks the too-many-photons message; here every fault
 must also give back what it took (resident memory, threads, file descriptors) and leave the

@@ -1,4 +1,4 @@
-"""Geometry at the extremes (issue 7, point 4): watertight meshes leak no light, rays along
+"""Geometry at the extremes: watertight meshes leak no light, rays along
 shared edges and at grazing angles find no holes, triangles 1e-7 of the scene size and
 triangles spanning the whole scene render, bad bit patterns are named, degenerate triangles
 are dropped and counted.

@@ -186,7 +186,8 @@ def disk_irradiance(radiance, b, h, r):
     E = pi L / 2 (1 - (h^2 + r^2 - b^2) / sqrt((h^2 + r^2 + b^2)^2 - 4 r^2 b^2)), which on the
     axis is pi L b^2 / (h^2 + b^2)."""
     s = h * h + r * r
-    return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / np.sqrt((s + b * b) ** 2 - 4 * r * r * b * b))
+    root = np.sqrt((s + b * b) ** 2 - 4 * r * r * b * b)
+    return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / root)
 
 
 def test_disk_light_closed_form(glslppm):

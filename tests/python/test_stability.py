@@ -1,4 +1,4 @@
-"""Numerical stability at the extremes (issue 7, points 1-3): scene scale, light brightness,
+"""Numerical stability at the extremes: scene scale, light brightness,
 long runs.
 
 Scale and brightness compare renders made with the same seed: SPPM takes the same random
@@ -11,131 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from conftest import look_at, merge, native, quad
-
-
-# --- scenes -------------------------------------------------------------------------------
-
-def shape_quad(a, b, c, d):
-    """native/scenes/shapes.cpp make_quad: four corners, the face normal at each."""
-    a, b, c, d = (np.array(v, np.float32) for v in (a, b, c, d))
-    n = np.cross(b - a, c - a)
-    n = (n / np.linalg.norm(n)).astype(np.float32)
-    return np.array([a, b, c, d], np.float32), np.array([n] * 4, np.float32), \
-        np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
-
-
-def shape_sphere(center, radius, rings, segments):
-    """native/scenes/shapes.cpp make_sphere, in float32 as the C++ computes it."""
-    pi = np.float32(3.14159265358979)
-    positions, normals = [], []
-    for i in range(rings + 1):
-        theta = np.float32(pi * np.float32(i) / np.float32(rings))
-        for j in range(segments + 1):
-            phi = np.float32(np.float32(2.0) * pi * np.float32(j) / np.float32(segments))
-            n = np.array([np.sin(theta) * np.cos(phi), np.cos(theta),
-                          np.sin(theta) * np.sin(phi)], np.float32)
-            positions.append(np.array(center, np.float32) + np.float32(radius) * n)
-            normals.append(n)
-    row = segments + 1
-    triangles = []
-    for i in range(rings):
-        for j in range(segments):
-            a = i * row + j
-            b = a + row
-            if i != 0:
-                triangles.append([a, a + 1, b])
-            if i != rings - 1:
-                triangles.append([a + 1, b + 1, b])
-    return np.array(positions, np.float32), np.array(normals, np.float32), \
-        np.array(triangles, np.uint32)
-
-
-def cornell_box(g, scale=1.0, light=17.0, rings=16):
-    """native/scenes/cornell_box.cpp rebuilt from arrays, so that its positions and camera
-    can be scaled and its light changed (test_replica_is_the_builtin_cornell_box)."""
-    parts = [
-        (shape_quad((-1, 0, -1), (-1, 0, 1), (1, 0, 1), (1, 0, -1)), 0),  # floor
-        (shape_quad((-1, 2, -1), (1, 2, -1), (1, 2, 1), (-1, 2, 1)), 0),  # ceiling
-        (shape_quad((-1, 0, -1), (1, 0, -1), (1, 2, -1), (-1, 2, -1)), 0),  # back
-        (shape_quad((-1, 0, -1), (-1, 2, -1), (-1, 2, 1), (-1, 0, 1)), 1),  # left
-        (shape_quad((1, 0, -1), (1, 0, 1), (1, 2, 1), (1, 2, -1)), 2),  # right
-        (shape_quad((-0.3, 1.98, -0.3), (0.3, 1.98, -0.3), (0.3, 1.98, 0.3),
-                    (-0.3, 1.98, 0.3)), 3),  # light
-        (shape_sphere((-0.45, 0.38, -0.35), 0.38, rings, 2 * rings), 4),  # mirror
-        (shape_sphere((0.45, 0.38, 0.3), 0.38, rings, 2 * rings), 5),  # glass
-    ]
-    positions, normals, triangles, ids = [], [], [], []
-    base = 0
-    for (p, n, t), m in parts:
-        positions.append(p)
-        normals.append(n)
-        triangles.append(t + base)
-        ids.append(np.full(len(t), m, np.uint32))
-        base += len(p)
-    materials = [
-        g.Material("diffuse", color=(0.75, 0.75, 0.75)),
-        g.Material("diffuse", color=(0.75, 0.25, 0.25)),
-        g.Material("diffuse", color=(0.25, 0.75, 0.25)),
-        g.Material("diffuse", color=(0, 0, 0), emission=(light, light, light)),
-        g.Material("conductor", color=(0.95, 0.95, 0.95)),
-        g.Material("dielectric", color=(1, 1, 1), ior=1.5),
-    ]
-    camera = np.eye(4, dtype=np.float32)
-    camera[:3, 3] = np.array([0, 1, 4], np.float32) * np.float32(scale)
-    return g.Scene((np.concatenate(positions) * np.float32(scale)).astype(np.float32),
-                   np.concatenate(triangles), normals=np.concatenate(normals),
-                   material_ids=np.concatenate(ids), materials=materials,
-                   camera=g.Camera(camera, fov_x=2.0 * math.atan(1.15 / 3.0)))
-
-
-def inward_box(h=1.0):
-    """A closed cube of half size h, every face facing the inside."""
-    faces = [
-        quad((-h, -h, -h), (-h, -h, h), (h, -h, h), (h, -h, -h)),
-        quad((-h, h, -h), (h, h, -h), (h, h, h), (-h, h, h)),
-        quad((-h, -h, -h), (h, -h, -h), (h, h, -h), (-h, h, -h)),
-        quad((-h, -h, h), (-h, h, h), (h, h, h), (h, -h, h)),
-        quad((-h, -h, -h), (-h, h, -h), (-h, h, h), (-h, -h, h)),
-        quad((h, -h, -h), (h, -h, h), (h, h, h), (h, h, -h)),
-    ]
-    return merge(*[(p, t, 0) for p, t in faces])[:2]
-
-
-def box_furnace(g, albedo=0.5, emission=1.0):
-    """Inside a closed box whose walls all emit Le and reflect albedo a, with one bounce
-    (max_depth=1) L = Le + a Le exactly: the irradiance is pi Le everywhere in a closed
-    enclosure. The camera sees only the middle of one face (farther than any radius from an
-    edge), where the photon density is uniform, so the kernel adds no bias and every path
-    ends after one bounce: photons_emitted = passes * photons_per_pass exactly."""
-    p, t = inward_box()
-    material = g.Material("diffuse", color=(albedo,) * 3, emission=(emission,) * 3)
-    camera = g.Camera(look_at((0, 0, 0), (0, 0, -1)), fov_x=math.radians(30))
-    return g.Scene(p, t, materials=[material], camera=camera)
-
-
-def lamp_over_floor(g, scale):
-    """A point light 0.01 above a 2000 x 2000 floor, the camera 1 above looking down: the
-    photons crowd under the lamp, so the radii shrink to the floor within a few passes."""
-    half = np.float32(1000.0 * scale)
-    p, t = quad((-half, 0, -half), (-half, 0, half), (half, 0, half), (half, 0, -half))
-    return g.Scene(p, t, materials=[g.Material("diffuse", color=(0.5, 0.5, 0.5))],
-                   lights=[g.Light("point", power=1.0, position=(0, 0.01 * scale, 0))],
-                   camera=g.Camera(look_at((0, scale, 0), (0, 0, 0), up=(0, 0, -1)),
-                                   fov_x=math.radians(10)))
-
-
-def render(g, scene, passes, **settings):
-    r = g.Renderer(scene, g.Settings(**settings))
-    r.run(passes)
-    film, stats, photons = r.film()[..., :3].astype(np.float64), r.stats(), r.photons()
-    r.close()
-    return film, stats, photons
-
-
-def block_means(image, size=4):
-    h, w = image.shape[:2]
-    return image.reshape(h // size, size, w // size, size, -1).mean(axis=(1, 3, 4))
+from conftest import native
+from scenes import block_means, box_furnace, cornell_box, lamp_over_floor, render
 
 
 # --- 1. scale -----------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Stability and fault tests of defects these tests found (issue 7, points 1, 3, 5): a
+"""Stability and fault tests of defects these tests found: a
 radius below the floor grew, stats() was not a snapshot, the photon count's carry past
 2^32 was untested, close() waited for every queued pass, and areas overflowed in float."""
 import math
@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 
-from test_stability import box_furnace, cornell_box, lamp_over_floor, render
+from scenes import box_furnace, cornell_box, lamp_over_floor, render
 
 
 def test_radius_below_the_floor_never_grows(glslppm):

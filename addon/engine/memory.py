@@ -1,0 +1,82 @@
+"""Whether a render fits, decided before anything is allocated: the GPU buffers the
+module will make (native/render/renderer.cpp, per pixel and per photon thread), the host
+copies of the film and Blender's own result, against the device's limits and the host's
+available memory. A render that does not fit is refused at once with the numbers,
+instead of failing minutes later with a black full-size result.
+"""
+
+import os
+
+# GPU bytes per pixel: visible points (3 vec4), statistics (2), direct light (2), film (1)
+# and a generator state (1).
+GPU_PER_PIXEL = (3 + 2 + 2 + 1 + 1) * 16
+# The one buffer that grows fastest with the image (visible points).
+LARGEST_PER_PIXEL = 3 * 16
+# GPU bytes per photon thread: paths (3 vec4), photons (3), generator state (1), the sorted
+# indices of the exact hash (1 uint); hash cells come on top (next power of two >= 2x).
+GPU_PER_PHOTON = (3 + 3 + 1) * 16 + 4
+HASH_CELL = 16
+# Host bytes per pixel: Blender's float RGBA result and the copy it saves or shows (2 x 16),
+# the module's film read-back and the add-on's flipped copy (2 x 16), and the initial
+# statistics the module uploads (2 vec4).
+HOST_PER_PIXEL = 2 * 16 + 2 * 16 + 2 * 16
+HOST_PER_PHOTON = 3 * 16
+
+GIB = float(1 << 30)
+
+
+def next_power_of_two(value):
+    return 1 << max(0, int(value - 1).bit_length())
+
+
+def estimate(width, height, photons_per_pass, views=1):
+    """Bytes: {"gpu", "largest_buffer", "host"} for a render of width x height pixels."""
+    pixels = width * height
+    hash_cells = next_power_of_two(max(2 * photons_per_pass, 1024))
+    gpu = pixels * GPU_PER_PIXEL + photons_per_pass * GPU_PER_PHOTON + hash_cells * HASH_CELL
+    largest = max(pixels * LARGEST_PER_PIXEL, photons_per_pass * 3 * 16, hash_cells * HASH_CELL)
+    host = views * pixels * HOST_PER_PIXEL + photons_per_pass * HOST_PER_PHOTON
+    return {"gpu": gpu, "largest_buffer": largest, "host": host}
+
+
+def host_available():
+    """Bytes of host memory available now (MemAvailable), or None where unknown."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError):
+        return None
+
+
+def refusal(needs, limits, available):
+    """A message saying why the render cannot fit, or None when it may.
+    limits is the module's device_limits() (or None), available host bytes (or None)."""
+    problems = []
+    if limits:
+        largest = limits.get("max_storage_buffer_bytes", 0)
+        if largest and needs["largest_buffer"] > largest:
+            problems.append(f"its largest GPU buffer needs {needs['largest_buffer'] / GIB:.2f} "
+                            f"GiB, more than the {largest / GIB:.2f} GiB this GPU allows in one "
+                            "buffer")
+        # Only a hardware GPU's own figure counts (some software renderers answer the
+        # NVX query with a meaningless number; their buffers are host memory, below).
+        memory = 0 if limits.get("software") else limits.get("memory_bytes", 0)
+        if memory > 0 and needs["gpu"] > memory:
+            problems.append(f"it needs {needs['gpu'] / GIB:.2f} GiB of GPU memory, more than "
+                            f"the GPU's {memory / GIB:.2f} GiB")
+    host = needs["host"]
+    if limits and limits.get("software"):
+        host += needs["gpu"]  # a software renderer's buffers live in host memory
+    if available is not None and host > available:
+        problems.append(f"it needs {host / GIB:.2f} GiB of host memory, more than the "
+                        f"{available / GIB:.2f} GiB available")
+    if not problems:
+        return None
+    return ("the render does not fit: " + "; ".join(problems) +
+            ". Lower the resolution (or use a render region) or the photons per pass")
