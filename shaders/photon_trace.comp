@@ -3,7 +3,7 @@
 // by Russian roulette, by the depth limit or by leaving the scene starts anew from a light
 // in the next pass, so every thread stays busy whatever the path lengths. Photons are
 // stored on non-specular surfaces only, each with an independent random key for the
-// stochastic hash.
+// stochastic hash; with light sampling (DIRECT_LIGHT_SAMPLED) not on a path's first hit.
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PHOTON_PATHS

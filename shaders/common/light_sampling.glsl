@@ -3,10 +3,12 @@
 // on it, one shadow ray. The estimate of the reflected direct radiance is
 //   f(wo, wi) L_e(wi) cos(theta) / (p_pick p(wi)),
 // p(wi) the light's own density per solid angle (an area density times d^2 / cos(theta_l)
-// where the light has a surface; Veach 1997, section 4.1 / eq. 8.10 with one sample). Each
-// record holds power / p_pick, so the estimates below are written in that. Used when the
-// photon stage stores only photons that have scattered at least once (DIRECT_LIGHT_SAMPLED):
-// the two estimates then split the light at a visible point without overlap.
+// where the light has a surface: d(omega) = cos(theta_l) dA / d^2), a one-sample Monte
+// Carlo estimate of the reflection integral over the lights (the area form of Kajiya 1986's
+// rendering equation). Each record holds power / p_pick, so the estimates below are
+// written in that. Used when the photon stage stores only photons that have scattered at
+// least once (DIRECT_LIGHT_SAMPLED): the two estimates then split the light at a visible
+// point without overlap.
 #ifndef LIGHT_SAMPLING_GLSL
 #define LIGHT_SAMPLING_GLSL
 
@@ -120,7 +122,8 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         vec3 travel = b.w < 1.0 ? sample_cone(b.xyz, b.w, u1, u2) : b.xyz;
         ls.wi = -travel;
         ls.distance = DISTANT_LIGHT;
-        ls.radiance_over_pdf = power / (PI * scene_sphere.w * scene_sphere.w);
+        float disc = PI * scene_sphere.w * scene_sphere.w;
+        if (disc > 0.0) ls.radiance_over_pdf = power / disc;
         return ls;
     }
 #endif
