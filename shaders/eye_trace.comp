@@ -26,13 +26,11 @@ layout(local_size_x = LOCAL_SIZE) in;
 Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     float jx = rng_next(rng), jy = rng_next(rng);
     // Film coordinates in [-1, 1], y up; row 0 is the top of the image.
-    vec2 ndc = vec2(2.0 * (float(x) + jx) / float(sizes.x) - 1.0,
-                    1.0 - 2.0 * (float(y) + jy) / float(sizes.y));
-    // camera_fov: the film's half extent and shift, on the z = -1 plane (perspective) or in
-    // world units (orthographic).
-    vec2 film = ndc * camera_fov.xy + camera_fov.zw;
+    vec2 ndc = vec2(2.0 * (float(x) + jx) / float(image_width) - 1.0,
+                    1.0 - 2.0 * (float(y) + jy) / float(image_height));
+    vec2 film = ndc * film_half_extent + film_shift;
     vec3 origin, dir;
-    if (camera_lens.x > 0.5) {
+    if (orthographic != 0u) {
         origin = vec3(film, 0.0);
         dir = vec3(0.0, 0.0, -1.0);
     } else {
@@ -40,8 +38,8 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
         dir = vec3(film, -1.0);
 #ifdef HAS_DEPTH_OF_FIELD
         // Thin lens: rays through the lens disc meet on the plane at the focus distance.
-        vec3 focus = dir * camera_lens.w;
-        vec2 lens = camera_lens.z * sample_disc(rng_next(rng), rng_next(rng));
+        vec3 focus = dir * focus_distance;
+        vec2 lens = aperture_radius * sample_disc(rng_next(rng), rng_next(rng));
         origin = vec3(lens, 0.0);
         dir = focus - origin;
 #endif
@@ -52,7 +50,7 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
 
 void main() {
     uint i = thread_index();
-    if (i >= sizes.x * sizes.y) return;
+    if (i >= image_width * image_height) return;
     RNG_STATE rng = rng_load(i);
 #ifdef DIRECT_LIGHT_SAMPLED
     // The light sample's numbers come first, so that draws only some variants make (the
@@ -60,7 +58,7 @@ void main() {
     float light_pick = rng_next(rng);
     vec4 light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
 #endif
-    Ray ray = camera_ray(i % sizes.x, i / sizes.x, rng);
+    Ray ray = camera_ray(i % image_width, i / image_width, rng);
 
     vec3 throughput = vec3(1.0);
     vec3 direct = vec3(0.0);
@@ -68,19 +66,19 @@ void main() {
     vec3 normal = vec3(0.0);
     vec3 weight = vec3(0.0);
     uint rays = 0u;
-    bool camera_ray = true;  // until the first specular bounce
+    bool seen_by_camera = true;  // until the first specular bounce
 #ifdef FILM_TRANSPARENT
     // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
     // The world is then not seen by such rays (Blender's Film > Transparent).
     float transparent = 0.0;
     bool through_glass = true;  // every bounce so far a transmission through glass
 #endif
-    for (uint depth = 0u; depth < pass_info.z; ++depth) {
+    for (uint depth = 0u; depth < max_depth; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {
 #ifdef FILM_TRANSPARENT
-            if (camera_ray) {
+            if (seen_by_camera) {
                 transparent = 1.0;
                 break;
             }
@@ -99,7 +97,7 @@ void main() {
         int flags = material_flags(s.material);
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            bool hidden = camera_ray && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
+            bool hidden = seen_by_camera && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
             if (front && !hidden) direct += throughput * material_emission(s.material);
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
@@ -132,7 +130,7 @@ void main() {
                         dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
 #endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
-        camera_ray = false;
+        seen_by_camera = false;
     }
 
     visible_points[3 * i + 0] = point;

@@ -18,7 +18,7 @@ shared float group_max_radius[LOCAL_SIZE];
 void main() {
     uint i = thread_index();
     float radius_after = 0.0;
-    if (i < sizes.x * sizes.y) {
+    if (i < image_width * image_height) {
         vec4 stats0 = pixel_stats[2 * i + 0];
         float r = pixel_stats[2 * i + 1].x;
         radius_after = r;
@@ -35,7 +35,7 @@ void main() {
             // r only where the point lies within r of the face they share: skip the others
             // (exact; the margin covers rounding in the cell coordinates). Radii that have
             // shrunk below the largest then visit 8 cells or fewer instead of 27.
-            vec3 inside = (point.xyz - scene_lo.xyz) / cell_size - vec3(center);
+            vec3 inside = (point.xyz - scene_lo) / cell_size - vec3(center);
             float reach = r / cell_size * 1.001 + 1e-4;
             ivec3 first = ivec3(mix(vec3(0.0), vec3(-1.0), lessThan(inside, vec3(reach))));
             ivec3 last = ivec3(mix(vec3(0.0), vec3(1.0), greaterThan(inside, vec3(1.0 - reach))));
@@ -72,9 +72,9 @@ void main() {
             }
             if (m > 0.0) {
                 float n_old = stats0.w;
-                float n_new = n_old + sppm.x * m;
+                float n_new = n_old + sppm_alpha * m;
                 // Shrinks to the floor, never grows (a radius already below the floor stays).
-                float r_new = max(r * sqrt(n_new / (n_old + m)), min(r, sppm.y));
+                float r_new = max(r * sqrt(n_new / (n_old + m)), min(r, radius_floor));
                 float shrink = (r_new * r_new) / r2;
                 vec3 tau = (stats0.xyz + weight * phi) * shrink;
                 pixel_stats[2 * i + 0] = vec4(tau, n_new);

@@ -13,7 +13,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 
 void main() {
     uint i = thread_index();
-    if (i >= sizes.z || photons[3 * i + 2].w == 0.0) return;
+    if (i >= photon_threads || photons[3 * i + 2].w == 0.0) return;
     vec4 pk = photons[3 * i + 0];
     uint h = grid_hash(grid_cell(pk.xyz, uintBitsToFloat(cell_size_bits)));
 #if defined(PHASE_INSERT)

@@ -18,8 +18,8 @@ layout(local_size_x = LOCAL_SIZE) in;
 
 void main() {
     uint i = thread_index();
-    if (i >= sizes.z) return;
-    uint state_index = sizes.x * sizes.y + i;
+    if (i >= photon_threads) return;
+    uint state_index = image_width * image_height + i;
     RNG_STATE rng = rng_load(state_index);
 
     vec4 p0 = photon_paths[3 * i + 0];
@@ -54,7 +54,7 @@ void main() {
         if ((material_flags(s.material) & MATERIAL_LIGHT_SURFACE) != 0) {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
-            if (bounces >= float(pass_info.z)) bounces = -1.0;
+            if (bounces >= float(max_depth)) bounces = -1.0;
         } else if (kind == MATERIAL_DIFFUSE) {
             // Store, then continue by Russian roulette on the albedo.
 #ifdef DIRECT_LIGHT_SAMPLED
@@ -76,7 +76,7 @@ void main() {
             bool front = dot(dir, s.geometric_normal) < 0.0;
             vec3 n = front ? s.normal : -s.normal;
             vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
-            if (bounces >= float(pass_info.z) || rng_next(rng) >= q) {
+            if (bounces >= float(max_depth) || rng_next(rng) >= q) {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;
@@ -87,7 +87,7 @@ void main() {
                 if (below <= 0.0) dir = normalize(dir - 2.0 * below * ng);
                 origin = offset_origin(s.position, s.geometric_normal, dir);
             }
-        } else if (bounces >= float(pass_info.z)) {
+        } else if (bounces >= float(max_depth)) {
             bounces = -1.0;
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,

@@ -34,7 +34,7 @@ uint scan_work_group(uint value) {
 
 void main() {
     uint t = gl_LocalInvocationID.x;
-    uint block_sums = sizes.z;  // the block totals follow the sorted photons
+    uint block_sums = photon_threads;  // the block totals follow the sorted photons
 #if defined(PHASE_BLOCKS)
     uint first = gl_WorkGroupID.x * CELLS_PER_BLOCK + t * CELLS_PER_THREAD;
     uint sum = 0u;
@@ -47,7 +47,7 @@ void main() {
     }
     if (t == 0u) hash_sorted[block_sums + gl_WorkGroupID.x] = total;
 #elif defined(PHASE_BLOCK_SUMS)
-    uint blocks = sizes.w / CELLS_PER_BLOCK;
+    uint blocks = hash_cell_count / CELLS_PER_BLOCK;
     uint per_thread = (blocks + SCAN_THREADS - 1u) / SCAN_THREADS;
     uint first = t * per_thread;
     uint sum = 0u;

@@ -4,19 +4,20 @@ layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
 #include "common/frame.glsl"
+#include "common/bindings.glsl"
 #include "common/sppm_buffers.glsl"
 
-layout(std430, binding = 12) writeonly buffer Film { vec4 film[]; };
+layout(std430, binding = BINDING_FILM) writeonly buffer Film { vec4 film[]; };
 
 void main() {
     uint i = thread_index();
-    if (i >= sizes.x * sizes.y) return;
+    if (i >= image_width * image_height) return;
     vec3 tau = pixel_stats[2 * i + 0].xyz;
     float r = pixel_stats[2 * i + 1].x;
-    vec3 photon_light = tau * (sppm.w / (PI * r * r));
-    vec3 direct = direct_light[2 * i + 0].xyz * sppm.z;
+    vec3 photon_light = tau * (inv_photons_emitted / (PI * r * r));
+    vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
 #ifdef FILM_TRANSPARENT
-    float alpha = clamp(1.0 - direct_light[2 * i + 0].w * sppm.z, 0.0, 1.0);
+    float alpha = clamp(1.0 - direct_light[2 * i + 0].w * inv_passes, 0.0, 1.0);
     film[i] = vec4(photon_light + direct, alpha);
 #else
     film[i] = vec4(photon_light + direct, 1.0);

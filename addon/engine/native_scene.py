@@ -28,17 +28,17 @@ def film_options(scene):
     return {"transparent": transparent, "transparent_glass": transparent and glass}
 
 
-def native_settings(native, settings, width, height, seed_offset=0, initial_radius=None,
-                    film=None, device=None):
-    """settings is scene.glslppm; seed_offset varies the noise per animation frame;
-    initial_radius (absolute) overrides the settings' own radius; film is film_options();
-    device (the preferences' choice, resolved by the engine) overrides settings.device."""
+def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None):
+    """settings is scene.glslppm; seed_offset varies the noise per animation frame; film is
+    film_options(); device (the preferences' choice, resolved by the engine) overrides
+    settings.device."""
     return native.Settings(
         **(film or {}),
         width=width, height=height,
         photons_per_pass=settings.photons_per_pass,
         alpha=settings.alpha,
-        initial_radius=settings.radius() if initial_radius is None else initial_radius,
+        initial_radius=settings.radius(),
+        radius_scale=settings.radius_scale,
         max_depth=settings.max_bounces,
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
@@ -49,23 +49,7 @@ def native_settings(native, settings, width, height, seed_offset=0, initial_radi
 
 def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
                     device=None):
-    """A Renderer for scene (a native Scene) with settings (scene.glslppm).
-
-    A radius scale other than 1 multiplies the module's automatic radius, which only the
-    module can compute (median camera-ray hit distance through its BVH): a first
-    renderer reports it in stats()["initial_radius"] and a second one renders with the
-    scaled value. Rendering settings are unchanged otherwise; the cost is one more BVH
-    build and GL set-up (the compiled programs are reused).
-    """
-    renderer = native.Renderer(scene, native_settings(native, settings, width, height,
-                                                      seed_offset, film=film, device=device))
-    scale = settings.automatic_radius_scale()
-    if scale is None:
-        return renderer
-    try:
-        automatic = float(renderer.stats()["initial_radius"])
-    finally:
-        renderer.close()
+    """A Renderer for scene (a native Scene) with settings (scene.glslppm). The radius
+    scale multiplies the module's automatic radius (it is ignored with an absolute one)."""
     return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, scale * automatic, film,
-                                                  device))
+                                                  seed_offset, film=film, device=device))

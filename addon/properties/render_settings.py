@@ -70,13 +70,6 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         """The module's initial_radius: 0 means automatic."""
         return 0.0 if self.use_auto_radius else self.initial_radius
 
-    def automatic_radius_scale(self):
-        """The factor on the automatic radius, or None when the module's own automatic
-        radius is used as it is (absolute radius, or scale 1)."""
-        if not self.use_auto_radius or abs(self.radius_scale - 1.0) < 1e-6:
-            return None
-        return self.radius_scale
-
 
 def register():
     bpy.utils.register_class(GlslppmRenderSettings)

@@ -33,6 +33,7 @@
 
 #include "gl/egl_context.h"
 #include "gl/shader_program.h"
+#include "render/gpu_layout.h"
 #include "render/rng_seed.h"
 
 int bench_rng(int argc, char** argv);
@@ -42,7 +43,7 @@ namespace {
 using glslppm::gl::ComputeProgram;
 using glslppm::gl::EglContext;
 
-constexpr GLuint kStateBinding = 7;  // RNG_STATE_BINDING's default in rng.glsl
+constexpr GLuint kStateBinding = BINDING_RNG_STATES;  // where rng.glsl keeps the states
 
 struct Options {
     std::string generator = "pcg";

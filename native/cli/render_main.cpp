@@ -32,29 +32,45 @@ struct Options {
     glm::vec3 environment_color{0.0f};
 };
 
-const char* kUsage =
-    "usage: glslppm-render [options]\n"
-    "  Renders the built-in Cornell box (diffuse walls, a mirror and a glass sphere, a\n"
-    "  ceiling light) with stochastic progressive photon mapping.\n"
-    "  --width N --height N      image size (default 512 x 512)\n"
-    "  --passes N                passes to run (default 64 unless --seconds is given)\n"
-    "  --seconds S               stop after S seconds (with --passes: whichever comes first)\n"
-    "  --photons N               photons per pass (default 262144)\n"
-    "  --alpha A                 SPPM alpha (default 0.7)\n"
-    "  --radius R                initial radius (default: automatic)\n"
-    "  --max-depth N             eye and photon bounces (default 16)\n"
-    "  --hash stochastic|exact   photon hashing (default stochastic)\n"
-    "  --rng pcg|paper           generator (default pcg; docs/rng.md says why)\n"
-    "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
-    "                            (default sampled; docs/direct_light.md says why)\n"
-    "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
-    "  --seed N                  random seed\n"
-    "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
-    "                            camera gets one that frames the whole scene)\n"
-    "  --environment FILE        equirectangular environment map (.hdr, .exr, .png, .jpg)\n"
-    "  --environment-color R,G,B environment radiance (default 1,1,1 with a map, else 0)\n"
-    "  --out FILE.exr            write the image\n"
-    "  --json                    print the final statistics as one JSON object\n";
+// The CLI renders final images, so its size and photon count are larger than
+// RenderSettings' (256 x 256, 65,536: the module's and the add-on's quick defaults); every
+// other default is RenderSettings' own.
+constexpr int kCliSize = 512;
+constexpr std::uint32_t kCliPhotons = 262144;
+
+std::string usage() {
+    const RenderSettings d;
+    char text[4096];
+    std::snprintf(
+        text, sizeof text,
+        "usage: glslppm-render [options]\n"
+        "  Renders the built-in Cornell box (diffuse walls, a mirror and a glass sphere, a\n"
+        "  ceiling light) with stochastic progressive photon mapping.\n"
+        "  --width N --height N      image size (default %d x %d; the module's is %d x %d)\n"
+        "  --passes N                passes to run (default 64 unless --seconds is given)\n"
+        "  --seconds S               stop after S seconds (with --passes: whichever comes first)\n"
+        "  --photons N               photons per pass (default %u; the module's is %u)\n"
+        "  --alpha A                 SPPM alpha (default %g)\n"
+        "  --radius R                initial radius (default: automatic)\n"
+        "  --radius-scale S          multiplies the automatic radius (default %g)\n"
+        "  --max-depth N             eye and photon bounces (default %d)\n"
+        "  --hash stochastic|exact   photon hashing (default %s)\n"
+        "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
+        "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
+        "                            (default %s; docs/direct_light.md says why)\n"
+        "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
+        "  --seed N                  random seed (default %llu)\n"
+        "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
+        "                            camera gets one that frames the whole scene)\n"
+        "  --environment FILE        equirectangular environment map (.hdr, .exr, .png, .jpg)\n"
+        "  --environment-color R,G,B environment radiance (default 1,1,1 with a map, else 0)\n"
+        "  --out FILE.exr            write the image\n"
+        "  --json                    print the final statistics as one JSON object\n",
+        kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
+        d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
+        to_string(d.direct_light).c_str(), static_cast<unsigned long long>(d.seed));
+    return text;
+}
 
 glm::vec3 parse_color(const std::string& option, const std::string& text) {
     glm::vec3 c;
@@ -73,9 +89,9 @@ glm::vec3 parse_color(const std::string& option, const std::string& text) {
 
 Options parse(int argc, char** argv) {
     Options o;
-    o.settings.width = 512;
-    o.settings.height = 512;
-    o.settings.photons_per_pass = 262144;
+    o.settings.width = kCliSize;
+    o.settings.height = kCliSize;
+    o.settings.photons_per_pass = kCliPhotons;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&]() -> std::string {
@@ -96,6 +112,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--photons") o.settings.photons_per_pass = static_cast<std::uint32_t>(number());
         else if (a == "--alpha") o.settings.alpha = static_cast<float>(number());
         else if (a == "--radius") o.settings.initial_radius = static_cast<float>(number());
+        else if (a == "--radius-scale") o.settings.radius_scale = static_cast<float>(number());
         else if (a == "--max-depth") o.settings.max_depth = static_cast<int>(number());
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
@@ -111,7 +128,7 @@ Options parse(int argc, char** argv) {
             o.has_environment_color = true;
         }
         else if (a == "--help" || a == "-h") {
-            std::fputs(kUsage, stdout);
+            std::fputs(usage().c_str(), stdout);
             std::exit(0);
         } else throw std::invalid_argument("unknown option " + a + " (see --help)");
     }

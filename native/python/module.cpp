@@ -413,9 +413,12 @@ PYBIND11_MODULE(_glslppm, m) {
                    py::array(owner->arrays[0]).data() == static_cast<const void*>(s.mesh.positions.data());
         });
 
+    // The keyword defaults are RenderSettings' own (native/render/settings.h).
+    const RenderSettings defaults;
     py::class_<RenderSettings>(m, "Settings")
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
-                         float initial_radius, int max_depth, const std::string& hash,
+                         float initial_radius, float radius_scale, int max_depth,
+                         const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
                          bool transparent, bool transparent_glass,
@@ -426,6 +429,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.photons_per_pass = photons_per_pass;
                  s.alpha = alpha;
                  s.initial_radius = initial_radius;
+                 s.radius_scale = radius_scale;
                  s.max_depth = max_depth;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
@@ -441,15 +445,21 @@ PYBIND11_MODULE(_glslppm, m) {
                  validate(s);
                  return s;
              }),
-             py::arg("width") = 256, py::arg("height") = 256, py::arg("photons_per_pass") = 65536,
-             py::arg("alpha") = 0.7f, py::arg("initial_radius") = 0.0f, py::arg("max_depth") = 16,
-             py::arg("hash") = "stochastic", py::arg("rng") = "pcg", py::arg("device") = -1,
-             py::arg("seed") = 0, py::arg("leaf_size") = 4, py::arg("profile") = false,
-             py::arg("full_variant") = false, py::arg("max_texture_size") = 0,
-             py::arg("transparent") = false, py::arg("transparent_glass") = false,
-             py::arg("direct_light") = to_string(RenderSettings{}.direct_light))
+             py::arg("width") = defaults.width, py::arg("height") = defaults.height,
+             py::arg("photons_per_pass") = defaults.photons_per_pass,
+             py::arg("alpha") = defaults.alpha, py::arg("initial_radius") = defaults.initial_radius,
+             py::arg("radius_scale") = defaults.radius_scale,
+             py::arg("max_depth") = defaults.max_depth, py::arg("hash") = to_string(defaults.hash),
+             py::arg("rng") = to_string(defaults.rng), py::arg("device") = defaults.device,
+             py::arg("seed") = defaults.seed, py::arg("leaf_size") = defaults.leaf_size,
+             py::arg("profile") = defaults.profile, py::arg("full_variant") = defaults.full_variant,
+             py::arg("max_texture_size") = defaults.max_texture_size,
+             py::arg("transparent") = defaults.transparent,
+             py::arg("transparent_glass") = defaults.transparent_glass,
+             py::arg("direct_light") = to_string(defaults.direct_light))
         .def_readonly("width", &RenderSettings::width)
-        .def_readonly("height", &RenderSettings::height);
+        .def_readonly("height", &RenderSettings::height)
+        .def_readonly("radius_scale", &RenderSettings::radius_scale);
 
     py::class_<PyRenderer>(m, "Renderer")
         .def(py::init([](const Scene& scene, const RenderSettings& settings) {

@@ -20,6 +20,7 @@
 #include "render/area_lights.h"
 #include "render/emitters.h"
 #include "render/environment_map.h"
+#include "render/gpu_layout.h"
 #include "render/texture_atlas.h"
 #include "render/rng_seed.h"
 
@@ -28,36 +29,6 @@ namespace {
 
 constexpr GLuint kLocalSize = 64;
 constexpr float kPi = 3.14159265358979f;
-
-// Mirrors `uniform Frame` in shaders/common/frame.glsl (std140).
-struct FrameBlock {
-    glm::mat4 camera_to_world;
-    glm::vec4 camera_fov;
-    glm::vec4 camera_lens;
-    glm::vec4 scene_lo;
-    glm::vec4 scene_sphere;
-    glm::vec4 environment;
-    glm::uvec4 sizes;
-    glm::uvec4 pass_info;
-    glm::vec4 sppm;
-    glm::mat4 environment_from_world;
-    glm::ivec4 environment_map;
-};
-static_assert(sizeof(FrameBlock) == 2 * 64 + 9 * 16);
-
-// Mirrors `buffer Counters` in shaders/common/sppm_buffers.glsl.
-struct Counters {
-    std::uint32_t cell_size_bits, max_radius_bits, pass_emitted, pass_rays;
-    std::uint32_t emitted_lo, emitted_hi, rays_lo, rays_hi;
-};
-
-// Buffer bindings, as the shaders declare them.
-enum Binding : GLuint {
-    kNodes = 0, kLinks = 1, kTriangles = 2, kEmitters = 3, kMaterials = 4, kCounters = 5,
-    kVisiblePoints = 6, kPixelStats = 7, kDirectLight = 8, kPhotonPaths = 9, kPhotons = 10,
-    kRngStates = 11, kFilm = 12, kHashCells = 13, kHashSorted = 14, kNormals = 15, kUvs = 16,
-    kTextureInfo = 17, kEnvironmentCdf = 18,
-};
 
 std::uint32_t next_power_of_two(std::uint64_t v) {
     std::uint64_t p = 1;
@@ -136,7 +107,7 @@ struct Renderer::Gpu {
     std::vector<std::string> warnings;
     int programs_compiled = 0, programs_reused = 0;
     double compile_seconds = 0.0;
-    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0;
+    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
 
     const gl::ComputeProgram* eye = nullptr;
     const gl::ComputeProgram* photon = nullptr;
@@ -146,6 +117,7 @@ struct Renderer::Gpu {
     const gl::ComputeProgram* gather = nullptr;
     const gl::ComputeProgram* end_pass = nullptr;
     const gl::ComputeProgram* resolve = nullptr;
+    const gl::ComputeProgram* radius_reduce = nullptr;
 
     // Before anything is allocated for it: a buffer larger than the driver allows is an
     // error that says what to lower (llvmpipe allows 128 MiB).
@@ -263,7 +235,7 @@ struct Renderer::Gpu {
 
     void run_pass() {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
-        frame.pass_info.x = static_cast<std::uint32_t>(passes);
+        frame.pass_index = static_cast<std::uint32_t>(passes);
         upload_frame();
 
         mark(0);
@@ -416,9 +388,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         if (light_surfaces) g.defines.push_back({"HAS_LIGHT_SURFACES", "1"});
     }
     g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
-    g.defines.push_back({"RNG_STATE_BINDING", "11"});
     g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
     g.defines.push_back({"LOCAL_SIZE", std::to_string(kLocalSize) + "u"});
+    g.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
     features.push_back("rng=" + to_string(settings.rng));
     features.push_back("hash=" + to_string(settings.hash));
     features.push_back("direct=" + to_string(settings.direct_light));
@@ -452,15 +424,16 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     const float tan_larger = wide ? tan_x : tan_x * aspect;
     FrameBlock& f = g.frame;
     f.camera_to_world = cam.to_world;
+    glm::vec2 half_extent, shift;
     if (cam.projection == Projection::Orthographic) {
         // Blender's ortho_scale spans the larger image side.
         const float half_larger = 0.5f * cam.ortho_scale;
         const float half_x = wide ? half_larger : half_larger / aspect;
-        f.camera_fov = glm::vec4(half_x, half_x * aspect, 2.0f * cam.shift_x * half_larger,
-                                 2.0f * cam.shift_y * half_larger);
+        half_extent = glm::vec2(half_x, half_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * half_larger, 2.0f * cam.shift_y * half_larger);
     } else {
-        f.camera_fov = glm::vec4(tan_x, tan_x * aspect, 2.0f * cam.shift_x * tan_larger,
-                                 2.0f * cam.shift_y * tan_larger);
+        half_extent = glm::vec2(tan_x, tan_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
     }
     if (region) {
         // The window's half extent and centre in the frame's film coordinates ([-1, 1],
@@ -470,23 +443,31 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         const glm::vec2 corner(cam.region_x, cam.region_y);
         const glm::vec2 centre((2.0f * corner.x + size.x) / frame.x - 1.0f,
                                1.0f - (2.0f * corner.y + size.y) / frame.y);
-        const glm::vec2 half(f.camera_fov.x, f.camera_fov.y);
-        f.camera_fov = glm::vec4(half * size / frame,
-                                 glm::vec2(f.camera_fov.z, f.camera_fov.w) + half * centre);
+        shift = shift + half_extent * centre;
+        half_extent = half_extent * size / frame;
     }
-    f.camera_lens = glm::vec4(static_cast<float>(cam.projection), 0.5f * cam.ortho_scale,
-                              cam.aperture_radius, cam.focus_distance);
-    f.scene_lo = glm::vec4(g.bounds.lo, 1e-3f * diagonal);
-    f.scene_sphere = glm::vec4(g.bounds.center(), g.bounds.radius());
-    f.environment = glm::vec4(scene.environment, 0.0f);
+    f.film_half_extent = half_extent;
+    f.film_shift = shift;
+    f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
+    f.aperture_radius = cam.aperture_radius;
+    f.focus_distance = cam.focus_distance;
+    f.scene_lo = g.bounds.lo;
+    f.ray_offset_floor = 1e-3f * diagonal;
+    f.scene_center = g.bounds.center();
+    f.scene_radius = g.bounds.radius();
+    f.world_radiance = scene.environment;
     f.environment_from_world = glm::mat4(glm::transpose(scene.environment_to_world));
-    f.environment_map = environment ? glm::ivec4(scene.environment_texture, environment->width,
-                                                 environment->height, 0)
-                                    : glm::ivec4(-1, 0, 0, 0);
-    f.sizes = glm::uvec4(settings.width, settings.height, g.photon_threads, g.hash_cells);
-    f.pass_info = glm::uvec4(0, static_cast<std::uint32_t>(settings.seed),
-                             static_cast<std::uint32_t>(settings.max_depth),
-                             static_cast<std::uint32_t>(g.emitters.count));
+    if (environment) {
+        f.environment_texture = scene.environment_texture;
+        f.environment_cdf_width = environment->width;
+        f.environment_cdf_height = environment->height;
+    }
+    f.image_width = static_cast<std::uint32_t>(settings.width);
+    f.image_height = static_cast<std::uint32_t>(settings.height);
+    f.photon_threads = g.photon_threads;
+    f.hash_cell_count = g.hash_cells;
+    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.emitter_count = static_cast<std::uint32_t>(g.emitters.count);
     // Automatic radius: two pixel footprints at the distance of what the camera sees (the
     // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
     // scene's diagonal.
@@ -497,8 +478,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         for (int j = 0; j < 5; ++j) {
             for (int i = 0; i < 5; ++i) {
                 const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec2 film(ndc.x * f.camera_fov.x + f.camera_fov.z,
-                                     ndc.y * f.camera_fov.y + f.camera_fov.w);
+                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
                 const bool ortho = cam.projection == Projection::Orthographic;
                 const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
                 const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
@@ -520,9 +500,11 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                 : 2.0f * distance * tan_x / static_cast<float>(frame_width);
         radius = std::min(2.0f * footprint, 0.05f * diagonal);
         if (!(radius > 0.0f)) radius = 0.01f * diagonal;
+        radius *= settings.radius_scale;
     }
     g.initial_radius = radius;
-    f.sppm = glm::vec4(settings.alpha, 1e-5f * diagonal, 0.0f, 0.0f);
+    f.sppm_alpha = settings.alpha;
+    f.radius_floor = 1e-5f * diagonal;
 
     g.thread = std::make_unique<gl::GlThread>(settings.device);
     g.thread->call([&] {
@@ -547,6 +529,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             g.gather = program("gather.comp", nullptr);
             g.end_pass = program("end_pass.comp", nullptr);
             g.resolve = program("resolve_film.comp", nullptr);
+            g.radius_reduce = program("radius_stats.comp", nullptr);
             for (const gl::ComputeProgram* p : {g.eye, g.photon, g.hash_a, g.hash_b, g.scan[0],
                                                 g.scan[1], g.scan[2], g.gather, g.end_pass,
                                                 g.resolve}) {
@@ -568,20 +551,20 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
             gl::count_gl_objects(gl::GlObject::Buffer, 1);
             glBindBuffer(GL_UNIFORM_BUFFER, g.ubo);
             glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), &g.frame, GL_DYNAMIC_DRAW);
-            glBindBufferBase(GL_UNIFORM_BUFFER, 0, g.ubo);
+            glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME, g.ubo);
 
             auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
-            g.make_buffer(kNodes, bytes(g.bvh.nodes), g.bvh.nodes.data(), "BVH nodes");
-            g.make_buffer(kLinks, bytes(g.bvh.links), g.bvh.links.data(), "BVH links");
-            g.make_buffer(kTriangles, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
+            g.make_buffer(BINDING_BVH_NODES, bytes(g.bvh.nodes), g.bvh.nodes.data(), "BVH nodes");
+            g.make_buffer(BINDING_BVH_LINKS, bytes(g.bvh.links), g.bvh.links.data(), "BVH links");
+            g.make_buffer(BINDING_TRIANGLES, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
             if (!g.bvh.normals.empty())
-                g.make_buffer(kNormals, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
+                g.make_buffer(BINDING_NORMALS, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
             else if (settings.full_variant)
-                g.make_buffer(kNormals, 16, nullptr, "normals");
+                g.make_buffer(BINDING_NORMALS, 16, nullptr, "normals");
             if (!g.bvh.uvs.empty())
-                g.make_buffer(kUvs, bytes(g.bvh.uvs), g.bvh.uvs.data(), "uvs");
+                g.make_buffer(BINDING_UVS, bytes(g.bvh.uvs), g.bvh.uvs.data(), "uvs");
             else if (settings.full_variant)
-                g.make_buffer(kUvs, 16, nullptr, "uvs");
+                g.make_buffer(BINDING_UVS, 16, nullptr, "uvs");
             if (use.materials || use.environment || settings.full_variant) {
                 GLint max_size = 0, max_layers = 0;
                 glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
@@ -592,53 +575,53 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
                                                          max_layers);
                 for (const std::string& w : atlas.warnings) g.warnings.push_back(w);
                 const std::vector<glm::ivec4> records = atlas.records();
-                g.make_buffer(kTextureInfo, bytes(records), records.data(), "texture records");
+                g.make_buffer(BINDING_TEXTURE_INFO, bytes(records), records.data(), "texture records");
                 g.upload_atlas(atlas);
             }
             if (environment) {
-                g.make_buffer(kEnvironmentCdf, bytes(environment->cdf), environment->cdf.data(),
+                g.make_buffer(BINDING_ENVIRONMENT_CDF, bytes(environment->cdf), environment->cdf.data(),
                               "environment distribution");
             } else if (settings.full_variant) {
-                g.make_buffer(kEnvironmentCdf, 16, nullptr, "environment distribution");
+                g.make_buffer(BINDING_ENVIRONMENT_CDF, 16, nullptr, "environment distribution");
             }
-            g.make_buffer(kEmitters, bytes(g.emitters.records), g.emitters.records.data(),
+            g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records), g.emitters.records.data(),
                           "lights");
-            std::vector<glm::vec4> materials;
+            std::vector<GpuMaterial> materials;
             for (std::size_t k = 0; k < geometry.materials.size(); ++k) {
                 const Material& m = geometry.materials[k];
-                const int texture = use.materials ? m.color_texture : -1;
-                materials.emplace_back(m.color, static_cast<float>(m.kind));
-                materials.emplace_back(m.emission, m.ior);
-                materials.emplace_back(std::bit_cast<float>(texture),
-                                       std::bit_cast<float>(geometry.flags[k]), 0.0f, 0.0f);
+                materials.push_back({m.color, static_cast<float>(m.kind), m.emission, m.ior,
+                                     use.materials ? m.color_texture : -1,
+                                     static_cast<std::uint32_t>(geometry.flags[k]), {0, 0}});
             }
-            g.make_buffer(kMaterials, bytes(materials), materials.data(), "materials");
+            g.make_buffer(BINDING_MATERIALS, bytes(materials), materials.data(), "materials");
             Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
-            g.counters = g.make_buffer(kCounters, sizeof(counters), &counters, "counters");
+            g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(counters), &counters, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
             Gpu::require_fits(px * 3 * 16, "visible points");
             Gpu::require_fits(ph * 3 * 16, "photons");
             Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
-            g.make_buffer(kVisiblePoints, px * 3 * 16, nullptr, "visible points");
+            g.make_buffer(BINDING_VISIBLE_POINTS, px * 3 * 16, nullptr, "visible points");
             std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
             for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;
-            g.pixel_stats = g.make_buffer(kPixelStats, bytes(stats), stats.data(), "pixel statistics");
+            g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, bytes(stats), stats.data(), "pixel statistics");
             stats.assign(px * 2, glm::vec4(0.0f));
-            g.make_buffer(kDirectLight, bytes(stats), stats.data(), "direct light");
+            g.make_buffer(BINDING_DIRECT_LIGHT, bytes(stats), stats.data(), "direct light");
             std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
             for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
-            g.make_buffer(kPhotonPaths, bytes(paths), paths.data(), "photon paths");
+            g.make_buffer(BINDING_PHOTON_PATHS, bytes(paths), paths.data(), "photon paths");
             paths.assign(ph * 3, glm::vec4(0.0f));
-            g.photons = g.make_buffer(kPhotons, bytes(paths), paths.data(), "photons");
+            g.photons = g.make_buffer(BINDING_PHOTONS, bytes(paths), paths.data(), "photons");
             if (settings.rng == RngKind::Paper) {
                 const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
-                g.make_buffer(kRngStates, bytes(seeds), seeds.data(), "generator states");
+                g.make_buffer(BINDING_RNG_STATES, bytes(seeds), seeds.data(), "generator states");
             }
-            g.hash = g.make_buffer(kHashCells, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
+            g.hash = g.make_buffer(BINDING_HASH_CELLS, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
             const std::size_t sorted = exact ? ph + g.hash_cells / 1024 : 1;
-            g.make_buffer(kHashSorted, sorted * 4, nullptr, "sorted photons");
-            g.film = g.make_buffer(kFilm, px * 16, nullptr, "film");
+            g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
+            g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
+            g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
+                                           "radius statistics");
             glFinish();
         } catch (...) {
             g.release();
@@ -693,8 +676,8 @@ std::vector<float> Renderer::film() {
     g.thread->call([&] {
         const Counters c = g.read_counters();
         const std::uint64_t emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
-        g.frame.sppm.z = g.passes ? 1.0f / static_cast<float>(g.passes) : 0.0f;
-        g.frame.sppm.w = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        g.frame.inv_passes = g.passes ? 1.0f / static_cast<float>(g.passes) : 0.0f;
+        g.frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
         g.upload_frame();
         g.dispatch(*g.resolve, g.pixels);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -720,22 +703,26 @@ std::vector<float> Renderer::photons() {
 RenderStats Renderer::stats() {
     Gpu& g = *gpu_;
     RenderStats s;
-    std::vector<glm::vec4> pixel_stats(std::size_t(g.pixels) * 2);
+    std::vector<glm::vec2> radius_stats(kRadiusStatsThreads);
     Counters c{};
     g.thread->call([&] {
         // One consistent snapshot: runs change these on this thread only.
         s.passes = g.passes;
         s.seconds = g.seconds;
         c = g.read_counters();
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.pixel_stats);
+        // The radii reduced on the GPU: a few KiB read back, not every pixel's statistics.
+        g.radius_reduce->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.radius_stats);
         glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                           static_cast<GLsizeiptr>(pixel_stats.size() * sizeof(glm::vec4)),
-                           pixel_stats.data());
+                           static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
+                           radius_stats.data());
     });
     double sum = 0.0, largest = 0.0;
-    for (std::size_t i = 0; i < g.pixels; ++i) {
-        sum += pixel_stats[2 * i + 1].x;
-        largest = std::max(largest, static_cast<double>(pixel_stats[2 * i + 1].x));
+    for (const glm::vec2& t : radius_stats) {
+        sum += t.x;
+        largest = std::max(largest, static_cast<double>(t.y));
     }
     s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
     s.rays = Gpu::total(c.rays_lo, c.rays_hi);

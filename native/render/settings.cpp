@@ -42,6 +42,8 @@ void validate(const RenderSettings& s) {
         fail("alpha: " + std::to_string(s.alpha) + " is outside (0, 1]");
     if (!(s.initial_radius >= 0.0f) || !std::isfinite(s.initial_radius))
         fail("initial_radius: must be 0 (automatic) or a positive distance");
+    if (!(s.radius_scale > 0.0f) || !std::isfinite(s.radius_scale))
+        fail("radius_scale: must be a positive number");
     if (s.max_depth < 1 || s.max_depth > 1024)
         fail("max_depth: " + std::to_string(s.max_depth) + " is outside 1..1024");
     if (s.leaf_size < 1 || s.leaf_size > 64)

@@ -19,6 +19,7 @@ struct RenderSettings {
     std::uint32_t photons_per_pass = 65536;
     float alpha = 0.7f;           // SPPM's fraction of new photons kept (Hachisuka 2009)
     float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
+    float radius_scale = 1.0f;    // multiplies the automatic initial radius
     int max_depth = 16;           // eye and photon bounces
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster

@@ -11,7 +11,7 @@
 #include "common/environment.glsl"
 
 uint pick_emitter(float u) {
-    uint lo = 0u, hi = pass_info.w - 1u;
+    uint lo = 0u, hi = emitter_count - 1u;
     while (lo < hi) {
         uint mid = (lo + hi) / 2u;
         if (u < emitters[4u * mid + 2u].w) hi = mid;
@@ -96,7 +96,7 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
             float pdf;
             vec3 from = sample_environment(u3, u4, rng_next(rng), rng_next(rng), pdf);
             dir = -from;
-            float disc = PI * scene_sphere.w * scene_sphere.w;
+            float disc = PI * scene_radius * scene_radius;
             flux = pdf > 0.0 ? environment_radiance(from) * (disc / (pdf * d.w)) : vec3(0.0);
 #else
             dir = -sample_sphere(u3, u4);
@@ -104,8 +104,8 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
         }
         vec3 t, bt;
         orthonormal_basis(dir, t, bt);
-        vec2 q = sample_disc(u1, u2) * scene_sphere.w;
-        origin = scene_sphere.xyz - dir * (1.01 * scene_sphere.w) + q.x * t + q.y * bt;
+        vec2 q = sample_disc(u1, u2) * scene_radius;
+        origin = scene_center - dir * (1.01 * scene_radius) + q.x * t + q.y * bt;
         return;
     }
 #endif

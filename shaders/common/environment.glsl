@@ -4,6 +4,7 @@
 #ifndef ENVIRONMENT_GLSL
 #define ENVIRONMENT_GLSL
 
+#include "common/bindings.glsl"
 #include "common/frame.glsl"
 #include "common/textures.glsl"
 
@@ -25,7 +26,7 @@ vec3 environment_direction(vec2 uv) {
 
 #ifdef USES_EMITTERS
 // Marginal CDF over rows (height + 1 values), then per row a conditional CDF (width + 1).
-layout(std430, binding = 18) readonly buffer EnvironmentCdf { float environment_cdf[]; };
+layout(std430, binding = BINDING_ENVIRONMENT_CDF) readonly buffer EnvironmentCdf { float environment_cdf[]; };
 
 // The largest i in [lo, hi) with cdf[i] <= u.
 uint search_cdf(uint first, uint count, float u) {
@@ -41,7 +42,7 @@ uint search_cdf(uint first, uint count, float u) {
 // A direction with pdf (per solid angle) proportional to the map's weights:
 // pdf = p(texel) * width * height / (2 pi^2 sin(theta)).
 vec3 sample_environment(float u1, float u2, float u3, float u4, out float pdf) {
-    uint w = uint(environment_map.y), h = uint(environment_map.z);
+    uint w = uint(environment_cdf_width), h = uint(environment_cdf_height);
     uint row = search_cdf(0u, h, u1);
     uint first = h + 1u + row * (w + 1u);
     uint col = search_cdf(first, w, u2);
@@ -58,9 +59,9 @@ vec3 sample_environment(float u1, float u2, float u3, float u4, out float pdf) {
 // Radiance arriving along -world_dir from the world (world_dir points away from the scene).
 vec3 environment_radiance(vec3 world_dir) {
 #ifdef HAS_ENVIRONMENT_MAP
-    return environment.rgb * sample_texture(environment_map.x, environment_uv(world_dir)).rgb;
+    return world_radiance * sample_texture(environment_texture, environment_uv(world_dir)).rgb;
 #else
-    return environment.rgb;
+    return world_radiance;
 #endif
 }
 

@@ -1,20 +1,38 @@
-// Per-pass constants shared by every stage (std140 uniform block, mirrored by FrameBlock in
-// native/render/gpu_layout.h).
+// Per-pass constants shared by every stage: std140, mirrored field by field by FrameBlock in
+// native/render/gpu_layout.h (which checks every offset).
 #ifndef FRAME_GLSL
 #define FRAME_GLSL
+#include "common/bindings.glsl"
 
-layout(std140, binding = 0) uniform Frame {
+layout(std140, binding = BINDING_FRAME) uniform Frame {
     mat4 camera_to_world;
-    vec4 camera_fov;     // tan(fov_x/2), tan(fov_y/2), shift x and y on the z = -1 plane
-    vec4 camera_lens;    // projection (0 perspective, 1 ortho), ortho half width, aperture, focus
-    vec4 scene_lo;       // scene bounds: lo.xyz, ray offset scale (scene-relative floor)
-    vec4 scene_sphere;   // bounding sphere centre, radius
-    vec4 environment;    // constant world radiance (rgb)
-    uvec4 sizes;         // image width, height, photon threads, hash cells
-    uvec4 pass_info;     // pass index, seed, max depth, emitter count
-    vec4 sppm;           // alpha, radius floor, 1 / passes, 1 / photons emitted
     mat4 environment_from_world;  // rotation into the environment map's frame
-    ivec4 environment_map;        // texture index, distribution width and height, 0
+    // The film's half extent and the centre's shift: on the z = -1 plane (perspective) or
+    // in world units (orthographic).
+    vec2 film_half_extent;
+    vec2 film_shift;
+    vec3 scene_lo;                // scene bounds' low corner (the hash grid's origin)
+    float ray_offset_floor;       // smallest magnitude ray offsets scale with (scene-relative)
+    vec3 scene_center;            // bounding sphere, for distant lights' photons
+    float scene_radius;
+    vec3 world_radiance;          // constant world radiance (times the map when there is one)
+    uint orthographic;            // 1: orthographic camera, 0: perspective
+    float aperture_radius;        // thin lens (HAS_DEPTH_OF_FIELD)
+    float focus_distance;
+    uint image_width;
+    uint image_height;
+    uint photon_threads;
+    uint hash_cell_count;
+    uint pass_index;
+    uint max_depth;               // eye and photon bounces
+    uint emitter_count;
+    float sppm_alpha;             // SPPM's fraction of new photons kept
+    float radius_floor;           // radii never shrink below this (scene-relative)
+    float inv_passes;             // 1 / passes run, for the film
+    float inv_photons_emitted;    // 1 / photon paths started, for the film
+    int environment_texture;      // the map's texture index, -1 for none
+    int environment_cdf_width;    // its sampling distribution's size
+    int environment_cdf_height;
 };
 
 const float PI = 3.14159265358979;

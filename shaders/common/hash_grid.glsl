@@ -4,7 +4,7 @@
 #define HASH_GRID_GLSL
 
 ivec3 grid_cell(vec3 p, float cell_size) {
-    return ivec3(floor((p - scene_lo.xyz) / cell_size));
+    return ivec3(floor((p - scene_lo) / cell_size));
 }
 
 // A well-mixed hash of the cell (PCG-style integer mixing, Jarzynski and Olano 2020).
@@ -17,7 +17,7 @@ uint grid_hash(ivec3 c) {
     v.x += v.y * v.z;
     v.y += v.z * v.x;
     v.z += v.x * v.y;
-    return (v.x ^ v.y ^ v.z) & (sizes.w - 1u);
+    return (v.x ^ v.y ^ v.z) & (hash_cell_count - 1u);
 }
 
 #endif

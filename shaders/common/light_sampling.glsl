@@ -122,7 +122,7 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         vec3 travel = b.w < 1.0 ? sample_cone(b.xyz, b.w, u1, u2) : b.xyz;
         ls.wi = -travel;
         ls.distance = DISTANT_LIGHT;
-        float disc = PI * scene_sphere.w * scene_sphere.w;
+        float disc = PI * scene_radius * scene_radius;
         if (disc > 0.0) ls.radiance_over_pdf = power / disc;
         return ls;
     }

@@ -9,9 +9,11 @@
 // the CPU: a wrong order choice costs only speed, and these counts are how it shows. Without
 // the define BVH_COUNT expands to nothing, so the renderer's code is unchanged.
 
-layout(std430, binding = 0) readonly buffer BvhNodes { vec4 bvh_nodes[]; };
-layout(std430, binding = 1) readonly buffer BvhLinks { ivec2 bvh_links[]; };
-layout(std430, binding = 2) readonly buffer Triangles { vec4 triangles[]; };
+#include "common/bindings.glsl"
+
+layout(std430, binding = BINDING_BVH_NODES) readonly buffer BvhNodes { vec4 bvh_nodes[]; };
+layout(std430, binding = BINDING_BVH_LINKS) readonly buffer BvhLinks { ivec2 bvh_links[]; };
+layout(std430, binding = BINDING_TRIANGLES) readonly buffer Triangles { vec4 triangles[]; };
 uniform uint bvh_node_count;
 
 #ifdef BVH_COUNT_VISITS

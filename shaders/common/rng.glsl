@@ -13,15 +13,14 @@
 // With RNG_PCG the host sets `u_rng_seed` to a value unique per (pass, kernel).
 // docs/rng.md compares the two (dieharder, speed).
 
+#include "common/bindings.glsl"
+
 #if defined(RNG_PAPER) && defined(RNG_PCG)
 #error "rng.glsl: define exactly one of RNG_PAPER and RNG_PCG, not both"
 #elif !defined(RNG_PAPER) && !defined(RNG_PCG)
 #error "rng.glsl: define exactly one of RNG_PAPER and RNG_PCG"
 #endif
 
-#ifndef RNG_STATE_BINDING
-#define RNG_STATE_BINDING 7
-#endif
 
 #ifdef RNG_PAPER
 
@@ -43,7 +42,7 @@ float GPURnd(inout vec4 state) {
   return fract(dot(state / m, vec4(1, -1, 1, -1)));
 }
 
-layout(std430, binding = RNG_STATE_BINDING) buffer RngStates {
+layout(std430, binding = BINDING_RNG_STATES) buffer RngStates {
   vec4 rng_states[];
 };
 

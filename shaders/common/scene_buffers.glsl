@@ -1,25 +1,26 @@
 // Scene data beside the MTBVH (mirrored in native/render/gpu_layout.h).
 #ifndef SCENE_BUFFERS_GLSL
 #define SCENE_BUFFERS_GLSL
+#include "common/bindings.glsl"
 
 // Lights photons start from, 4 per emitter: (a.xyz, kind), (b.xyz, b.w), (c.xyz, cumulative
 // pick probability), (power or radiance rgb, pick probability). See native/render/emitters.h.
 #ifdef USES_EMITTERS
-layout(std430, binding = 3) readonly buffer Emitters { vec4 emitters[]; };
+layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
 #endif
 
 // Materials, 3 per material: (colour, kind), (emission, ior),
 // (intBitsToFloat(base-colour texture or -1), intBitsToFloat(flags), 0, 0).
-layout(std430, binding = 4) readonly buffer Materials { vec4 materials[]; };
+layout(std430, binding = BINDING_MATERIALS) readonly buffer Materials { vec4 materials[]; };
 
 #ifdef HAS_NORMALS
 // Vertex normals, 3 per packed triangle (n.xyz, 0).
-layout(std430, binding = 15) readonly buffer Normals { vec4 vertex_normals[]; };
+layout(std430, binding = BINDING_NORMALS) readonly buffer Normals { vec4 vertex_normals[]; };
 #endif
 
 #ifdef HAS_TEXTURES
 // Texture coordinates, 2 per packed triangle: (uv0, uv1), (uv2, 0, 0).
-layout(std430, binding = 16) readonly buffer Uvs { vec4 vertex_uvs[]; };
+layout(std430, binding = BINDING_UVS) readonly buffer Uvs { vec4 vertex_uvs[]; };
 #endif
 
 const int MATERIAL_DIFFUSE = 0;

@@ -1,13 +1,14 @@
 // SPPM state on the GPU (mirrored in native/render/gpu_layout.h).
 #ifndef SPPM_BUFFERS_GLSL
 #define SPPM_BUFFERS_GLSL
+#include "common/bindings.glsl"
 
-// The generators keep their state at binding 11 (RNG_STATE_BINDING, set by the renderer):
+// The generators keep their state at BINDING_RNG_STATES:
 // pixels first, then photon threads.
 #include "common/rng.glsl"
 
 // Pass counters; 64-bit totals are kept as (lo, hi) pairs with carry by end_pass.comp.
-layout(std430, binding = 5) coherent buffer Counters {
+layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
     uint cell_size_bits;    // hash cell size in use this pass (float bits)
     uint max_radius_bits;   // largest radius after this pass's update (float bits; atomicMax)
     uint pass_emitted;      // photon paths started this pass
@@ -24,35 +25,35 @@ layout(std430, binding = 5) coherent buffer Counters {
 #ifdef USES_PIXEL_STATE
 // Visible points, 3 per pixel: (position, material id or -1), (normal facing the
 // eye, 0), (eye-path weight = throughput * albedo / pi, 0).
-layout(std430, binding = 6) buffer VisiblePoints { vec4 visible_points[]; };
+layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
-layout(std430, binding = 7) buffer PixelStats { vec4 pixel_stats[]; };
+layout(std430, binding = BINDING_PIXEL_STATS) buffer PixelStats { vec4 pixel_stats[]; };
 
 // Emission seen directly, 2 per pixel: compensated (Kahan) sum and its compensation.
-layout(std430, binding = 8) buffer DirectLight { vec4 direct_light[]; };
+layout(std430, binding = BINDING_DIRECT_LIGHT) buffer DirectLight { vec4 direct_light[]; };
 #endif
 
 #ifdef USES_PHOTON_PATHS
 // Photon paths, 3 per photon thread: (origin, bounces so far or -1 = start anew),
 // (direction, 0), (flux, 0).
-layout(std430, binding = 9) buffer PhotonPaths { vec4 photon_paths[]; };
+layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_paths[]; };
 #endif
 
 #ifdef USES_PHOTONS
 // Photons stored this pass, 3 per photon thread: (position, random key bits),
 // (direction towards where it came from, 0), (flux, 1 if stored). Keys are normal floats
 // (2^24 + 29 random bits) so that no driver may flush or canonicalise them.
-layout(std430, binding = 10) buffer Photons { vec4 photons[]; };
+layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
 #endif
 
 #ifdef USES_HASH
 // Hash cells. Stochastic: (smallest key, photon count, surviving photon, 0).
 // Exact: (photon count, first sorted slot, scatter cursor, 0).
-layout(std430, binding = 13) coherent buffer HashCells { uvec4 hash_cells[]; };
+layout(std430, binding = BINDING_HASH_CELLS) coherent buffer HashCells { uvec4 hash_cells[]; };
 
 // Exact hash only: photon indices sorted by cell, then the scan's block sums.
-layout(std430, binding = 14) buffer HashSorted { uint hash_sorted[]; };
+layout(std430, binding = BINDING_HASH_SORTED) buffer HashSorted { uint hash_sorted[]; };
 #endif
 
 #endif

@@ -53,9 +53,9 @@ Surface surface_at(Ray ray, Hit hit) {
 }
 
 // A new ray's origin, pushed off the surface to the side `dir` leaves on: relative to the
-// position's magnitude (scene_lo.w is a floor relative to the scene size), never absolute.
+// position's magnitude (ray_offset_floor: a floor relative to the scene size), never absolute.
 vec3 offset_origin(vec3 p, vec3 ng, vec3 dir) {
-    float m = max(max(abs(p.x), abs(p.y)), max(abs(p.z), scene_lo.w));
+    float m = max(max(abs(p.x), abs(p.y)), max(abs(p.z), ray_offset_floor));
     float eps = m * 3.0e-6;
     return p + (dot(dir, ng) >= 0.0 ? eps : -eps) * ng;
 }

@@ -4,14 +4,15 @@
 // image's rectangle and never bleed into a neighbour.
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
+#include "common/bindings.glsl"
 // (The include resolver splices each file once, wherever it is first named, so includes
 // are never placed inside #ifdef; the guard is here.)
 #if defined(HAS_TEXTURES) || defined(HAS_ENVIRONMENT_MAP)
 
 // 2 per texture: (x, y, width, height) in its layer, (layer, float 0/1, wrap, 0).
-layout(std430, binding = 17) readonly buffer TextureInfo { ivec4 texture_info[]; };
-layout(binding = 0) uniform sampler2DArray srgb_atlas;
-layout(binding = 1) uniform sampler2DArray float_atlas;
+layout(std430, binding = BINDING_TEXTURE_INFO) readonly buffer TextureInfo { ivec4 texture_info[]; };
+layout(binding = TEXTURE_UNIT_SRGB_ATLAS) uniform sampler2DArray srgb_atlas;
+layout(binding = TEXTURE_UNIT_FLOAT_ATLAS) uniform sampler2DArray float_atlas;
 
 const int WRAP_REPEAT = 0;
 const int WRAP_CLIP = 1;

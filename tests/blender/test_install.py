@@ -1,7 +1,7 @@
 """The add-on (3.x) or extension (4.2+) is installed and registered: engine, settings,
 panels, and the packaged native module with its shaders."""
-
 import glob
+import importlib
 import os
 
 import addon_utils
@@ -54,9 +54,11 @@ def test_scene_settings_defaults():
     assert settings.photons_per_pass == 65536
     assert abs(settings.alpha - 0.7) < 1e-6
     assert settings.use_auto_radius and settings.radius() == 0.0
-    assert settings.radius_scale == 1.0 and settings.automatic_radius_scale() is None
+    assert settings.radius_scale == 1.0
+    native = helpers.load_native()
+    engine_settings = importlib.import_module(helpers.ADDON.__name__ + ".engine.native_scene")
     settings.radius_scale = 0.5
-    assert settings.automatic_radius_scale() == 0.5
+    assert engine_settings.native_settings(native, settings, 8, 8).radius_scale == 0.5
     settings.use_auto_radius = False
     settings.initial_radius = 0.25
     assert abs(settings.radius() - 0.25) < 1e-6

@@ -10,6 +10,7 @@
 
 #include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "render/gpu_layout.h"
 #include "render/rng_seed.h"
 
 namespace glslppm {
@@ -88,7 +89,7 @@ Stream run_stream(bool paper, std::uint32_t threads, std::uint32_t per_thread,
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[2]);
         glBufferData(GL_SHADER_STORAGE_BUFFER, std::max<std::size_t>(seeds.size() * 16, 16),
                      seeds.empty() ? nullptr : seeds.data(), GL_DYNAMIC_COPY);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, buffers[2]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_RNG_STATES, buffers[2]);
         program.use();
         glUniform1ui(program.uniform("u_threads"), threads);
         glUniform1ui(program.uniform("u_per_thread"), per_thread);

@@ -144,3 +144,20 @@ def test_transparent_film_alpha_is_coverage(glslppm):
             assert np.all(film[..., 3] == 1.0)
             assert film[0, 0, 0] == pytest.approx(3.0)
         r.close()
+
+
+def test_radius_scale_multiplies_the_automatic_radius_only(glslppm):
+    """radius_scale scales the automatic initial radius in one renderer; an absolute
+    radius is used as given."""
+    g = glslppm
+    scene = g.cornell_box(sphere_rings=8)
+    radii = {}
+    for scale, absolute in ((1.0, 0.0), (0.5, 0.0), (0.5, 0.03)):
+        r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=64,
+                                         initial_radius=absolute, radius_scale=scale))
+        radii[(scale, absolute)] = r.stats()["initial_radius"]
+        r.close()
+    assert radii[(0.5, 0.0)] == pytest.approx(0.5 * radii[(1.0, 0.0)], rel=1e-6)
+    assert radii[(0.5, 0.03)] == pytest.approx(0.03, rel=1e-6)
+    with pytest.raises(ValueError, match="radius_scale"):
+        g.Settings(radius_scale=0.0)

@@ -1,0 +1,106 @@
+// The records the CPU and the GPU stages share, field by field. Each mirrors one GLSL
+// declaration, named in its comment, and static_asserts pin every offset, so a field added
+// on one side only fails to compile. Binding points come from shaders/common/bindings.glsl,
+// included here as it is: one list for both sides.
+//
+// Where things go: a new Frame value is a field here and in shaders/common/frame.glsl; a new
+// buffer is a binding in bindings.glsl and a block in the include of its stage group; a new
+// material parameter is a field of GpuMaterial here and an accessor in
+// shaders/common/bsdf.glsl.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "common/bindings.glsl"
+
+namespace glslppm {
+
+// `uniform Frame` (shaders/common/frame.glsl, std140): per-pass constants of every stage.
+struct FrameBlock {
+    glm::mat4 camera_to_world{1.0f};
+    glm::mat4 environment_from_world{1.0f};
+    glm::vec2 film_half_extent{0.0f};  // on the z = -1 plane, or world units (orthographic)
+    glm::vec2 film_shift{0.0f};
+    glm::vec3 scene_lo{0.0f};
+    float ray_offset_floor = 0.0f;
+    glm::vec3 scene_center{0.0f};
+    float scene_radius = 0.0f;
+    glm::vec3 world_radiance{0.0f};
+    std::uint32_t orthographic = 0;
+    float aperture_radius = 0.0f;
+    float focus_distance = 0.0f;
+    std::uint32_t image_width = 0;
+    std::uint32_t image_height = 0;
+    std::uint32_t photon_threads = 0;
+    std::uint32_t hash_cell_count = 0;
+    std::uint32_t pass_index = 0;
+    std::uint32_t max_depth = 0;
+    std::uint32_t emitter_count = 0;
+    float sppm_alpha = 0.0f;
+    float radius_floor = 0.0f;
+    float inv_passes = 0.0f;
+    float inv_photons_emitted = 0.0f;
+    std::int32_t environment_texture = -1;
+    std::int32_t environment_cdf_width = 0;
+    std::int32_t environment_cdf_height = 0;
+};
+// std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
+static_assert(offsetof(FrameBlock, environment_from_world) == 64);
+static_assert(offsetof(FrameBlock, film_half_extent) == 128);
+static_assert(offsetof(FrameBlock, film_shift) == 136);
+static_assert(offsetof(FrameBlock, scene_lo) == 144);
+static_assert(offsetof(FrameBlock, ray_offset_floor) == 156);
+static_assert(offsetof(FrameBlock, scene_center) == 160);
+static_assert(offsetof(FrameBlock, scene_radius) == 172);
+static_assert(offsetof(FrameBlock, world_radiance) == 176);
+static_assert(offsetof(FrameBlock, orthographic) == 188);
+static_assert(offsetof(FrameBlock, aperture_radius) == 192);
+static_assert(offsetof(FrameBlock, focus_distance) == 196);
+static_assert(offsetof(FrameBlock, image_width) == 200);
+static_assert(offsetof(FrameBlock, image_height) == 204);
+static_assert(offsetof(FrameBlock, photon_threads) == 208);
+static_assert(offsetof(FrameBlock, hash_cell_count) == 212);
+static_assert(offsetof(FrameBlock, pass_index) == 216);
+static_assert(offsetof(FrameBlock, max_depth) == 220);
+static_assert(offsetof(FrameBlock, emitter_count) == 224);
+static_assert(offsetof(FrameBlock, sppm_alpha) == 228);
+static_assert(offsetof(FrameBlock, radius_floor) == 232);
+static_assert(offsetof(FrameBlock, inv_passes) == 236);
+static_assert(offsetof(FrameBlock, inv_photons_emitted) == 240);
+static_assert(offsetof(FrameBlock, environment_texture) == 244);
+static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
+static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
+static_assert(sizeof(FrameBlock) == 256);
+
+// `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
+// running 64-bit totals as (lo, hi) words, carried by end_pass.comp.
+struct Counters {
+    std::uint32_t cell_size_bits;   // hash cell size in use (float bits)
+    std::uint32_t max_radius_bits;  // largest radius after the pass (float bits)
+    std::uint32_t pass_emitted;     // photon paths started this pass
+    std::uint32_t pass_rays;        // rays traced this pass
+    std::uint32_t emitted_lo, emitted_hi;
+    std::uint32_t rays_lo, rays_hi;
+};
+static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
+
+// Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
+inline constexpr unsigned kRadiusStatsThreads = 256;
+
+// `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
+// shaders/common/bsdf.glsl: three vec4 per material.
+struct GpuMaterial {
+    glm::vec3 color;              // base colour (times its texture)
+    float kind;                   // MaterialKind as a float
+    glm::vec3 emission;           // radiance
+    float ior;                    // dielectrics
+    std::int32_t color_texture;   // texture index or -1
+    std::uint32_t flags;          // MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA
+    std::uint32_t unused[2];
+};
+static_assert(sizeof(GpuMaterial) == 48 && offsetof(GpuMaterial, color_texture) == 32);
+
+}  // namespace glslppm
