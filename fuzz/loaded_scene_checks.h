@@ -1,5 +1,6 @@
 // What the loader fuzz targets require of every scene a loader returns: a mesh that
-// validate_mesh accepts. A violation is a defect: print it and abort, so libFuzzer keeps the
+// validate_mesh accepts and materials, lights, camera and world that validate_scene accepts
+// (a loader names a bad value in the file; it never hands one on). A violation is a defect: print it and abort, so libFuzzer keeps the
 // input.
 #pragma once
 
@@ -9,6 +10,7 @@
 
 #include "loaders/scene_file.h"
 #include "scene/mesh.h"
+#include "scene/scene_validation.h"
 
 namespace glslppm::fuzz {
 
@@ -24,6 +26,12 @@ inline void check_loaded_mesh(const LoadedScene& loaded, const char* target) {
     } catch (const SceneError& e) {
         std::fprintf(stderr, "loaded scene fails validation: %s\n", e.what());
         defect(target, "the loader returned a mesh that validate_mesh rejects");
+    }
+    try {
+        validate_scene(s);
+    } catch (const SceneError& e) {
+        std::fprintf(stderr, "loaded scene fails validation: %s\n", e.what());
+        defect(target, "the loader returned a scene that validate_scene rejects");
     }
 }
 

@@ -102,8 +102,10 @@ void main() {
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
-        // Meshes emit from both sides, as in Cycles (area lights, above, from the front).
-        direct += throughput * material_emission(s.material);
+        // Meshes emit from both sides, as in Cycles, unless the material says front only
+        // (area lights, above, from the front).
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
+            direct += throughput * material_emission(s.material);
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {

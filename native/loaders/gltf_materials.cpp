@@ -236,6 +236,8 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
     const float strength =
         float(number(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
     out.emission = rgb(m.emissiveFactor, glm::vec3(0.0f)) * strength;
+    // glTF's single-sided materials are seen (and so emit) from the front only.
+    out.emission_two_sided = m.doubleSided;
     if (!finite_non_negative(out.emission))
         fail(element, "emissiveFactor times emissiveStrength must be finite and >= 0");
     out.color_texture =

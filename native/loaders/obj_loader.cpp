@@ -308,6 +308,9 @@ LoadedScene load_obj(std::istream& obj, const Source& source, float aspect) {
             first += n;
         }
     }
+    // A file without faces still gets a material, so that what the renderer reports is the
+    // missing geometry.
+    if (out.scene.materials.empty()) out.scene.materials.push_back(Material{});
     if (!builder.any_normals)
         mesh->normals.clear();
     else

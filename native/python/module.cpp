@@ -87,7 +87,8 @@ py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_
 }
 
 Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
-                       std::array<float, 3> emission, int color_texture) {
+                       std::array<float, 3> emission, int color_texture,
+                       bool emission_two_sided) {
     Material m;
     if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
     else if (kind == "conductor") m.kind = MaterialKind::Conductor;
@@ -97,6 +98,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.ior = ior;
     m.emission = {emission[0], emission[1], emission[2]};
     m.color_texture = color_texture;
+    m.emission_two_sided = emission_two_sided;
     return m;
 }
 
@@ -267,7 +269,7 @@ PYBIND11_MODULE(_glslppm, m) {
         .def(py::init(&make_material), py::arg("kind") = "diffuse",
              py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
              py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
-             py::arg("color_texture") = -1);
+             py::arg("color_texture") = -1, py::arg("emission_two_sided") = true);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
@@ -299,16 +301,12 @@ PYBIND11_MODULE(_glslppm, m) {
                  l.size_x = size_x;
                  l.size_y = size_y;
                  l.visible_to_camera = visible_to_camera;
-                 if (!(radius >= 0.0f)) throw py::value_error("Light radius: must be >= 0");
-                 if (!(angle >= 0.0f && angle < 3.14159f))
-                     throw py::value_error("Light angle: must be in [0, pi) radians");
-                 if (!(power >= 0.0f)) throw py::value_error("Light power: must be >= 0");
+                 // Numbers are checked, with the rest of the scene, by validate_scene when
+                 // a renderer is made (native/scene/scene_validation.h).
                  l.color = vec3_of(color);
                  l.power = power;
                  l.position = vec3_of(position);
                  l.direction = vec3_of(direction);
-                 if (glm::length(l.direction) == 0.0f)
-                     throw py::value_error("Light direction: must not be zero");
                  l.spot_size = spot_size;
                  l.spot_blend = spot_blend;
                  l.radius = radius;
@@ -335,8 +333,6 @@ PYBIND11_MODULE(_glslppm, m) {
                  // Row-major numpy (Blender's matrix_world) into column-major glm.
                  for (int r = 0; r < 4; ++r)
                      for (int k = 0; k < 4; ++k) c.to_world[k][r] = to_world.at(r, k);
-                 if (!(fov_x > 0.0f && fov_x < 3.14159f))
-                     throw py::value_error("Camera fov_x: must be in (0, pi) radians");
                  c.fov_x = fov_x;
                  c.shift_x = shift_x;
                  c.shift_y = shift_y;
@@ -346,14 +342,9 @@ PYBIND11_MODULE(_glslppm, m) {
                  c.ortho_scale = ortho_scale;
                  c.aperture_radius = aperture_radius;
                  c.focus_distance = focus_distance;
-                 if (!(pixel_aspect > 0.0f) || !std::isfinite(pixel_aspect))
-                     throw py::value_error("Camera pixel_aspect: must be a positive finite number");
                  c.pixel_aspect = pixel_aspect;
                  if (region) {
                      const auto [x, y, w, h] = *region;
-                     if (w < 1 || h < 1 || x < 0 || y < 0 || x >= w || y >= h)
-                         throw py::value_error("Camera region: expected (x, y, full_width, "
-                                               "full_height) with the corner inside the frame");
                      c.region_x = x;
                      c.region_y = y;
                      c.full_width = w;

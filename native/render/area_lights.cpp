@@ -44,6 +44,8 @@ SceneGeometry with_area_lights(const Scene& scene) {
     g.mesh = scene.mesh;
     g.materials = scene.materials;
     g.flags.assign(g.materials.size(), 0u);
+    for (std::size_t k = 0; k < g.materials.size(); ++k)
+        if (!g.materials[k].emission_two_sided) g.flags[k] = kMaterialOneSidedEmission;
     bool any = false;
     for (const Light& light : scene.lights) any |= light.kind == LightKind::Area;
     if (!any) return g;

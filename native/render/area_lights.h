@@ -16,6 +16,7 @@ namespace glslppm {
 enum MaterialFlag : std::uint32_t {
     kMaterialLightSurface = 1u,      // rays add its emission and continue through it
     kMaterialHiddenFromCamera = 2u,  // camera rays pass it without adding emission
+    kMaterialOneSidedEmission = 4u,  // emits from its front face only
 };
 
 // The mesh and material table the renderer builds its BVH from: the scene's own when it has

@@ -27,7 +27,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     EmitterTable table;
     std::vector<std::array<glm::vec4, 4>> list;
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power) {
-        if (!(weight_of(power) > 0.0f)) return;
+        if (!(weight_of(power) > 0.0f)) return;  // dark; bad values were rejected earlier
         list.push_back({glm::vec4(a, as_float(static_cast<int>(kind))), b, glm::vec4(c, 0.0f),
                         glm::vec4(power, 0.0f)});
         table.has[static_cast<int>(kind)] = true;
@@ -35,8 +35,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     };
 
     // Emissive triangles radiate L over their area: power pi L A from each side that emits.
-    // The scene's own materials emit from both sides, as Cycles' mesh lights do; the
-    // materials after them are area lights' (render/area_lights.h), one-sided as Blender's.
+    // The scene's own materials emit from both sides, as Cycles' mesh lights do, unless they
+    // say otherwise; the materials after them are area lights' (render/area_lights.h),
+    // one-sided as Blender's.
     for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
         const int material = std::bit_cast<int>(bvh.triangles[3 * t].w);
         const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
@@ -46,7 +47,8 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         // In double: the cross product squares the edges (float overflows at 1e10 scale).
         const float area = static_cast<float>(
             0.5 * glm::length(glm::cross(glm::dvec3(v1 - v0), glm::dvec3(v2 - v0))));
-        const bool two_sided = static_cast<std::size_t>(material) < scene.materials.size();
+        const bool two_sided = static_cast<std::size_t>(material) < scene.materials.size() &&
+                               scene.materials[static_cast<std::size_t>(material)].emission_two_sided;
         const float sides = two_sided ? 2.0f : 1.0f;
         add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2,
             emission * (kPi * area * sides));

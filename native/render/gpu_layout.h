@@ -98,7 +98,7 @@ struct GpuMaterial {
     glm::vec3 emission;           // radiance
     float ior;                    // dielectrics
     std::int32_t color_texture;   // texture index or -1
-    std::uint32_t flags;          // MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA
+    std::uint32_t flags;          // MaterialFlag bits (render/area_lights.h)
     std::uint32_t unused[2];
 };
 static_assert(sizeof(GpuMaterial) == 48 && offsetof(GpuMaterial, color_texture) == 32);

@@ -22,6 +22,7 @@
 #include "render/environment_map.h"
 #include "render/gpu_layout.h"
 #include "render/texture_atlas.h"
+#include "scene/scene_validation.h"
 #include "render/rng_seed.h"
 
 namespace glslppm {
@@ -55,14 +56,9 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
                        std::vector<std::string>& warnings) {
     TextureUse use;
     use.used.assign(scene.textures.size(), false);
-    const int count = static_cast<int>(scene.textures.size());
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
         const int t = scene.materials[k].color_texture;
-        if (t < 0) continue;
-        if (t >= count)
-            throw SceneError("materials[" + std::to_string(k) + "].color_texture: " +
-                             std::to_string(t) + " is not one of the scene's " +
-                             std::to_string(count) + " textures");
+        if (t < 0) continue;  // indices were checked by validate_scene
         if (geometry.mesh.uvs.empty()) {
             warnings.push_back("materials[" + std::to_string(k) + "] has a texture but the mesh "
                                "has no uvs: its colour is used instead");
@@ -72,9 +68,6 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
         use.materials = true;
     }
     if (scene.environment_texture >= 0) {
-        if (scene.environment_texture >= count)
-            throw SceneError("environment_texture: " + std::to_string(scene.environment_texture) +
-                             " is not one of the scene's " + std::to_string(count) + " textures");
         use.used[static_cast<std::size_t>(scene.environment_texture)] = true;
         use.environment = true;
     }
@@ -302,8 +295,7 @@ struct Renderer::Gpu {
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     : settings_(settings), gpu_(std::make_unique<Gpu>()) {
     validate(settings);
-    if (scene.materials.empty())
-        throw SceneError("materials: the scene has no materials (at least one is needed)");
+    validate_scene(scene);
     Gpu& g = *gpu_;
     g.settings = settings;
 

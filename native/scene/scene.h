@@ -21,8 +21,11 @@ struct Material {
     MaterialKind kind = MaterialKind::Diffuse;
     glm::vec3 color{0.8f};     // albedo (diffuse), reflectance (conductor), tint (dielectric)
     float ior = 1.5f;          // dielectric only
-    glm::vec3 emission{0.0f};  // emitted radiance, one-sided along the geometric normal
+    glm::vec3 emission{0.0f};  // emitted radiance
     std::int32_t color_texture = -1;  // index into Scene::textures: colour = color * texel
+    // Blender's meshes emit from both faces (Cycles); false: from the front face only, along
+    // the winding's normal (the built-in scenes' ceiling lights, single-sided glTF materials).
+    bool emission_two_sided = true;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

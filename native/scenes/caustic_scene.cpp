@@ -32,7 +32,7 @@ Scene make_caustic_scene(const CausticSceneOptions& options) {
     std::vector<Material> materials = {
         {MaterialKind::Diffuse, glm::vec3(0.8f), 1.5f, glm::vec3(0.0f)},              // floor
         {MaterialKind::Diffuse, glm::vec3(0.6f, 0.6f, 0.7f), 1.5f, glm::vec3(0.0f)},  // wall
-        {MaterialKind::Diffuse, glm::vec3(0.0f), 1.5f, glm::vec3(r)},                 // light
+        {MaterialKind::Diffuse, glm::vec3(0.0f), 1.5f, glm::vec3(r), -1, false},      // light
         {MaterialKind::Dielectric, glm::vec3(1.0f), options.ior, glm::vec3(0.0f)},    // glass
     };
     using V = glm::vec3;

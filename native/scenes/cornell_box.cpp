@@ -12,7 +12,9 @@ Scene make_cornell_box(const CornellBoxOptions& options) {
         {MaterialKind::Diffuse, glm::vec3(0.75f), 1.5f, glm::vec3(0.0f)},               // white
         {MaterialKind::Diffuse, glm::vec3(0.75f, 0.25f, 0.25f), 1.5f, glm::vec3(0.0f)}, // red
         {MaterialKind::Diffuse, glm::vec3(0.25f, 0.75f, 0.25f), 1.5f, glm::vec3(0.0f)}, // green
-        {MaterialKind::Diffuse, glm::vec3(0.0f), 1.5f, glm::vec3(options.light_radiance)},
+        // The ceiling light shines down only, as the paper's scene (2 cm below the ceiling).
+        {MaterialKind::Diffuse, glm::vec3(0.0f), 1.5f, glm::vec3(options.light_radiance), -1,
+         false},
         {MaterialKind::Conductor, glm::vec3(0.95f), 1.5f, glm::vec3(0.0f)},             // mirror
         {MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f, glm::vec3(0.0f)},             // glass
     };

@@ -17,6 +17,7 @@ int material_flags(int m) { return floatBitsToInt(materials[3 * m + 2].y); }
 // through; some are hidden from camera rays.
 const int MATERIAL_LIGHT_SURFACE = 1;
 const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
+const int MATERIAL_ONE_SIDED_EMISSION = 4;
 
 // The surface's colour: the material's, times its base-colour texture at the hit's uv.
 vec3 surface_color(Surface s) {

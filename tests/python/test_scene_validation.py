@@ -93,3 +93,54 @@ def test_built_in_scene_does_not_claim_to_share_numpy_memory(glslppm):
     """Scenes the module builds own their arrays: the property says so instead of reading
     their storage as numpy arrays (it used to crash)."""
     assert glslppm.cornell_box().shares_memory_with_input is False
+
+
+@pytest.mark.parametrize("light,message", [
+    (dict(power=-1.0), r"lights\[1\]\.power: -1 is negative"),
+    (dict(power=float("inf")), r"lights\[1\]\.power: inf is not a finite number"),
+    (dict(color=(1.0, float("nan"), 1.0)), r"lights\[1\]\.color: has a NaN"),
+    (dict(power=3e38, color=(10.0, 1.0, 1.0)), r"lights\[1\]\.power: times its colour overflows"),
+    (dict(kind="spot", spot_size=4.0), r"lights\[1\]\.spot_size: 4 is outside \(0, pi\]"),
+    (dict(kind="sun", direction=(0.0, 0.0, 0.0)), r"lights\[1\]\.direction: is zero"),
+    (dict(kind="area", size_x=0.0), r"lights\[1\]\.size_x: 0 is not a positive number"),
+    (dict(radius=-0.5), r"lights\[1\]\.radius: -0.5 is negative"),
+])
+def test_bad_light_values_are_rejected_by_name(glslppm, light, message):
+    """One policy for every light field, whichever way the scene was made: a bad value is
+    an error naming it, never dropped."""
+    g = glslppm
+    lights = [g.Light("point", power=10.0, position=(0, 1, 0)), g.Light(**light)]
+    scene = g.Scene(*triangle(), lights=lights)
+    with pytest.raises(ValueError, match=message):
+        g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=64))
+
+
+@pytest.mark.parametrize("camera,message", [
+    (dict(fov_x=3.5), r"camera\.fov_x: 3\.5 is outside \(0, pi\)"),
+    (dict(pixel_aspect=0.0), r"camera\.pixel_aspect: 0 is not a positive number"),
+    (dict(projection="orthographic", ortho_scale=-1.0), r"camera\.ortho_scale"),
+    (dict(aperture_radius=0.1, focus_distance=0.0), r"camera\.focus_distance"),
+])
+def test_bad_camera_values_are_rejected_by_name(glslppm, camera, message):
+    g = glslppm
+    scene = g.Scene(*triangle(), lights=[g.Light("point", position=(0, 1, 0))],
+                    camera=g.Camera(np.eye(4, dtype=np.float32), **camera))
+    with pytest.raises(ValueError, match=message):
+        g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=64))
+
+
+def test_bad_material_and_world_values_are_rejected_by_name(glslppm):
+    g = glslppm
+    light = [g.Light("point", position=(0, 1, 0))]
+    cases = [
+        (dict(materials=[g.Material(emission=(-1, 0, 0))], lights=light),
+         r"materials\[0\]\.emission: has a negative component"),
+        (dict(materials=[g.Material("dielectric", ior=0.0)], lights=light),
+         r"materials\[0\]\.ior: 0 is not a positive number"),
+        (dict(materials=[g.Material()], environment=(float("inf"), 0, 0)),
+         r"environment: has a NaN or infinite component"),
+    ]
+    for kwargs, message in cases:
+        with pytest.raises(ValueError, match=message):
+            g.Renderer(g.Scene(*triangle(), **kwargs),
+                       g.Settings(width=8, height=8, photons_per_pass=64))

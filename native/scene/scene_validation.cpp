@@ -1,0 +1,150 @@
+#include "scene/scene_validation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace glslppm {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+std::string number(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", static_cast<double>(v));
+    return text;
+}
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        if (!finite(glm::vec3(m[c])) || !std::isfinite(m[c].w)) return false;
+    return true;
+}
+
+// Field checks; `name` is the full path of the value, e.g. "lights[2].power".
+struct Checker {
+    [[noreturn]] static void fail(const std::string& name, const std::string& what) {
+        throw SceneError(name + ": " + what);
+    }
+    static void non_negative(const std::string& name, float v) {
+        if (!std::isfinite(v)) fail(name, number(v) + " is not a finite number");
+        if (v < 0.0f) fail(name, number(v) + " is negative");
+    }
+    static void positive(const std::string& name, float v) {
+        if (!std::isfinite(v) || !(v > 0.0f)) fail(name, number(v) + " is not a positive number");
+    }
+    static void in_range(const std::string& name, float v, float lo, float hi, bool open_lo,
+                         bool open_hi, const std::string& range) {
+        const bool ok = std::isfinite(v) && (open_lo ? v > lo : v >= lo) &&
+                        (open_hi ? v < hi : v <= hi);
+        if (!ok) fail(name, number(v) + " is outside " + range);
+    }
+    static void colour(const std::string& name, glm::vec3 c) {
+        if (!finite(c)) fail(name, "has a NaN or infinite component");
+        if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) fail(name, "has a negative component");
+    }
+    static void point(const std::string& name, glm::vec3 p) {
+        if (!finite(p)) fail(name, "has a NaN or infinite component");
+    }
+    static void matrix(const std::string& name, const glm::mat4& m) {
+        if (!finite(m)) fail(name, "has a NaN or infinite entry");
+    }
+    static void texture_index(const std::string& name, std::int32_t k, std::size_t count) {
+        if (k < -1 || k >= static_cast<std::int32_t>(count))
+            fail(name, std::to_string(k) + " is not one of the scene's " +
+                           std::to_string(count) + " textures");
+    }
+};
+
+void validate_material(const Material& m, const std::string& name, std::size_t textures) {
+    Checker::colour(name + ".color", m.color);
+    Checker::colour(name + ".emission", m.emission);
+    if (m.kind == MaterialKind::Dielectric) Checker::positive(name + ".ior", m.ior);
+    Checker::texture_index(name + ".color_texture", m.color_texture, textures);
+}
+
+void validate_light(const Light& l, const std::string& name) {
+    Checker::colour(name + ".color", l.color);
+    Checker::non_negative(name + ".power", l.power);
+    // Power times colour must stay a float: the emitter table sums it.
+    if (!finite(l.color * l.power)) Checker::fail(name + ".power", "times its colour overflows");
+    switch (l.kind) {
+        case LightKind::Point:
+        case LightKind::Spot:
+            Checker::point(name + ".position", l.position);
+            Checker::non_negative(name + ".radius", l.radius);
+            if (l.kind == LightKind::Spot) {
+                Checker::in_range(name + ".spot_size", l.spot_size, 0.0f, kPi, true, false,
+                                  "(0, pi] radians");
+                Checker::in_range(name + ".spot_blend", l.spot_blend, 0.0f, 1.0f, false, false,
+                                  "[0, 1]");
+            }
+            break;
+        case LightKind::Sun:
+            Checker::in_range(name + ".angle", l.angle, 0.0f, kPi, false, true, "[0, pi) radians");
+            break;
+        case LightKind::Area:
+            Checker::matrix(name + ".to_world", l.to_world);
+            Checker::positive(name + ".size_x", l.size_x);
+            if (l.shape == AreaShape::Rectangle || l.shape == AreaShape::Ellipse)
+                Checker::positive(name + ".size_y", l.size_y);
+            break;
+    }
+    if (l.kind == LightKind::Spot || l.kind == LightKind::Sun) {
+        Checker::point(name + ".direction", l.direction);
+        if (glm::length(l.direction) == 0.0f) Checker::fail(name + ".direction", "is zero");
+    }
+}
+
+void validate_camera(const Camera& c) {
+    Checker::matrix("camera.to_world", c.to_world);
+    if (c.projection == Projection::Perspective)
+        Checker::in_range("camera.fov_x", c.fov_x, 0.0f, kPi, true, true, "(0, pi) radians");
+    else
+        Checker::positive("camera.ortho_scale", c.ortho_scale);
+    if (!std::isfinite(c.shift_x) || !std::isfinite(c.shift_y))
+        Checker::fail("camera.shift", "is not finite");
+    Checker::non_negative("camera.aperture_radius", c.aperture_radius);
+    if (c.aperture_radius > 0.0f) Checker::positive("camera.focus_distance", c.focus_distance);
+    Checker::positive("camera.pixel_aspect", c.pixel_aspect);
+    if (c.full_width != 0 || c.full_height != 0) {
+        if (c.full_width < 1 || c.full_height < 1 || c.region_x < 0 || c.region_y < 0 ||
+            c.region_x >= c.full_width || c.region_y >= c.full_height)
+            Checker::fail("camera.region", "expected a corner inside a frame of positive size");
+    }
+}
+
+void validate_texture(const Texture& t, const std::string& name) {
+    if (t.width < 1 || t.height < 1)
+        Checker::fail(name, "'" + t.name + "' is " + std::to_string(t.width) + "x" +
+                                std::to_string(t.height) + " pixels");
+    const std::size_t texels = std::size_t(t.width) * std::size_t(t.height) * 4;
+    const bool srgb = !t.srgb8.empty(), linear = !t.linear.empty();
+    if (srgb == linear || (srgb ? t.srgb8.size() : t.linear.size()) != texels)
+        Checker::fail(name, "'" + t.name + "' must hold exactly width x height x 4 values of one "
+                                           "encoding");
+}
+
+}  // namespace
+
+void validate_scene(const Scene& scene) {
+    if (scene.materials.empty())
+        throw SceneError("materials: the scene has no materials (at least one is needed)");
+    for (std::size_t k = 0; k < scene.materials.size(); ++k)
+        validate_material(scene.materials[k], "materials[" + std::to_string(k) + "]",
+                          scene.textures.size());
+    for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        validate_light(scene.lights[k], "lights[" + std::to_string(k) + "]");
+    validate_camera(scene.camera);
+    for (std::size_t k = 0; k < scene.textures.size(); ++k)
+        validate_texture(scene.textures[k], "textures[" + std::to_string(k) + "]");
+    Checker::colour("environment", scene.environment);
+    Checker::texture_index("environment_texture", scene.environment_texture,
+                           scene.textures.size());
+    if (!finite(glm::mat4(scene.environment_to_world)))
+        Checker::fail("environment_to_world", "has a NaN or infinite entry");
+}
+
+}  // namespace glslppm
