@@ -454,29 +454,25 @@ def cornell_pair(g, passes=48, **scene_kw):
 def test_both_modes_converge_to_the_same_cornell_box(glslppm, kind):
     """The built-in Cornell box (mirror and glass spheres: caustics come from photons in
     both modes) and its diffuse variant: 8x8 block means of the two modes agree within
-    noise, and so do their means, but for the ceiling's (the top row) and the two that hold
-    the light. Its quad emits from both faces (mesh emission is two-sided) 2 cm below the
-    ceiling: half its photons land on the ceiling above it, and the photons' kernel carries
-    them to the visible ceiling within a radius of the light's edge (measured +30% to +55%
-    in the ceiling's blocks beside the light, +7% on the image), a bias that light sampling
-    does not have."""
+    noise, and so do their means, but for the four blocks that show the light: its edge
+    pixels (radiance 17 against 0.5 around) carry the camera jitter's noise, and the two
+    modes draw their jitter from different random numbers."""
     g = glslppm
     kw = {} if kind == "cornell" else dict(mirror_sphere=False, glass_sphere=False)
     images = cornell_pair(g, **kw)
     blocks = [im.reshape(6, 8, 6, 8, 3).mean(axis=(1, 3)) for im in images]
     ref = blocks[1].mean(axis=-1)
     keep = ref > 0.02
-    keep[0, :] = False
-    keep[1, 2:4] = False
+    keep[0:2, 2:4] = False
     rel = np.abs(blocks[0] - blocks[1]).mean(axis=-1)[keep] / ref[keep]
     mean = blocks[0][keep].mean() / blocks[1][keep].mean() - 1.0
     print(f"  blocks rms {np.sqrt(np.mean(rel ** 2)):.4f} max {rel.max():.4f}, "
           f"image mean {mean:+.4f}")
-    # Measured (seed 1): blocks rms 3.4% (Cornell) and 3.8% (diffuse), their means -1.2%
-    # and -0.9% (some of the kernel's halo reaches the blocks beside the light's). Bounds:
-    # 7% rms (test_sppm.py's comparison of hash modes allows 10%), 2% on the mean.
+    # Measured (seed 1): blocks rms 3.8% (Cornell) and 2.5% (diffuse), their means +1.1%
+    # and -0.05% (the spheres' caustics are the photons' noisiest part). Bounds: 7% rms and
+    # 3% on the mean (test_sppm.py's comparison of hash modes allows 10% and 3%).
     assert np.sqrt(np.mean(rel ** 2)) < 0.07, rel
-    assert abs(mean) < 0.02
+    assert abs(mean) < 0.03
 
 
 def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):
