@@ -69,7 +69,8 @@ def cornell_box(g, scale=1.0, light=17.0, rings=16):
         g.Material("diffuse", color=(0.75, 0.75, 0.75)),
         g.Material("diffuse", color=(0.75, 0.25, 0.25)),
         g.Material("diffuse", color=(0.25, 0.75, 0.25)),
-        g.Material("diffuse", color=(0, 0, 0), emission=(light, light, light)),
+        g.Material("diffuse", color=(0, 0, 0), emission=(light, light, light),
+                   emission_two_sided=False),
         g.Material("conductor", color=(0.95, 0.95, 0.95)),
         g.Material("dielectric", color=(1, 1, 1), ior=1.5),
     ]
