@@ -214,7 +214,8 @@ def test_closed_furnace_in_both_modes(glslppm, direct):
     a Le / (1 - a) is low by a / (K (1 - a) + a) after K passes (test_sppm.py). Sampled: the
     direct part a Le is exact from the first pass, and only photons after their first
     bounce are stored; each thread's first pass and every path's first bounce store none,
-    so of the a^2 Le / (1 - a) they carry a fraction 1 / ((K - 1)(1 - a) + 1) is missing."""
+    so of the a^2 Le / (1 - a) they carry a fraction 1 / ((K - 1)(1 - a) + 1) is missing.
+    Since (K - 1)(1 - a) + 1 = K (1 - a) + a, both modes miss the same radiance."""
     g = glslppm
     albedo, emission, passes = 0.5, 1.0, 200
     r = g.Renderer(furnace_scene(g, albedo, emission),
