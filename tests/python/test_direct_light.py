@@ -307,11 +307,12 @@ def test_spot_light_sampled_matches_the_closed_form(glslppm, cosine):
     print(f"  core pixels max |err| {core_error:.5f}, edge rings "
           f"{np.round(ring_errors, 4)}, image {mean:+.6f}, outside {outside:.3g}")
     # One sample of a point light: the only noise is the jitter within a pixel. Measured:
-    # core pixels 2.0-2.7% (where I cos / d^2 is steepest), rings 1.3%, image 0.07%.
-    # Bounds: 5% per core pixel, 3% per ring, 0.3% on the image (a 1% bias fails it), and
-    # nothing outside the cone.
+    # core pixels 1.9-2.7% (where I cos / d^2 is steepest); rings up to 1.3% and 2.7% in
+    # two runs with different jitter (about 1.5% noise); image 0.03-0.07%. Bounds: 5% per
+    # core pixel, 6% per ring, 0.3% on the image (a 1% bias fails it), and nothing outside
+    # the cone.
     assert core_error < 0.05
-    assert np.abs(ring_errors).max() < 0.03
+    assert np.abs(ring_errors).max() < 0.06
     assert abs(mean) < 0.003
     assert outside < 1e-3
 
@@ -351,9 +352,10 @@ def test_sphere_light_sampled_lights_like_a_point(glslppm):
               expected.reshape(8, 4, 8, 4).mean(axis=(1, 3)) - 1.0)
     mean = e.mean() / expected.mean() - 1.0
     print(f"  4x4 blocks rms {np.sqrt(np.mean(blocks ** 2)):.5f}, image mean {mean:+.5f}")
-    # Measured: blocks rms 0.3%, image 0.05%.
-    assert np.sqrt(np.mean(blocks ** 2)) < 0.01
-    assert abs(mean) < 0.003
+    # Measured in two runs with different jitter: blocks rms 0.77% and 0.81%, image mean
+    # +0.05% and +0.16%. Bounds: 1.5% rms, 0.5% on the mean (a 1% bias fails it).
+    assert np.sqrt(np.mean(blocks ** 2)) < 0.015
+    assert abs(mean) < 0.005
 
 
 @pytest.mark.parametrize("as_map", [False, True])
@@ -391,10 +393,11 @@ def test_environment_sampled_on_a_convex_object(glslppm, as_map):
           f"max {np.abs(inner).max():.4f}")
     if not as_map:
         # Cosine sampling makes each sample exact but for the sliver of directions above the
-        # facet that the smooth shading normal turns away: measured mean -2e-4, one pixel
-        # short by one sample in 16 (-6.25%), every other pixel exact.
-        assert abs(error) < 1e-3
-        assert worst < 0.07
+        # facet that the smooth shading normal turns away: measured means -0.02% and -0.08%
+        # in two runs, a pixel short by one sample in 16 (-6.25%), the others exact.
+        # Bounds: 0.3% on the mean, two samples in 16 for a pixel.
+        assert abs(error) < 3e-3
+        assert worst < 0.13
     else:
         # A constant map sampled uniformly over the sphere: per-sample spread about 100%
         # (half the directions are below the surface); after 128 passes the mean's noise
