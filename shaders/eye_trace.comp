@@ -5,12 +5,23 @@
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
+#ifdef DIRECT_LIGHT_SAMPLED
+// Light sampling at the visible point reads the emitter table; its shadow rays pass through
+// area-light surfaces and objects that cast no shadow (common/light_sampling.glsl).
+#define USES_EMITTERS
+#ifdef HAS_SHADOWLESS_SURFACES
+#define BVH_ANY_HIT_FILTER
+#endif
+#endif
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/sampling.glsl"
 #include "common/surface.glsl"
 #include "common/bsdf.glsl"
 #include "common/environment.glsl"
+#ifdef DIRECT_LIGHT_SAMPLED
+#include "common/light_sampling.glsl"
+#endif
 
 Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     float jx = rng_next(rng), jy = rng_next(rng);
@@ -41,6 +52,12 @@ void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
     RNG_STATE rng = rng_load(i);
+#ifdef DIRECT_LIGHT_SAMPLED
+    // The light sample's numbers come first, so that draws only some variants make (the
+    // lens) do not change them: every variant of a scene renders the same image.
+    float light_pick = rng_next(rng);
+    vec4 light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
+#endif
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
 
     vec3 throughput = vec3(1.0);
@@ -100,6 +117,17 @@ void main() {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
             weight = throughput * color / PI;
+#ifdef DIRECT_LIGHT_SAMPLED
+            // Direct light by one light sample; photons bring only the rest. The eye path
+            // ends here, so no BSDF-sampled ray can also reach a light from this point and
+            // light sampling needs no MIS weight: emission seen directly or through specular
+            // chains (above) is the only other way eye paths meet lights, as before.
+            direct += throughput * direct_light_sampled(s.position, normal,
+                                                        front ? s.geometric_normal
+                                                              : -s.geometric_normal,
+                                                        -ray.dir, s.material, color,
+                                                        light_pick, light_u, rays);
+#endif
             break;
         }
         vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,

@@ -3,7 +3,7 @@
 // by Russian roulette, by the depth limit or by leaving the scene starts anew from a light
 // in the next pass, so every thread stays busy whatever the path lengths. Photons are
 // stored on non-specular surfaces only, each with an independent random key for the
-// stochastic hash.
+// stochastic hash; with light sampling (DIRECT_LIGHT_SAMPLED) not on a path's first hit.
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PHOTON_PATHS
@@ -26,10 +26,18 @@ void main() {
     vec3 origin = p0.xyz;
     float bounces = p0.w;
     vec3 dir = photon_paths[3 * i + 1].xyz;
+#ifdef DIRECT_LIGHT_SAMPLED
+    // 1 once the path has scattered (specular or diffuse), 0 while it comes straight from
+    // the light: such photons are direct light, which light sampling counts instead.
+    float scattered = photon_paths[3 * i + 1].w;
+#endif
     vec3 flux = photon_paths[3 * i + 2].xyz;
     if (bounces < 0.0) {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;
+#ifdef DIRECT_LIGHT_SAMPLED
+        scattered = 0.0;
+#endif
         atomicAdd(pass_emitted, 1u);
     }
 
@@ -52,10 +60,22 @@ void main() {
             if (bounces >= float(max_depth)) bounces = -1.0;
         } else if (kind == MATERIAL_DIFFUSE) {
             // Store, then continue by Russian roulette on the albedo.
+#ifdef DIRECT_LIGHT_SAMPLED
+            // Not the first hit from the light: light sampling covers that. Caustics (light,
+            // specular, then here) have scattered and are stored.
+            bool store = scattered > 0.5;
+            // Through a surface that casts no shadow the photon goes on unscattered: still
+            // direct light where it lands next.
+            if (!shadowless) scattered = 1.0;
+            if (store) {
+#endif
             uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
             stored = vec4(flux, 1.0);
+#ifdef DIRECT_LIGHT_SAMPLED
+            }
+#endif
             vec3 albedo = surface_color(s);
             float q = min(1.0, max(albedo.r, max(albedo.g, albedo.b)));
             bool front = dot(dir, s.geometric_normal) < 0.0;
@@ -81,12 +101,19 @@ void main() {
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
                                    s.geometric_normal, rng_next(rng), flux);
+#ifdef DIRECT_LIGHT_SAMPLED
+            scattered = 1.0;
+#endif
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
     }
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);
+#ifdef DIRECT_LIGHT_SAMPLED
+    photon_paths[3 * i + 1] = vec4(dir, scattered);
+#else
     photon_paths[3 * i + 1] = vec4(dir, 0.0);
+#endif
     photon_paths[3 * i + 2] = vec4(flux, 0.0);
     photons[3 * i + 0] = position_key;
     photons[3 * i + 1] = vec4(incoming, 0.0);

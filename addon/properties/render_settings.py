@@ -39,6 +39,13 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         "max_bounces": IntProperty(
             name="Max Bounces", default=16, min=1, max=1024,
             description="Longest eye and photon path"),
+        "direct_light": EnumProperty(
+            name="Direct Light", default='SAMPLED',
+            items=(('SAMPLED', "Light Sampling", "One light sample and shadow ray per pixel and "
+                    "pass: sharp shadows, less noise; photons carry only scattered light "
+                    "(docs/direct_light.md)"),
+                   ('PHOTONS', "Photons", "All light from photons, as in the paper: shadows "
+                    "blurred by the gather radius"))),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "

@@ -27,6 +27,7 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "passes")
         column.prop(settings, "time_limit", text="Time Limit (s)")
+        column.prop(settings, "direct_light")
         column.prop(settings, "seed")
 
 

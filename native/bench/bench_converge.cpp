@@ -1,20 +1,20 @@
 // glslppm-bench converge: the error of the image against a reference as a function of
 // passes and of wall time, for a list of settings (the Cartesian product of the --alpha,
-// --photons, --radius-scale, --hash and --rng lists). Errors are RMSE and relative MSE
+// --photons, --radius-scale, --hash, --rng and --direct lists). Errors are RMSE and relative MSE
 // (mean of (x - r)^2 / (r^2 + 0.01) over pixels and RGB), measured at passes 1, 2, 4, ...;
 // the slope of log MSE against log passes is fitted by least squares and printed beside the
 // theoretical one: with radius R^2 ~ N^(alpha - 1), bias^2 ~ N^(2 (alpha - 1)) and variance
 // ~ N^-alpha (Knaus and Zwicker 2011), MSE ~ N^-min(alpha, 2 (1 - alpha)), best (-2/3) at
 // alpha = 2/3 (Kaplanyan and Dachsbacher 2013).
 //
-// The reference is a long run of the same scene with exact hashing, written as EXR with its
-// settings in glslppm/ attributes and reused when those match; --reference may also name an
-// EXR made elsewhere (scripts/cycles_reference.py), and --cross-check a second reference
-// that the first is compared with. A reference made by this renderer shares its biases, so
-// a run can converge to the wrong answer and still pass; for `--scene furnace` the
-// reference is instead the exact answer (furnace_radiance), and each point also reports the
-// signed relative error of the image's mean (mean_bias), which noise averages out of and a
-// bias does not.
+// The reference is a long run of the same scene with exact hashing (and the default
+// direct light: light sampling has no kernel blur on direct light to bias it), written as EXR with
+// its settings in glslppm/ attributes and reused when those match; --reference may also name an EXR
+// made elsewhere (scripts/cycles_reference.py), and --cross-check a second reference that the first
+// is compared with. A reference made by this renderer shares its biases, so a run can converge to
+// the wrong answer and still pass; for `--scene furnace` the reference is instead the exact answer
+// (furnace_radiance), and each point also reports the signed relative error of the image's mean
+// (mean_bias), which noise averages out of and a bias does not.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -46,6 +46,7 @@ struct ConvergeOptions {
     std::vector<float> radius_scales = {1.0f};
     std::vector<HashMode> hashes = {HashMode::Stochastic};
     std::vector<RngKind> rngs = {RngKind::Pcg};
+    std::vector<DirectLight> directs = {RenderSettings{}.direct_light};
     std::string reference;  // default: references/ beside the binary
     int reference_passes = 1024;
     std::uint32_t reference_photons = 65536;
@@ -189,6 +190,10 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene,
         if (ref.source == "glslppm") {
             if (a["scene"] != o.scene) mismatch("scene", o.scene);
             if (a["hash"] != "exact") mismatch("hash", "exact");
+            // References made before light sampling existed rendered direct light by photons.
+            const std::string direct = a.count("direct_light") ? a["direct_light"] : "photons";
+            if (direct != to_string(RenderSettings{}.direct_light))
+                mismatch("direct_light", to_string(RenderSettings{}.direct_light));
             if (ref.passes < o.reference_passes)
                 mismatch("passes", "at least " + std::to_string(o.reference_passes));
             const std::string scale = a.count("radius_scale") ? a["radius_scale"] : "1";
@@ -229,6 +234,7 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene,
                {"photons_emitted", std::to_string(st.photons_emitted)},
                {"alpha", number(s.alpha)},
                {"rng", to_string(s.rng)},
+               {"direct_light", to_string(s.direct_light)},
                {"seed", std::to_string(s.seed)},
                {"seconds", number(st.seconds)},
                {"renderer", st.renderer}});
@@ -283,7 +289,8 @@ int usage() {
         stderr,
         "usage: glslppm-bench converge [--scene S] [--width W --height H] [--passes K]\n"
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
-        "       [--hash stochastic,exact] [--rng paper,pcg] [--fit-from P]\n"
+        "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,photons]\n"
+        "       [--fit-from P]\n"
         "       [--reference X.exr] [--reference-passes R] [--reference-photons N]\n"
         "       [--reference-radius-scale s]\n"
         "       [--cross-check Y.exr] [--device D] [--json]\n");
@@ -322,6 +329,8 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
             o.hashes = parse_list<HashMode>(v, parse_hash_mode);
         else if (a == "--rng")
             o.rngs = parse_list<RngKind>(v, parse_rng_kind);
+        else if (a == "--direct")
+            o.directs = parse_list<DirectLight>(v, parse_direct_light);
         else if (a == "--reference")
             o.reference = v;
         else if (a == "--reference-passes")
@@ -384,6 +393,7 @@ void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError
                              {"initial_radius", s.initial_radius},
                              {"hash", to_string(s.hash)},
                              {"rng", to_string(s.rng)},
+                             {"direct_light", to_string(s.direct_light)},
                              {"slope", run.slope},
                              {"theoretical_slope", theoretical_slope(s.alpha)},
                              {"points", points}});
@@ -404,14 +414,16 @@ void print_table(const ConvergeOptions& o, const Reference& ref, const ImageErro
     if (cross)
         std::printf("reference against %s: RMSE %.5f, relative MSE %.5f, mean bias %+.5f\n",
                     o.cross_check.c_str(), cross->rmse, cross->rel_mse, cross->mean_bias);
-    std::printf("%6s %9s %7s %10s %5s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons", "radius",
-                "hash", "rng", "slope", "theory", "passes", "seconds", "RMSE", "mean bias");
+    std::printf("%6s %9s %7s %10s %5s %8s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons",
+                "radius", "hash", "rng", "direct", "slope", "theory", "passes", "seconds", "RMSE",
+                "mean bias");
     for (const Run& run : runs) {
         const Point& last = run.points.back();
-        std::printf("%6.3f %9u %7.3g %10s %5s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",
+        std::printf("%6.3f %9u %7.3g %10s %5s %8s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",
                     run.settings.alpha, run.settings.photons_per_pass, run.radius_scale,
                     to_string(run.settings.hash).c_str(), to_string(run.settings.rng).c_str(),
-                    run.slope, theoretical_slope(run.settings.alpha), last.passes, last.seconds,
+                    to_string(run.settings.direct_light).c_str(), run.slope,
+                    theoretical_slope(run.settings.alpha), last.passes, last.seconds,
                     last.error.rmse, last.error.mean_bias);
     }
 }
@@ -463,17 +475,19 @@ int bench_converge(int argc, char** argv) {
             for (std::uint32_t photons : o.photons)
                 for (float scale : o.radius_scales)
                     for (HashMode hash : o.hashes)
-                        for (RngKind rng : o.rngs) {
-                            RenderSettings s = probe;
-                            s.photons_per_pass = photons;
-                            s.alpha = alpha;
-                            s.initial_radius = static_cast<float>(scale * automatic);
-                            s.hash = hash;
-                            s.rng = rng;
-                            s.seed = seed++;
-                            runs.push_back(converge_run(scene, s, scale, o, ref.image));
-                            if (!o.json) std::fprintf(stderr, "  run %zu done\n", runs.size());
-                        }
+                        for (RngKind rng : o.rngs)
+                            for (DirectLight direct : o.directs) {
+                                RenderSettings s = probe;
+                                s.photons_per_pass = photons;
+                                s.alpha = alpha;
+                                s.initial_radius = static_cast<float>(scale * automatic);
+                                s.hash = hash;
+                                s.rng = rng;
+                                s.direct_light = direct;
+                                s.seed = seed++;
+                                runs.push_back(converge_run(scene, s, scale, o, ref.image));
+                                if (!o.json) std::fprintf(stderr, "  run %zu done\n", runs.size());
+                            }
         if (o.json)
             print_json(o, ref, cross, cross_regions, automatic, runs, probe_stats.renderer);
         else

@@ -51,23 +51,27 @@ int bench_passes(int argc, char** argv) {
         if (json) {
             std::printf(
                 "{\"bench\": \"passes\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
-                "\"photons_per_pass\": %u, \"hash\": \"%s\", \"rng\": \"%s\", \"passes\": %d, "
+                "\"photons_per_pass\": %u, \"hash\": \"%s\", \"rng\": \"%s\", "
+                "\"direct_light\": \"%s\", \"passes\": %d, "
                 "\"seconds\": %.6f, \"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
                 "\"rays_per_second\": %.1f, \"photon_bounces_per_second\": %.1f, "
                 "\"stage_ms\": {\"eye\": %.4f, \"photon\": %.4f, \"hash\": %.4f, \"gather\": %.4f}, "
                 "\"triangles\": %zu, \"gpu_bytes\": %zu, \"bvh_seconds\": %.4f, "
                 "\"renderer\": \"%s\", \"variant\": \"%s\"}\n",
                 scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
-                to_string(settings.hash).c_str(), to_string(settings.rng).c_str(), passes, seconds,
+                to_string(settings.hash).c_str(), to_string(settings.rng).c_str(),
+                to_string(settings.direct_light).c_str(), passes, seconds,
                 passes / seconds, photons / seconds, rays / seconds,
                 passes * double(settings.photons_per_pass) / seconds, st.eye_seconds * ms,
                 st.photon_seconds * ms, st.hash_seconds * ms, st.gather_seconds * ms,
                 after.triangles, after.gpu_bytes, after.bvh_seconds, after.renderer.c_str(),
                 after.variant.c_str());
         } else {
-            std::printf("%s: %dx%d, %u photons/pass, %s hash, %s rng\n", after.renderer.c_str(),
+            std::printf("%s: %dx%d, %u photons/pass, %s hash, %s rng, %s direct light\n",
+                        after.renderer.c_str(),
                         settings.width, settings.height, settings.photons_per_pass,
-                        to_string(settings.hash).c_str(), to_string(settings.rng).c_str());
+                        to_string(settings.hash).c_str(), to_string(settings.rng).c_str(),
+                        to_string(settings.direct_light).c_str());
             std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s\n", passes / seconds,
                         photons / seconds * 1e-6, rays / seconds * 1e-6);
             std::printf("  per pass: eye %.3f ms, photon %.3f ms, hash %.3f ms, gather %.3f ms\n",

@@ -124,6 +124,7 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(number());
     else if (a == "--hash") settings.hash = parse_hash_mode(text());
     else if (a == "--rng") settings.rng = parse_rng_kind(text());
+    else if (a == "--direct") settings.direct_light = parse_direct_light(text());
     else if (a == "--device") settings.device = static_cast<int>(number());
     else if (a == "--scene" && has_value) scene_spec = text();
     else return false;

@@ -26,7 +26,7 @@ double furnace_radiance(int max_depth);
 std::size_t parse_count(const std::string& text);
 
 // Reads one option that every end-to-end benchmark shares (--width, --height, --photons,
-// --hash, --rng, --device, --scene) at argv[i], advancing i past its value; false when
+// --hash, --rng, --direct, --device, --scene) at argv[i], advancing i past its value; false when
 // argv[i] is none of them.
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
                          std::string& scene_spec);

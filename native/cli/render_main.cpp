@@ -56,6 +56,8 @@ std::string usage() {
         "  --max-depth N             eye and photon bounces (default %d)\n"
         "  --hash stochastic|exact   photon hashing (default %s)\n"
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
+        "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
+        "                            (default %s; docs/direct_light.md says why)\n"
         "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
@@ -66,7 +68,7 @@ std::string usage() {
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
-        static_cast<unsigned long long>(d.seed));
+        to_string(d.direct_light).c_str(), static_cast<unsigned long long>(d.seed));
     return text;
 }
 
@@ -114,6 +116,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--max-depth") o.settings.max_depth = static_cast<int>(number());
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
+        else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
         else if (a == "--device") o.settings.device = static_cast<int>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
@@ -226,6 +229,7 @@ int main(int argc, char** argv) {
                        {"initial_radius", std::to_string(s.initial_radius)},
                        {"hash", to_string(o.settings.hash)},
                        {"rng", to_string(o.settings.rng)},
+                       {"direct_light", to_string(o.settings.direct_light)},
                        {"max_depth", std::to_string(o.settings.max_depth)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
@@ -239,12 +243,13 @@ int main(int argc, char** argv) {
                 "\"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
                 "\"rays_per_second\": %.1f, \"width\": %d, \"height\": %d, "
                 "\"photons_per_pass\": %u, \"mean_radius\": %.6g, \"renderer\": \"%s\", "
-                "\"variant\": \"%s\", \"warnings\": [%s]}\n",
+                "\"variant\": \"%s\", \"direct_light\": \"%s\", \"warnings\": [%s]}\n",
                 static_cast<unsigned long long>(s.passes),
                 static_cast<unsigned long long>(s.photons_emitted), s.seconds,
                 s.seconds > 0 ? s.passes / s.seconds : 0.0, s.photons_per_second,
                 s.rays_per_second, o.settings.width, o.settings.height,
-                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str(), warning_list.c_str());
+                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str(),
+                s.direct_light.c_str(), warning_list.c_str());
         } else {
             std::printf("%llu passes, %.3g photons in %.2f s: %.2f Mphotons/s, %.2f Mrays/s (%s)\n",
                         static_cast<unsigned long long>(s.passes), double(s.photons_emitted),

@@ -233,6 +233,7 @@ py::dict stats_dict(const RenderStats& s) {
     d["initial_radius"] = s.initial_radius;
     d["renderer"] = s.renderer;
     d["variant"] = s.variant;
+    d["direct_light"] = s.direct_light;
     d["triangles"] = s.triangles;
     d["degenerate_dropped"] = s.degenerate_dropped;
     d["emitters"] = s.emitters;
@@ -417,7 +418,8 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
-                         bool transparent, bool transparent_glass) {
+                         bool transparent, bool transparent_glass,
+                         const std::string& direct_light) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -428,6 +430,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.max_depth = max_depth;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
+                 s.direct_light = parse_direct_light(direct_light);
                  s.device = device;
                  s.seed = seed;
                  s.leaf_size = leaf_size;
@@ -449,7 +452,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("profile") = defaults.profile, py::arg("full_variant") = defaults.full_variant,
              py::arg("max_texture_size") = defaults.max_texture_size,
              py::arg("transparent") = defaults.transparent,
-             py::arg("transparent_glass") = defaults.transparent_glass)
+             py::arg("transparent_glass") = defaults.transparent_glass,
+             py::arg("direct_light") = to_string(defaults.direct_light))
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale);

@@ -376,12 +376,23 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             features.push_back("transparent-glass");
         }
     }
+    // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
+    // only when asked for; its shadow rays skip the surfaces that cast no shadow (area lights,
+    // objects with shadow visibility off) where the scene has them.
+    if (settings.direct_light == DirectLight::Sampled) {
+        g.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
+        bool shadowless = settings.full_variant;
+        for (std::uint32_t flags : geometry.flags)
+            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow)) != 0;
+        if (shadowless) g.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
+    }
     g.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
     g.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
     g.defines.push_back({"LOCAL_SIZE", std::to_string(kLocalSize) + "u"});
     g.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
     features.push_back("rng=" + to_string(settings.rng));
     features.push_back("hash=" + to_string(settings.hash));
+    features.push_back("direct=" + to_string(settings.direct_light));
     for (const std::string& f : features) g.variant += (g.variant.empty() ? "" : ",") + f;
 
     // Sizes and the frame constants.
@@ -725,6 +736,7 @@ RenderStats Renderer::stats() {
     s.initial_radius = g.initial_radius;
     s.renderer = g.thread->info().renderer;
     s.variant = g.variant;
+    s.direct_light = to_string(g.settings.direct_light);
     s.triangles = g.bvh.stats.triangles;
     s.degenerate_dropped = g.bvh.stats.degenerate_dropped;
     s.emitters = g.emitters.count;

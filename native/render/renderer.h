@@ -26,6 +26,7 @@ struct RenderStats {
     double initial_radius = 0.0;
     std::string renderer;               // GL_RENDERER
     std::string variant;                // the feature set the programs were compiled with
+    std::string direct_light;           // "sampled" or "photons" (RenderSettings::direct_light)
     std::size_t triangles = 0;
     std::size_t degenerate_dropped = 0;
     std::size_t emitters = 0;

@@ -17,8 +17,18 @@ RngKind parse_rng_kind(const std::string& name) {
     throw std::invalid_argument("rng: '" + name + "' is not a generator (paper, pcg)");
 }
 
+DirectLight parse_direct_light(const std::string& name) {
+    if (name == "sampled") return DirectLight::Sampled;
+    if (name == "photons") return DirectLight::Photons;
+    throw std::invalid_argument("direct_light: '" + name +
+                                "' is not a direct-light mode (sampled, photons)");
+}
+
 std::string to_string(HashMode mode) { return mode == HashMode::Exact ? "exact" : "stochastic"; }
 std::string to_string(RngKind kind) { return kind == RngKind::Pcg ? "pcg" : "paper"; }
+std::string to_string(DirectLight direct) {
+    return direct == DirectLight::Sampled ? "sampled" : "photons";
+}
 
 void validate(const RenderSettings& s) {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };

@@ -8,6 +8,10 @@ namespace glslppm {
 
 enum class HashMode { Stochastic, Exact };
 enum class RngKind { Paper, Pcg };
+// Where a visible point's direct light comes from: a light sample and a shadow ray each pass
+// (photons then carry only light that has scattered at least once), or photons alone, as in
+// Hachisuka 2015.
+enum class DirectLight { Sampled, Photons };
 
 struct RenderSettings {
     int width = 256;
@@ -19,6 +23,8 @@ struct RenderSettings {
     int max_depth = 16;           // eye and photon bounces
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
+    // docs/direct_light.md: less error at equal time.
+    DirectLight direct_light = DirectLight::Sampled;
     int device = -1;              // EGL device index; -1: $GLSLPPM_DEVICE or the first GPU
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)
@@ -36,8 +42,10 @@ struct RenderSettings {
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
+DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
 std::string to_string(HashMode mode);
 std::string to_string(RngKind kind);
+std::string to_string(DirectLight direct);
 
 // Throws std::invalid_argument naming the setting when one is out of range.
 void validate(const RenderSettings& settings);

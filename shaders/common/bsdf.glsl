@@ -30,6 +30,16 @@ vec3 surface_color(Surface s) {
     return material_color(s.material);
 }
 
+// f(wo, wi) of the material's non-delta lobes at a surface point, without the cosine:
+// what light sampling weighs a light's radiance by. `n` is the shading normal on the side
+// wo leaves from; wi points away from the surface too. Lambert is the only such lobe so
+// far (wo unused; the photon gather likewise tests only the incoming side); glossy lobes
+// add their terms here.
+vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
+    if (material_kind(m) != MATERIAL_DIFFUSE || dot(n, wi) <= 0.0) return vec3(0.0);
+    return color / PI;
+}
+
 // Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
 float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
     float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);

@@ -156,6 +156,12 @@ Hit closest_hit(Ray r) {
     return best;
 }
 
+#ifdef BVH_ANY_HIT_FILTER
+// Defined by the includer: true for a (packed) triangle that any_hit must not count, so
+// that shadow rays pass through area-light surfaces as every other ray does.
+bool bvh_any_hit_passes(int triangle);
+#endif
+
 bool any_hit(Ray r) {
     if (bvh_node_count == 0u) return false;
     vec3 inv_dir = bvh_safe_inverse_dir(r.dir);
@@ -175,8 +181,12 @@ bool any_hit(Ray r) {
                 vec3 c = triangles[3 * i + 2].xyz;
                 float t, u, v;
                 if (bvh_intersect_triangle(r, a, b, c, t, u, v) &&
-                    bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a, b, c))
+                    bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a, b, c)) {
+#ifdef BVH_ANY_HIT_FILTER
+                    if (bvh_any_hit_passes(i)) continue;
+#endif
                     return true;
+                }
             }
             node = bvh_links[link_base + node].x;
         } else {

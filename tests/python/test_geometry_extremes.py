@@ -116,7 +116,9 @@ def test_closed_icosphere_keeps_every_photon_inside(glslppm, normals):
                     materials=[g.Material("diffuse", color=(0.9, 0.9, 0.9))],
                     lights=[g.Light("point", power=10.0, position=(0.21, -0.13, 0.34))],
                     camera=g.Camera(look_at((0, 0, 0.5), (0, 0, 0))))
-    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=count, seed=3))
+    # Photons alone, which store every hit (light sampling skips each path's first).
+    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=count, seed=3,
+                                     direct_light="photons"))
     for _ in range(6):
         r.run(1)
         photons = r.photons()
@@ -144,8 +146,10 @@ def test_light_outside_a_closed_box_leaves_it_dark(glslppm):
     # automatic one (0.51 here, relative to the 12-unit floor) reaches around the edges of
     # the zero-thickness walls to photons stored outside (a kernel effect, not a geometric
     # leak: it lights 168 of the 256 pixels, at most 0.05).
+    # Photons alone: first hits on the box's outside are what this checks (light sampling
+    # stores none of them).
     settings = g.Settings(width=16, height=16, photons_per_pass=65536, seed=9,
-                          initial_radius=0.02)
+                          initial_radius=0.02, direct_light="photons")
     r = g.Renderer(scene, settings)
     for _ in range(6):
         r.run(1)

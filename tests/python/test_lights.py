@@ -4,7 +4,8 @@ The plane z = 0 (albedo a) is seen by an orthographic camera looking straight do
 pixel shows one plane point and its radiance is a E / pi. Blocks of pixels are compared with
 the closed form averaged over the same pixels; the tolerances are the noise of the block
 means at the pass and photon counts used (measured: rms well under half the bound). Exact
-hashing keeps every photon, so the noise is the photons' alone.
+hashing keeps every photon, so the noise is the photons' alone. These test the photons'
+estimate (direct_light="photons"); test_direct_light.py tests light sampling.
 """
 import math
 
@@ -26,7 +27,8 @@ def plane_irradiance(g, lights, size=48, passes=24, photons=65536, radius=0.08, 
     scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(ALBEDO,) * 3)],
                     lights=lights, camera=camera)
     r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=photons,
-                                     initial_radius=radius, seed=seed, hash="exact"))
+                                     initial_radius=radius, seed=seed, hash="exact",
+                                     direct_light="photons"))
     r.run(passes)
     film = r.film()
     assert np.isfinite(film).all()

@@ -66,7 +66,10 @@ def test_point_light_over_diffuse_plane(glslppm):
     size = 48
     scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(albedo,) * 3)], lights=[light],
                     camera=camera)
-    r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=65536, seed=5))
+    # Photons alone, whose kernel this averages over (test_direct_light.py has light
+    # sampling's per-pixel closed form).
+    r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=65536, seed=5,
+                                     direct_light="photons"))
     r.run(64)
     image = r.film()[..., 0]
     radius = r.stats()["mean_radius"]
@@ -127,7 +130,9 @@ def test_emitted_power_equals_light_power(glslppm):
     scene = g.Scene(positions, indices, material_ids=ids, materials=materials, lights=lights,
                     camera=g.Camera(look_at((0, 0, 1.5), (0, 0, 0))))
     count = 65536
-    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=count, seed=11))
+    # Photons alone: with light sampling first hits are not stored (test_direct_light.py).
+    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=count, seed=11,
+                                     direct_light="photons"))
     r.run(1)
     photons = r.photons()
     assert r.stats()["photons_emitted"] == count

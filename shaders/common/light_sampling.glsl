@@ -1,0 +1,172 @@
+// Direct light at a visible point by light sampling (next-event estimation): one emitter
+// picked by power from the table photons start from (emitters.glsl), one point or direction
+// on it, one shadow ray. The estimate of the reflected direct radiance is
+//   f(wo, wi) L_e(wi) cos(theta) / (p_pick p(wi)),
+// p(wi) the light's own density per solid angle (an area density times d^2 / cos(theta_l)
+// where the light has a surface: d(omega) = cos(theta_l) dA / d^2), a one-sample Monte
+// Carlo estimate of the reflection integral over the lights (the area form of Kajiya 1986's
+// rendering equation). Each record holds power / p_pick, so the estimates below are
+// written in that. Used when the photon stage stores only photons that have scattered at
+// least once (DIRECT_LIGHT_SAMPLED): the two estimates then split the light at a visible
+// point without overlap.
+#ifndef LIGHT_SAMPLING_GLSL
+#define LIGHT_SAMPLING_GLSL
+
+#include "common/bsdf.glsl"
+#include "common/emitters.glsl"
+
+#ifdef BVH_ANY_HIT_FILTER
+// Area-light surfaces and objects with shadow visibility off cast no shadow
+// (common/mtbvh.glsl asks this of every hit).
+bool bvh_any_hit_passes(int triangle) {
+    int m = floatBitsToInt(triangles[3 * triangle].w);
+    return (material_flags(m) & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0;
+}
+#endif
+
+const float DISTANT_LIGHT = 3.0e38;
+
+// One light sample seen from p: the unit direction towards it, the distance to the sampled
+// point (DISTANT_LIGHT for the sun and the world) and L_e / (p_pick p(wi)). `ng` is the
+// surface's normal at p on the side the light must be on (only the constant world's cosine
+// sampling reads it). `pick` chooses the emitter, `u` the point or direction on it.
+struct LightSample {
+    vec3 wi;
+    float distance;
+    vec3 radiance_over_pdf;
+};
+
+LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
+    LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
+    uint k = pick_emitter(pick);
+    vec4 a = emitters[4u * k + 0u];
+    vec4 b = emitters[4u * k + 1u];
+    vec4 c = emitters[4u * k + 2u];
+    vec4 d = emitters[4u * k + 3u];
+    int kind = floatBitsToInt(a.w);
+    float u1 = u.x, u2 = u.y, u3 = u.z, u4 = u.w;
+    vec3 power = d.rgb / d.w;  // the emitter's power over its pick probability
+#ifdef HAS_TRIANGLE_EMITTERS
+    if (kind == EMITTER_TRIANGLE) {
+        // Uniform on the triangle (pdf 1 / A) of radiance L = P / (pi A), one-sided about its
+        // winding: L cos_l / (d^2 p_pick / A) = (P / p_pick) cos_l / (pi d^2); A cancels.
+        // A two-sided (mesh) emitter, b.w = 1, has P = 2 pi L A and |cos_l| on either face.
+        vec2 bc = sample_triangle(u1, u2);
+        vec3 q = a.xyz + bc.x * (b.xyz - a.xyz) + bc.y * (c.xyz - a.xyz);
+        vec3 to = q - p;
+        float d2 = dot(to, to);
+        if (!(d2 > 0.0)) return ls;
+        ls.distance = sqrt(d2);
+        ls.wi = to / ls.distance;
+        float cos_l = -dot(triangle_normal(a.xyz, b.xyz, c.xyz), ls.wi);
+        if (b.w > 0.5) ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
+        else if (cos_l > 0.0) ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        return ls;
+    }
+#endif
+#ifdef HAS_POINT_LIGHTS
+    if (kind == EMITTER_POINT) {
+        vec3 to = a.xyz - p;
+        float d2 = dot(to, to);
+        if (!(d2 > 0.0)) return ls;
+        float dc = sqrt(d2);
+        if (b.w <= 0.0) {
+            // A point of intensity P / 4 pi: E = I / d^2.
+            ls.wi = to / dc;
+            ls.distance = dc;
+            ls.radiance_over_pdf = power / (4.0 * PI * d2);
+            return ls;
+        }
+        // A Lambertian sphere of radius r and radiance L = P / (4 pi^2 r^2) (its photons leave
+        // a uniform point cosine-weighted): uniform over the cone it subtends, pdf
+        // 1 / (2 pi (1 - cos_max)). Nothing reaches a point inside it (it emits outwards).
+        float r2 = b.w * b.w;
+        if (d2 <= r2) return ls;
+        float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
+        float one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation
+        vec3 axis = to / dc;
+        ls.wi = sample_cone(axis, cos_max, u1, u2);
+        // The ray meets the sphere at t = (wi . to) - sqrt(r^2 - |to|^2 + (wi . to)^2).
+        float t_c = dot(ls.wi, to);
+        ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
+        ls.radiance_over_pdf = power * (2.0 * PI * one_minus_cos / (4.0 * PI * PI * r2));
+        return ls;
+    }
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    if (kind == EMITTER_SPOT) {
+        // A point (or a uniform point of the disc of radius c.y facing the axis, as the
+        // photons start) of intensity P / 4 pi times the smooth edge and Blender 3.x's
+        // cosine: E = I / d^2. The record holds the hard cone's power P Omega / 4 pi.
+        vec3 t, bt;
+        orthonormal_basis(b.xyz, t, bt);
+        vec2 o = c.y * sample_disc(u1, u2);
+        vec3 q = a.xyz + o.x * t + o.y * bt;
+        vec3 to = q - p;
+        float d2 = dot(to, to);
+        if (!(d2 > 0.0)) return ls;
+        ls.distance = sqrt(d2);
+        ls.wi = to / ls.distance;
+        float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
+        if (c.z > 0.5) attenuation *= max(0.0, dot(b.xyz, -ls.wi));
+        float solid_angle = 2.0 * PI * (1.0 - b.w);
+        if (attenuation > 0.0 && solid_angle > 0.0)
+            ls.radiance_over_pdf = power * (attenuation / (solid_angle * d2));
+        return ls;
+    }
+#endif
+#ifdef HAS_SUN_LIGHTS
+    if (kind == EMITTER_SUN) {
+        // Radiance E / Omega over the sun's cone (its photons cross the bounding disc of
+        // area pi R^2 uniformly in direction), sampled uniformly: L / pdf = E, and the
+        // record holds E pi R^2 / p_pick.
+        vec3 travel = b.w < 1.0 ? sample_cone(b.xyz, b.w, u1, u2) : b.xyz;
+        ls.wi = -travel;
+        ls.distance = DISTANT_LIGHT;
+        float disc = PI * scene_radius * scene_radius;
+        if (disc > 0.0) ls.radiance_over_pdf = power / disc;
+        return ls;
+    }
+#endif
+#ifdef HAS_ENVIRONMENT
+    if (kind == EMITTER_ENVIRONMENT) {
+        ls.distance = DISTANT_LIGHT;
+        float pdf;
+#ifdef HAS_ENVIRONMENT_MAP
+        // By the map's importance (environment.glsl): L(wi) / (pdf(wi) p_pick).
+        ls.wi = sample_environment(u1, u2, u3, u4, pdf);
+#else
+        // Constant radiance: cosine-weighted about ng, pdf cos / pi.
+        ls.wi = sample_cosine_hemisphere(ng, u1, u2);
+        pdf = max(0.0, dot(ng, ls.wi)) / PI;
+#endif
+        if (pdf > 0.0) ls.radiance_over_pdf = environment_radiance(ls.wi) / (pdf * d.w);
+        return ls;
+    }
+#endif
+    return ls;
+}
+
+// The direct light reflected towards wo at a visible point: one light sample, one shadow
+// ray. n: shading normal and ng: geometric normal, both on wo's side; pick and u: the
+// sample's random numbers (sample_light). `rays` counts the shadow ray.
+vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 color,
+                          float pick, vec4 u, inout uint rays) {
+    LightSample ls = sample_light(p, ng, pick, u);
+    // The cosine of the true surface, as the photons' density estimate has it (photons per
+    // area of the surface they land on), so that both estimates meet without a seam; the
+    // shading normal only decides, in bsdf_eval, which side is lit, as in the gather.
+    float cos_theta = dot(ng, ls.wi);
+    if (cos_theta <= 0.0 || ls.distance <= 0.0 ||
+        all(equal(ls.radiance_over_pdf, vec3(0.0))))
+        return vec3(0.0);
+    vec3 f = bsdf_eval(material, color, n, wo, ls.wi);
+    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
+    // Stop short of the sampled point so that the light's own triangle does not shadow it.
+    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
+    ++rays;
+    if (any_hit(shadow)) return vec3(0.0);
+    return f * ls.radiance_over_pdf * cos_theta;
+}
+
+#endif
