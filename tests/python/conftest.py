@@ -5,7 +5,8 @@ import sys
 import numpy as np
 import pytest
 
-BUILD = os.environ.get("GLSLPPM_BUILD", os.path.join(os.path.dirname(__file__), "..", "..", "build"))
+BUILD = os.environ.get("GLSLPPM_BUILD",
+                       os.path.join(os.path.dirname(__file__), "..", "..", "build"))
 sys.path.insert(0, os.path.abspath(BUILD))
 
 import _glslppm as native  # noqa: E402
@@ -42,7 +43,8 @@ def sphere(center, radius, rings, segments, inward=False):
     theta = np.linspace(0.0, np.pi, rings + 1)
     phi = np.linspace(0.0, 2.0 * np.pi, segments + 1)
     th, ph = np.meshgrid(theta, phi, indexing="ij")
-    n = np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)], axis=-1).reshape(-1, 3)
+    n = np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)],
+                 axis=-1).reshape(-1, 3)
     p = (np.asarray(center) + radius * n).astype(np.float32)
     row = segments + 1
     tris = []

@@ -4,14 +4,14 @@ import math
 import numpy as np
 import pytest
 
-from conftest import look_at, quad
+from conftest import quad
 
 
 def emitter_scene(g, z, camera, size=1.0, radiance=2.0):
     h = size / 2
     p, t = quad((-h, -h, z), (h, -h, z), (h, h, z), (-h, h, z))  # faces +z, the camera
-    return g.Scene(p, t, materials=[g.Material("diffuse", color=(0, 0, 0), emission=(radiance,) * 3)],
-                   camera=camera)
+    emitter = g.Material("diffuse", color=(0, 0, 0), emission=(radiance,) * 3)
+    return g.Scene(p, t, materials=[emitter], camera=camera)
 
 
 def covered_pixels(g, scene, width=32):
@@ -47,7 +47,8 @@ def test_shift_moves_the_image_by_the_fraction_of_the_larger_side(glslppm):
     g = glslppm
     camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0,
                       shift_x=0.25)
-    r = g.Renderer(emitter_scene(g, -2.0, camera), g.Settings(width=32, height=32, photons_per_pass=256))
+    r = g.Renderer(emitter_scene(g, -2.0, camera),
+                   g.Settings(width=32, height=32, photons_per_pass=256))
     r.run(16)
     image = r.film()[..., 0]
     cols = np.nonzero(image.sum(axis=0) > 0)[0]
@@ -64,6 +65,7 @@ def test_focus_plane_stays_sharp_and_defocus_blurs(glslppm):
     of a line reaches 0.9 at 0.69 of its radius)."""
     g = glslppm
     width, fov = 48, math.radians(40)
+
     def edge_profile(z, focus, aperture):
         camera = g.Camera(np.eye(4, dtype=np.float32), fov_x=fov, aperture_radius=aperture,
                           focus_distance=focus)

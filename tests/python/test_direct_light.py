@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
+from closed_forms import (area_irradiance_brute_force, disk_irradiance, furnace_scene,
+                          spot_expected)
 from conftest import look_at
-from test_lights import area_irradiance_brute_force, disk_irradiance, spot_expected
-from test_sppm import furnace_scene
 
 ALBEDO = 0.5
 HALF = 1.5  # the orthographic camera sees [-HALF, HALF]^2 of the plane z = 0

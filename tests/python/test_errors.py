@@ -55,7 +55,8 @@ def test_shader_compile_error_names_program_file_and_line(glslppm, tmp_path, mon
     path.write_text("\n".join(lines) + "\n")
     monkeypatch.setenv("GLSLPPM_SHADER_DIR", str(root))
     with pytest.raises(glslppm.GlslppmError) as e:
-        glslppm.Renderer(small_scene(glslppm), glslppm.Settings(width=8, height=8, photons_per_pass=64))
+        glslppm.Renderer(small_scene(glslppm),
+                         glslppm.Settings(width=8, height=8, photons_per_pass=64))
     message = str(e.value)
     assert "eye_trace.comp" in message
     assert f"common/sampling.glsl:{bad_line}" in message

@@ -12,6 +12,8 @@ import math
 import numpy as np
 import pytest
 
+from closed_forms import area_irradiance_brute_force, disk_irradiance, spot_expected
+
 ALBEDO = 0.5
 HALF = 1.5  # the camera sees [-HALF, HALF]^2 of the plane
 
@@ -65,20 +67,6 @@ def test_point_light_with_radius_lights_like_a_point(glslppm):
     assert abs(np.mean(errors)) < 0.02
 
 
-def spot_expected(x, y, h, power, size, blend, cosine):
-    """Blender's spot: I = P / 4 pi inside the cone, times smoothstep over the blend width
-    (1 - cos(size / 2)) * blend below the cone's edge (Cycles' spot_attenuation)."""
-    d2 = x * x + y * y + h * h
-    cos_t = h / np.sqrt(d2)
-    cos_half = math.cos(size / 2)
-    smooth = (1 - cos_half) * blend
-    s = np.clip((cos_t - cos_half) / smooth, 0.0, 1.0)
-    attenuation = np.where(cos_t > cos_half, s * s * (3 - 2 * s), 0.0)
-    if cosine:
-        attenuation = attenuation * cos_t
-    return power / (4 * math.pi) * attenuation * cos_t / d2
-
-
 @pytest.mark.parametrize("cosine", [False, True])
 def test_spot_light_centre_edge_and_outside(glslppm, cosine):
     """The spot's falloff at the cone's centre, through its smooth edge and outside it,
@@ -127,26 +115,6 @@ def test_sun_gives_uniform_irradiance_times_cosine(glslppm, angle):
     assert blocks.std() / blocks.mean() < 0.06
 
 
-def area_irradiance_brute_force(to_world, shape, sx, sy, radiance, points, n=400):
-    """E at plane points below a downward-facing light: sum of L cos cos' / d^2 dA over a
-    fine grid on the shape (the 64-gon's area for disks and ellipses is within 0.2%)."""
-    a, b = sx / 2, (sx if shape in ("square", "disk") else sy) / 2
-    u = (np.arange(n) + 0.5) / n * 2 - 1
-    uu, vv = np.meshgrid(u * a, u * b)
-    keep = np.ones_like(uu, dtype=bool)
-    if shape in ("disk", "ellipse"):
-        keep = (uu / a) ** 2 + (vv / b) ** 2 <= 1.0
-    da = (2 * a / n) * (2 * b / n)
-    q = np.stack([uu[keep], vv[keep], np.zeros(keep.sum())], axis=1) + to_world[:3, 3]
-    out = []
-    for p in points:
-        d = q - p
-        d2 = (d * d).sum(1)
-        cos = d[:, 2] / np.sqrt(d2)  # both normals are vertical
-        out.append(radiance * (cos * cos / d2).sum() * da)
-    return np.array(out)
-
-
 @pytest.mark.parametrize("shape,sx,sy", [("square", 1.0, 1.0), ("rectangle", 1.2, 0.5),
                                          ("disk", 1.0, 1.0), ("ellipse", 1.2, 0.6)])
 def test_area_light_shapes_against_brute_force(glslppm, shape, sx, sy):
@@ -178,16 +146,6 @@ def test_area_light_shapes_against_brute_force(glslppm, shape, sx, sy):
     # Blocks: measured rms 1.6-2.9%. Image mean: measured within 0.1% over seeds.
     assert np.sqrt(np.mean(errors ** 2)) < 0.06, errors
     assert abs(error) < 0.005
-
-
-def disk_irradiance(radiance, b, h, r):
-    """Irradiance at distance r from the axis of a disk light of radius b and radiance L,
-    on a plane parallel to it at height h (the standard disk-to-point form factor):
-    E = pi L / 2 (1 - (h^2 + r^2 - b^2) / sqrt((h^2 + r^2 + b^2)^2 - 4 r^2 b^2)), which on the
-    axis is pi L b^2 / (h^2 + b^2)."""
-    s = h * h + r * r
-    root = np.sqrt((s + b * b) ** 2 - 4 * r * r * b * b)
-    return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / root)
 
 
 def test_disk_light_closed_form(glslppm):

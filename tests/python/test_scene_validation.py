@@ -19,13 +19,16 @@ def test_scene_uses_arrays_without_copy(glslppm):
 
 
 @pytest.mark.parametrize("name,kwargs,message", [
-    ("positions dtype", dict(positions=np.zeros((3, 3), np.float64)), "positions: expected dtype float32"),
-    ("positions shape", dict(positions=np.zeros((3, 2), np.float32)), "positions: expected shape (N, 3)"),
+    ("positions dtype", dict(positions=np.zeros((3, 3), np.float64)),
+     "positions: expected dtype float32"),
+    ("positions shape", dict(positions=np.zeros((3, 2), np.float32)),
+     "positions: expected shape (N, 3)"),
     ("indices dtype", dict(indices=np.zeros((1, 3), np.int64)), "indices: expected dtype uint32"),
     ("indices shape", dict(indices=np.zeros((3,), np.uint32)), "indices: expected shape (N, 3)"),
     ("normals shape", dict(normals=np.zeros((3, 4), np.float32)), "normals: expected shape (N, 3)"),
     ("uvs dtype", dict(uvs=np.zeros((3, 2), np.float64)), "uvs: expected dtype float32"),
-    ("material_ids dtype", dict(material_ids=np.zeros((1,), np.int32)), "material_ids: expected dtype uint32"),
+    ("material_ids dtype", dict(material_ids=np.zeros((1,), np.int32)),
+     "material_ids: expected dtype uint32"),
 ])
 def test_wrong_dtype_or_shape_names_the_array(glslppm, name, kwargs, message):
     p, t = triangle()
@@ -39,7 +42,8 @@ def test_wrong_dtype_or_shape_names_the_array(glslppm, name, kwargs, message):
 def test_index_out_of_range_names_the_first_bad_triangle(glslppm):
     p, t = triangle()
     t = np.array([[0, 1, 2], [0, 1, 2], [0, 1, 7], [0, 9, 2]], dtype=np.uint32)
-    with pytest.raises(ValueError, match=r"indices\[2\]: vertex index 7 is out of range \(3 vertices\)"):
+    with pytest.raises(ValueError,
+                       match=r"indices\[2\]: vertex index 7 is out of range \(3 vertices\)"):
         glslppm.Scene(p, t)
 
 
@@ -74,7 +78,8 @@ def test_row_count_mismatch_is_named(glslppm):
 
 def test_material_id_out_of_range(glslppm):
     p, t = triangle()
-    with pytest.raises(ValueError, match=r"material_ids\[0\]: material 3 does not exist \(1 materials\)"):
+    with pytest.raises(ValueError,
+                       match=r"material_ids\[0\]: material 3 does not exist \(1 materials\)"):
         glslppm.Scene(p, t, material_ids=np.array([3], np.uint32), materials=[glslppm.Material()])
 
 

@@ -11,14 +11,8 @@ import math
 import numpy as np
 import pytest
 
+from closed_forms import furnace_scene
 from conftest import look_at, merge, quad, sphere
-
-
-def furnace_scene(g, albedo, emission, rings=24, inward=True):
-    p, t, n = sphere((0.0, 0.0, 0.0), 1.0, rings, 2 * rings, inward=inward)
-    materials = [g.Material("diffuse", color=(albedo,) * 3, emission=(emission,) * 3)]
-    camera = g.Camera(look_at((0, 0, 0), (0, 0, -1)), fov_x=math.radians(90))
-    return g.Scene(p, t, normals=n, materials=materials, camera=camera)
 
 
 @pytest.mark.parametrize("albedo,hash_mode,inward", [
@@ -62,7 +56,8 @@ def test_point_light_over_diffuse_plane(glslppm):
     albedo, power, h = 0.5, 200.0, 1.0
     p, t = quad((-30, 0, -30), (-30, 0, 30), (30, 0, 30), (30, 0, -30))
     light = g.Light("point", power=power, position=(0.0, h, 0.0))
-    camera = g.Camera(look_at((0.0, 4.0, 0.0), (0.0, 0.0, 0.0), up=(0, 0, -1)), fov_x=math.radians(60))
+    camera = g.Camera(look_at((0.0, 4.0, 0.0), (0.0, 0.0, 0.0), up=(0, 0, -1)),
+                      fov_x=math.radians(60))
     size = 48
     scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(albedo,) * 3)], lights=[light],
                     camera=camera)

@@ -1,0 +1,59 @@
+"""Closed forms and reference scenes that several test files check the renderer against:
+a spot light's irradiance, an area light's by brute-force integration, a disk light's in
+closed form, and the closed diffuse furnace."""
+import math
+
+import numpy as np
+
+from conftest import look_at, sphere
+
+
+def spot_expected(x, y, h, power, size, blend, cosine):
+    """Blender's spot: I = P / 4 pi inside the cone, times smoothstep over the blend width
+    (1 - cos(size / 2)) * blend below the cone's edge (Cycles' spot_attenuation)."""
+    d2 = x * x + y * y + h * h
+    cos_t = h / np.sqrt(d2)
+    cos_half = math.cos(size / 2)
+    smooth = (1 - cos_half) * blend
+    s = np.clip((cos_t - cos_half) / smooth, 0.0, 1.0)
+    attenuation = np.where(cos_t > cos_half, s * s * (3 - 2 * s), 0.0)
+    if cosine:
+        attenuation = attenuation * cos_t
+    return power / (4 * math.pi) * attenuation * cos_t / d2
+
+
+def area_irradiance_brute_force(to_world, shape, sx, sy, radiance, points, n=400):
+    """E at plane points below a downward-facing light: sum of L cos cos' / d^2 dA over a
+    fine grid on the shape (the 64-gon's area for disks and ellipses is within 0.2%)."""
+    a, b = sx / 2, (sx if shape in ("square", "disk") else sy) / 2
+    u = (np.arange(n) + 0.5) / n * 2 - 1
+    uu, vv = np.meshgrid(u * a, u * b)
+    keep = np.ones_like(uu, dtype=bool)
+    if shape in ("disk", "ellipse"):
+        keep = (uu / a) ** 2 + (vv / b) ** 2 <= 1.0
+    da = (2 * a / n) * (2 * b / n)
+    q = np.stack([uu[keep], vv[keep], np.zeros(keep.sum())], axis=1) + to_world[:3, 3]
+    out = []
+    for p in points:
+        d = q - p
+        d2 = (d * d).sum(1)
+        cos = d[:, 2] / np.sqrt(d2)  # both normals are vertical
+        out.append(radiance * (cos * cos / d2).sum() * da)
+    return np.array(out)
+
+
+def disk_irradiance(radiance, b, h, r):
+    """Irradiance at distance r from the axis of a disk light of radius b and radiance L,
+    on a plane parallel to it at height h (the standard disk-to-point form factor):
+    E = pi L / 2 (1 - (h^2 + r^2 - b^2) / sqrt((h^2 + r^2 + b^2)^2 - 4 r^2 b^2)), which on the
+    axis is pi L b^2 / (h^2 + b^2)."""
+    s = h * h + r * r
+    root = np.sqrt((s + b * b) ** 2 - 4 * r * r * b * b)
+    return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / root)
+
+
+def furnace_scene(g, albedo, emission, rings=24, inward=True):
+    p, t, n = sphere((0.0, 0.0, 0.0), 1.0, rings, 2 * rings, inward=inward)
+    materials = [g.Material("diffuse", color=(albedo,) * 3, emission=(emission,) * 3)]
+    camera = g.Camera(look_at((0, 0, 0), (0, 0, -1)), fov_x=math.radians(90))
+    return g.Scene(p, t, normals=n, materials=materials, camera=camera)
