@@ -88,6 +88,55 @@ def test_demo_cornell_box_with_glass_and_mirror_spheres_matches_cycles():
     assert errors.max() < 0.09, errors.round(3).tolist()
 
 
+def _box(name, lo, hi, material):
+    """An axis-aligned box of six outward quads."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    vertices = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
+                (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (3, 0, 4, 7)]
+    return helpers.add_mesh_object(name, vertices, faces, material=material)
+
+
+def test_cornell_box_with_boxes_matches_cycles_in_both_direct_light_modes():
+    """Two boxes under the ceiling's area light cast hard-edged, penumbra-graded shadows:
+    light sampling (the default) and photons alone against one Cycles render, on an 8x8
+    grid of regions, so that the shadows' shapes count. Measured under 3.4: sampled mean
+    2.1% / worst region 8.7%, photons 3.9% / 16.8% (the gather radius blurs the shadow
+    edges). An 8x8-pixel region holds 32k Cycles samples, whose noise and the light's
+    one-pixel sliver keep these bounds at 3.5% / 13% (sampled) and 5.5% / 22% (photons):
+    too loose for a 1% bias, which the closed-form module tests catch; here the shadows'
+    placement is what is tested, and that light sampling is the closer of the two."""
+    helpers.reset_scene(size=(64, 64))
+    _scenes_module().build_cornell_box(glass=False, mirror=False)
+    bpy.data.objects["CeilingLight"].visible_camera = False
+    white = bpy.data.materials["White"]
+    _box("ShortBox", (-0.65, -0.55, 0.0), (-0.05, 0.05, 0.6), white)
+    _box("TallBox", (0.1, 0.15, 0.0), (0.7, 0.75, 1.2), white)
+    scene = bpy.context.scene
+    results = {}
+    for mode in ('SAMPLED', 'PHOTONS'):
+        scene.glslppm.direct_light = mode
+        helpers.load_native()
+        scene.glslppm.passes = 128
+        scene.glslppm.photons_per_pass = 32768
+        results[mode] = helpers.render_image(f"cornell_boxes_{mode.lower()}", 'GLSLPPM')
+    helpers.setup_cycles(samples=512)
+    reference = helpers.render_image("cornell_boxes_cycles", 'CYCLES')
+    scene.render.engine = 'GLSLPPM'
+    scene.glslppm.direct_light = 'SAMPLED'
+    bounds = {'SAMPLED': (0.035, 0.13), 'PHOTONS': (0.055, 0.22)}
+    means = {}
+    for mode, image in results.items():
+        errors, a, b = _relative_errors(image, reference, 8)
+        print(f"  cornell with boxes, {mode.lower()}: region errors mean {errors.mean():.4f} "
+              f"max {errors.max():.4f}")
+        mean_bound, max_bound = bounds[mode]
+        means[mode] = errors.mean()
+        assert errors.mean() < mean_bound, (mode, errors.mean())
+        assert errors.max() < max_bound, (mode, errors.round(3).tolist())
+    assert means['SAMPLED'] < means['PHOTONS'], means
+
+
 def _floor_under_light(kind, energy, **settings):
     """A white diffuse floor (albedo 0.8) lit from 3 m above, seen from below the light
     (lights are hidden from the camera by default, in both renderers)."""
