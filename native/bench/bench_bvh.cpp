@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "bvh/packed_bvh.h"
+#include "bench/bench_scene.h"
 #include "bvh/procedural_mesh.h"
 #include "bvh/traverse_cpu.h"
 
@@ -70,15 +71,15 @@ int bench_bvh(int argc, char** argv) {
         const std::string_view arg = argv[i];
         const bool has_value = i + 1 < argc;
         if (arg == "--triangles" && has_value)
-            triangles = std::strtoull(argv[++i], nullptr, 10);
+            triangles = static_cast<std::size_t>(option_integer(std::string(arg), argc, argv, i));
         else if (arg == "--leaf-size" && has_value)
-            options.leaf_size = std::atoi(argv[++i]);
+            options.leaf_size = static_cast<int>(option_integer(std::string(arg), argc, argv, i));
         else if (arg == "--bins" && has_value)
-            options.bins = std::atoi(argv[++i]);
+            options.bins = static_cast<int>(option_integer(std::string(arg), argc, argv, i));
         else if (arg == "--order-count" && has_value)
-            order_count = std::atoi(argv[++i]);
+            order_count = static_cast<int>(option_integer(std::string(arg), argc, argv, i));
         else if (arg == "--rays" && has_value)
-            rays = std::strtoull(argv[++i], nullptr, 10);
+            rays = static_cast<std::size_t>(option_integer(std::string(arg), argc, argv, i));
         else if (arg == "--serial")
             options.parallel = false;
         else if (arg == "--json")

@@ -309,15 +309,15 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
         if (a == "--scene")
             o.scene = v;
         else if (a == "--width")
-            o.width = std::atoi(v.c_str());
+            o.width = static_cast<int>(parse_integer(a, v));
         else if (a == "--height")
-            o.height = std::atoi(v.c_str());
+            o.height = static_cast<int>(parse_integer(a, v));
         else if (a == "--size")
-            o.width = o.height = std::atoi(v.c_str());
+            o.width = o.height = static_cast<int>(parse_integer(a, v));
         else if (a == "--passes")
             o.passes = static_cast<int>(parse_count(v));
         else if (a == "--fit-from")
-            o.fit_from = std::atoi(v.c_str());
+            o.fit_from = static_cast<int>(parse_integer(a, v));
         else if (a == "--alpha")
             o.alphas = parse_list<float>(v, parse_alpha);
         else if (a == "--photons")
@@ -342,7 +342,7 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
         else if (a == "--cross-check")
             o.cross_check = v;
         else if (a == "--device")
-            o.device = std::atoi(v.c_str());
+            o.device = static_cast<int>(parse_integer(a, v));
         else
             return false;
     }

@@ -26,7 +26,7 @@ int bench_long_run(int argc, char** argv) {
     long long total = 200000;
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+        auto next = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
         if (a == "--passes") total = static_cast<long long>(next());
         else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(next());
         else if (a == "--width") settings.width = settings.height = static_cast<int>(next());

@@ -1,6 +1,7 @@
 // glslppm-bench: dispatches to one benchmark by name (argv[1]).
 #include <cstdio>
 #include <cstring>
+#include <exception>
 
 int bench_bvh(int argc, char** argv);
 int bench_rng(int argc, char** argv);
@@ -10,7 +11,17 @@ int bench_converge(int argc, char** argv);
 int bench_specialization(int argc, char** argv);
 int bench_long_run(int argc, char** argv);
 
-int main(int argc, char** argv) {
+namespace {
+
+void usage(std::FILE* out);
+
+// The subcommand's own exit status; a bad option or any other error is one line naming it
+// and exit status 2 (never an abort).
+int dispatch(int argc, char** argv) {
+    if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+        usage(stdout);
+        return 0;
+    }
     if (argc >= 2 && std::strcmp(argv[1], "bvh") == 0) return bench_bvh(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "rng") == 0) return bench_rng(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "passes") == 0) return bench_passes(argc - 2, argv + 2);
@@ -19,7 +30,12 @@ int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "specialize") == 0)
         return bench_specialization(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "longrun") == 0) return bench_long_run(argc - 2, argv + 2);
-    std::fprintf(stderr, "usage: glslppm-bench bvh --triangles N [--leaf-size K] "
+    usage(stderr);
+    return 2;
+}
+
+void usage(std::FILE* out) {
+    std::fprintf(out, "usage: glslppm-bench bvh --triangles N [--leaf-size K] "
                          "[--order-count 6|1] [--json]\n"
                          "       glslppm-bench rng --generator paper|pcg [--json] ...\n"
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
@@ -36,5 +52,15 @@ int main(int argc, char** argv) {
                          "  scenes: cornell, cornell-diffuse, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
                          "file\n");
-    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return dispatch(argc, argv);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glslppm-bench %s: %s\n", argc >= 2 ? argv[1] : "", e.what());
+        return 2;
+    }
 }

@@ -392,18 +392,18 @@ bool parse(int argc, char** argv, RaysOptions& o) {
         else if (a == "--rays" && has)
             o.rays = parse_count(argv[++i]);
         else if (a == "--batches" && has)
-            o.batches = std::atoi(argv[++i]);
+            o.batches = static_cast<int>(option_integer(a, argc, argv, i));
         else if (a == "--repeat" && has)
-            o.repeat = std::atoi(argv[++i]);
+            o.repeat = static_cast<int>(option_integer(a, argc, argv, i));
         else if ((a == "--scenes" || a == "--scene") && has)
             o.scenes = split(argv[++i]);
         else if (a == "--check" && has)
             o.checked = parse_count(argv[++i]);
         else if (a == "--device" && has)
-            o.device = std::atoi(argv[++i]);
+            o.device = static_cast<int>(option_integer(a, argc, argv, i));
         else if (a == "--leaf" && has) {
             o.leaves.clear();
-            for (const std::string& s : split(argv[++i])) o.leaves.push_back(std::atoi(s.c_str()));
+            for (const std::string& s : split(argv[++i])) o.leaves.push_back(static_cast<int>(parse_integer("--leaf", s)));
         } else if (a == "--layout" && has) {
             o.layouts.clear();
             for (const std::string& s : split(argv[++i])) {

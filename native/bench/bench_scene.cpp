@@ -113,12 +113,41 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
                                 "or a .gltf/.glb/.obj file");
 }
 
+double parse_number(const std::string& option, const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+        throw std::invalid_argument(option + ": '" + text + "' is not a number");
+    return v;
+}
+
+long long parse_integer(const std::string& option, const std::string& text) {
+    const double v = parse_number(option, text);
+    if (v != std::floor(v) || std::fabs(v) > 9.0e15)
+        throw std::invalid_argument(option + ": '" + text + "' is not a whole number");
+    return static_cast<long long>(v);
+}
+
+namespace {
+std::string option_value(const std::string& option, int argc, char** argv, int& i) {
+    if (i + 1 >= argc) throw std::invalid_argument(option + " needs a value");
+    return argv[++i];
+}
+}  // namespace
+
+double option_number(const std::string& option, int argc, char** argv, int& i) {
+    return parse_number(option, option_value(option, argc, argv, i));
+}
+
+long long option_integer(const std::string& option, int argc, char** argv, int& i) {
+    return parse_integer(option, option_value(option, argc, argv, i));
+}
+
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
                          std::string& scene_spec) {
     const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto number = [&] { return has_value ? std::atof(argv[++i]) : 0.0; };
-    auto text = [&] { return std::string(has_value ? argv[++i] : ""); };
+    auto number = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
+    auto text = [&] { return option_value(a, argc, argv, i); };
     if (a == "--width") settings.width = static_cast<int>(number());
     else if (a == "--height") settings.height = static_cast<int>(number());
     else if (a == "--photons") settings.photons_per_pass = static_cast<std::uint32_t>(number());
@@ -126,7 +155,7 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     else if (a == "--rng") settings.rng = parse_rng_kind(text());
     else if (a == "--direct") settings.direct_light = parse_direct_light(text());
     else if (a == "--device") settings.device = static_cast<int>(number());
-    else if (a == "--scene" && has_value) scene_spec = text();
+    else if (a == "--scene") scene_spec = text();
     else return false;
     return true;
 }

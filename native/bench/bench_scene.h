@@ -25,6 +25,14 @@ double furnace_radiance(int max_depth);
 // "1000", "100k", "4M" -> a count; throws std::invalid_argument otherwise.
 std::size_t parse_count(const std::string& text);
 
+// Strict numbers for the benchmarks' options: the whole text must be a finite number (an
+// integer where one is asked for), else std::invalid_argument naming the option, never a
+// silent 0. option_* read argv[i + 1] and advance i past it.
+double parse_number(const std::string& option, const std::string& text);
+long long parse_integer(const std::string& option, const std::string& text);
+double option_number(const std::string& option, int argc, char** argv, int& i);
+long long option_integer(const std::string& option, int argc, char** argv, int& i);
+
 // Reads one option that every end-to-end benchmark shares (--width, --height, --photons,
 // --hash, --rng, --direct, --device, --scene) at argv[i], advancing i past its value; false when
 // argv[i] is none of them.

@@ -23,7 +23,7 @@ int bench_specialization(int argc, char** argv) {
     std::string scene_spec = "cornell-diffuse";
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+        auto next = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
         if (parse_render_option(argc, argv, i, settings, scene_spec)) continue;
         if (a == "--passes") passes = static_cast<int>(next());
         else if (a == "--rounds") rounds = static_cast<int>(next());

@@ -51,3 +51,29 @@ def test_exr_round_trip(glslppm, tmp_path):
     back, header = glslppm.read_exr(str(tmp_path / "a.exr"))
     assert np.array_equal(back, rgba)
     assert header == {"note": "x"}
+
+
+BENCH = os.path.join(BUILD, "glslppm-bench")
+
+
+def test_bad_numbers_are_errors_naming_the_option():
+    """The CLI and every benchmark read numbers strictly: a bad one is a failing exit status
+    (2 for the benchmarks) and a line naming the option, never a silent 0; --help prints the
+    usage and exits 0."""
+    cases = [
+        ([RENDER, "--width", "12x"], "--width: '12x' is not a number"),
+        ([BENCH, "passes", "--passes", "1x"], "--passes: '1x' is not a number"),
+        ([BENCH, "passes", "--width", "abc"], "--width: 'abc' is not a number"),
+        ([BENCH, "bvh", "--triangles", "1e3x"], "--triangles: '1e3x' is not a number"),
+        ([BENCH, "rays", "--batches", "two"], "--batches: 'two' is not a number"),
+        ([BENCH, "longrun", "--passes", "0.5"], "--passes: '0.5' is not a whole number"),
+        ([BENCH, "converge", "--size", "12q"], "--size: '12q' is not a number"),
+        ([BENCH, "specialize", "--rounds"], "--rounds needs a value"),
+    ]
+    for command, message in cases:
+        result = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        assert result.returncode == (2 if command[0] == BENCH else 1), (command, result)
+        assert message in result.stderr, (command, result.stderr)
+    for command in ([RENDER, "--help"], [BENCH, "--help"]):
+        result = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        assert result.returncode == 0 and result.stdout.startswith("usage:"), command
