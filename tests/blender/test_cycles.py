@@ -334,3 +334,46 @@ def test_image_texture_base_colour_matches_cycles():
     print(f"  texture: region errors mean {errors.mean():.3f} max {errors.max():.3f}")
     assert errors.max() < 0.04, (errors.round(3).tolist(), a.round(4).tolist(),
                                  b.round(4).tolist())
+
+
+def test_default_cube_matches_cycles_once_its_material_is_diffuse():
+    """Blender's default scene (cube, point light, camera) was 2-4% darker than Cycles. With
+    light sampling that stays 2% (measured 0.980 under 3.4), so it is not the gather
+    radius; with the cube's Principled BSDF replaced by a Diffuse BSDF of the same colour
+    the image matches Cycles to 0.04% (photons alone: 0.3%). The rest is Principled's
+    specular layer, which the material model does not have yet: the bound below is 1%, on
+    the diffuse cube, and the Principled cube's ratio is printed."""
+    helpers.reset_scene(size=(96, 54))
+    scene = bpy.context.scene
+    # Blender's startup file, as it stands: a 2 m cube with the default Principled BSDF, a
+    # 1000 W point light of radius 0.1, a 50 mm camera and a grey world.
+    material = bpy.data.materials.new("Material")
+    material.use_nodes = True
+    h = 1.0
+    corners = [(x, y, z) for z in (-h, h) for y in (-h, h) for x in (-h, h)]
+    faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    helpers.add_mesh_object("Cube", corners, faces, material=material)
+    helpers.add_light('POINT', 1000.0, location=(4.0762, 1.0055, 5.9039), shadow_soft_size=0.1)
+    helpers.add_camera((7.3589, -6.9258, 4.9583),
+                       (math.radians(63.559), 0.0, math.radians(46.692)), lens=50.0)
+    helpers.set_world((0.0508, 0.0508, 0.0508), 1.0)
+    scene.glslppm.passes = 128
+    scene.glslppm.photons_per_pass = 65536
+    helpers.load_native()
+    principled = helpers.render_image("default_cube_glslppm", 'GLSLPPM')
+    helpers.setup_cycles(samples=512)
+    principled_cycles = helpers.render_image("default_cube_cycles", 'CYCLES')
+    tree = bpy.data.materials["Material"].node_tree
+    for node in [n for n in tree.nodes if n.type == 'BSDF_PRINCIPLED']:
+        tree.nodes.remove(node)
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    output = next(n for n in tree.nodes if n.type == 'OUTPUT_MATERIAL')
+    tree.links.new(diffuse.outputs[0], output.inputs["Surface"])
+    diffuse_cycles = helpers.render_image("diffuse_cube_cycles", 'CYCLES')
+    scene.render.engine = 'GLSLPPM'
+    diffuse_ours = helpers.render_image("diffuse_cube_glslppm", 'GLSLPPM')
+    ratios = [np.nanmean(a[..., :3]) / np.nanmean(b[..., :3])
+              for a, b in ((principled, principled_cycles), (diffuse_ours, diffuse_cycles))]
+    print(f"  default cube / Cycles: Principled {ratios[0]:.4f}, Diffuse {ratios[1]:.4f}")
+    assert abs(ratios[1] - 1.0) < 0.01, ratios
