@@ -1,0 +1,262 @@
+// The GPU pipeline of one Renderer (native/render/renderer.h keeps it behind a pointer): the
+// GL thread, the compiled stage programs and every buffer, and a pass as its named stages
+// (run_pass: eye trace, photon trace, hash, gather, end of pass). Only renderer.cpp includes
+// this file.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+
+#include "bvh/packed_bvh.h"
+#include "gl/gl_thread.h"
+#include "gl/object_counts.h"
+#include "gl/shader_program.h"
+#include "render/emitters.h"
+#include "render/gpu_layout.h"
+#include "render/renderer.h"
+#include "render/texture_atlas.h"
+#include "scene/cancel.h"
+
+namespace glslppm {
+namespace pipeline_detail {
+
+constexpr GLuint kLocalSize = 64;
+
+// One 32-bit hash of the seed, pass and stage for the PCG generator's per-dispatch seed.
+inline std::uint32_t mix_seed(std::uint64_t seed, std::uint64_t pass, std::uint32_t stage) {
+    std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + pass * 0xBF58476D1CE4E5B9ull + stage;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::uint32_t>(z ^ (z >> 31));
+}
+
+}  // namespace pipeline_detail
+
+using pipeline_detail::kLocalSize;
+using pipeline_detail::mix_seed;
+
+struct Renderer::Gpu {
+    std::unique_ptr<gl::GlThread> thread;
+    RenderSettings settings;
+    PackedBvh bvh;
+    EmitterTable emitters;
+    SceneBounds bounds;
+    FrameBlock frame{};
+    gl::Defines defines;
+    std::string variant;
+    std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
+    std::uint64_t passes = 0;
+    double seconds = 0.0;
+    std::atomic<bool> cancel{false};
+    const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
+    float initial_radius = 0.0f;
+    std::size_t gpu_bytes = 0;
+
+    GLuint ubo = 0;
+    GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling
+    double stage_seconds[4] = {0, 0, 0, 0};
+    std::vector<GLuint> buffers;  // every SSBO, deleted together
+    GLuint atlases[2] = {0, 0};   // sRGB8 and float array textures
+    std::vector<std::string> warnings;
+    int programs_compiled = 0, programs_reused = 0;
+    double compile_seconds = 0.0;
+    GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
+
+    const gl::ComputeProgram* eye = nullptr;
+    const gl::ComputeProgram* photon = nullptr;
+    const gl::ComputeProgram* hash_a = nullptr;   // insert / count
+    const gl::ComputeProgram* hash_b = nullptr;   // winner / scatter
+    const gl::ComputeProgram* scan[3] = {nullptr, nullptr, nullptr};
+    const gl::ComputeProgram* gather = nullptr;
+    const gl::ComputeProgram* end_pass = nullptr;
+    const gl::ComputeProgram* resolve = nullptr;
+    const gl::ComputeProgram* radius_reduce = nullptr;
+
+    // Before anything is allocated for it: a buffer larger than the driver allows is an
+    // error that says what to lower (llvmpipe allows 128 MiB).
+    static void require_fits(std::size_t bytes, const char* what) {
+        GLint64 largest = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
+        if (largest > 0 && bytes > static_cast<std::size_t>(largest))
+            throw gl::GlError(std::string(what) + " needs " + std::to_string(bytes >> 20) +
+                              " MiB, more than this GPU's largest storage buffer (" +
+                              std::to_string(largest >> 20) +
+                              " MiB): lower the resolution or the photons per pass");
+    }
+
+    GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {
+        throw_if_cancelled(setup_cancel);  // large uploads take a while on llvmpipe
+        GLuint id = 0;
+        glGenBuffers(1, &id);
+        gl::count_gl_objects(gl::GlObject::Buffer, 1);
+        buffers.push_back(id);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
+        while (glGetError() != GL_NO_ERROR) {
+        }
+        require_fits(bytes, what);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
+                     data, GL_DYNAMIC_COPY);
+        if (glGetError() == GL_OUT_OF_MEMORY)
+            throw gl::GlError("out of GPU memory allocating " + std::string(what) + " (" +
+                              std::to_string(bytes >> 20) + " MiB): lower the resolution or "
+                              "the photons per pass");
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id);
+        gpu_bytes += bytes;
+        return id;
+    }
+
+    void release() {
+        if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
+        gl::count_gl_objects(gl::GlObject::Buffer, -static_cast<std::int64_t>(buffers.size()));
+        buffers.clear();
+        if (ubo) {
+            glDeleteBuffers(1, &ubo);
+            gl::count_gl_objects(gl::GlObject::Buffer, -1);
+        }
+        ubo = 0;
+        if (queries[0]) {
+            glDeleteQueries(5, queries);
+            gl::count_gl_objects(gl::GlObject::Query, -5);
+        }
+        queries[0] = 0;
+        if (atlases[0]) {
+            glDeleteTextures(2, atlases);
+            gl::count_gl_objects(gl::GlObject::Texture, -2);
+        }
+        atlases[0] = atlases[1] = 0;
+    }
+
+    // The images as two array textures on units 0 (sRGB8) and 1 (float); 1x1 placeholders
+    // when a kind is absent, so that every sampler is complete.
+    void upload_atlas(const TextureAtlas& atlas) {
+        glGenTextures(2, atlases);
+        gl::count_gl_objects(gl::GlObject::Texture, 2);
+        for (int e = 0; e < 2; ++e) {
+            const bool has = atlas.layers[e] > 0;
+            const glm::ivec2 size = has ? atlas.layer_size[e] : glm::ivec2(1);
+            const int layers = has ? atlas.layers[e] : 1;
+            glActiveTexture(GL_TEXTURE0 + e);
+            glBindTexture(GL_TEXTURE_2D_ARRAY, atlases[e]);
+            while (glGetError() != GL_NO_ERROR) {
+            }
+            glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, e == 0 ? GL_SRGB8_ALPHA8 : GL_RGBA32F, size.x,
+                           size.y, layers);
+            if (glGetError() != GL_NO_ERROR)
+                throw gl::GlError("out of GPU memory for the scene's images (" +
+                                  std::to_string(layers) + " layers of " + std::to_string(size.x) +
+                                  "x" + std::to_string(size.y) + "): use fewer or smaller images");
+            glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            if (has) {
+                glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+                glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, size.x, size.y, layers, GL_RGBA,
+                                e == 0 ? GL_UNSIGNED_BYTE : GL_FLOAT,
+                                e == 0 ? static_cast<const void*>(atlas.srgb8.data())
+                                       : static_cast<const void*>(atlas.linear.data()));
+                gpu_bytes += std::size_t(size.x) * size.y * layers * (e == 0 ? 4 : 16);
+            }
+        }
+        glActiveTexture(GL_TEXTURE0);
+    }
+
+    void dispatch(const gl::ComputeProgram& program, std::uint32_t threads) {
+        program.use();
+        const std::uint32_t groups = (threads + kLocalSize - 1) / kLocalSize;
+        if (groups <= 65535u) {
+            glDispatchCompute(std::max(groups, 1u), 1, 1);
+        } else {
+            const std::uint32_t x = 32768u;
+            glDispatchCompute(x, (groups + x - 1) / x, 1);
+        }
+    }
+
+    void set_rng_seed(const gl::ComputeProgram& program, std::uint32_t stage) {
+        const GLint location = program.uniform("u_rng_seed");
+        if (location >= 0) {
+            program.use();
+            glUniform1ui(location, mix_seed(settings.seed, passes, stage));
+        }
+    }
+
+    void upload_frame() {
+        glBindBuffer(GL_UNIFORM_BUFFER, ubo);
+        glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameBlock), &frame);
+    }
+
+    void mark(int stage) {
+        if (settings.profile) glQueryCounter(queries[stage], GL_TIMESTAMP);
+    }
+
+    void run_pass() {
+        const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
+        frame.pass_index = static_cast<std::uint32_t>(passes);
+        upload_frame();
+
+        mark(0);
+        set_rng_seed(*eye, 0);
+        dispatch(*eye, pixels);
+        if (settings.profile) glMemoryBarrier(ssbo);
+        mark(1);
+        set_rng_seed(*photon, 1);
+        dispatch(*photon, photon_threads);
+        glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+        mark(2);
+
+        // Empty cells: key "infinite", no photons.
+        const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
+        const GLuint empty_exact[4] = {0u, 0u, 0u, 0u};
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, hash);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                          settings.hash == HashMode::Exact ? empty_exact : empty_stochastic);
+        glMemoryBarrier(ssbo);
+        dispatch(*hash_a, photon_threads);
+        glMemoryBarrier(ssbo);
+        if (settings.hash == HashMode::Exact) {
+            const std::uint32_t blocks = hash_cells / 1024u;
+            scan[0]->use();
+            glDispatchCompute(blocks, 1, 1);
+            glMemoryBarrier(ssbo);
+            scan[1]->use();
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(ssbo);
+            scan[2]->use();
+            glDispatchCompute(blocks, 1, 1);
+            glMemoryBarrier(ssbo);
+        }
+        dispatch(*hash_b, photon_threads);
+        glMemoryBarrier(ssbo);
+        mark(3);
+        dispatch(*gather, pixels);
+        glMemoryBarrier(ssbo);
+        end_pass->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(ssbo);
+        mark(4);
+        ++passes;
+        if (settings.profile) {
+            GLuint64 t[5];
+            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
+            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+        }
+    }
+
+    Counters read_counters() {
+        Counters c{};
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(Counters), &c);
+        return c;
+    }
+
+    static std::uint64_t total(std::uint32_t lo, std::uint32_t hi) {
+        return (static_cast<std::uint64_t>(hi) << 32) | lo;
+    }
+};
+
+}  // namespace glslppm

@@ -1,0 +1,257 @@
+#include "render/scene_preparation.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "bvh/traverse_cpu.h"
+#include "scene/scene_validation.h"
+
+namespace glslppm {
+namespace {
+
+std::uint32_t next_power_of_two(std::uint64_t v) {
+    std::uint64_t p = 1;
+    while (p < v) p <<= 1;
+    return static_cast<std::uint32_t>(p);
+}
+
+// A texture without uvs is a warning; indices were checked by validate_scene.
+TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
+                       std::vector<std::string>& warnings) {
+    TextureUse use;
+    use.used.assign(scene.textures.size(), false);
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+        const int t = scene.materials[k].color_texture;
+        if (t < 0) continue;  // indices were checked by validate_scene
+        if (geometry.mesh.uvs.empty()) {
+            warnings.push_back("materials[" + std::to_string(k) + "] has a texture but the mesh "
+                               "has no uvs: its colour is used instead");
+            continue;
+        }
+        use.used[static_cast<std::size_t>(t)] = true;
+        use.materials = true;
+    }
+    if (scene.environment_texture >= 0) {
+        use.used[static_cast<std::size_t>(scene.environment_texture)] = true;
+        use.environment = true;
+    }
+    return use;
+}
+
+}  // namespace
+
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
+                            unsigned local_size, const CancelFlag* cancel) {
+    validate(settings);
+    validate_scene(scene);
+    PreparedScene p;
+    // Area lights join the geometry; textures count only where the mesh has uvs for them.
+    p.geometry = with_area_lights(scene);
+    SceneGeometry& geometry = p.geometry;
+    p.textures = texture_use(scene, geometry, p.warnings);
+    const TextureUse& use = p.textures;
+    if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
+    const ValidMesh mesh =
+        validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
+    if (mesh.kept.empty())
+        throw SceneError("the scene has no geometry: nothing to render (" +
+                         std::to_string(mesh.stats.degenerate_dropped) +
+                         " degenerate triangles dropped)");
+    BvhBuildOptions options;
+    options.leaf_size = settings.leaf_size;
+    options.cancel = cancel;
+    p.bvh = build_packed_bvh(mesh, options, 6);
+    p.bounds = scene_bounds(p.bvh);
+    // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
+    // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
+    const double extent = glm::length(glm::dvec3(p.bounds.hi) - glm::dvec3(p.bounds.lo));
+    if (!(extent >= 1e-14 && extent <= 1e11)) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%.3g", extent);
+        throw SceneError(std::string("the scene is ") + size +
+                         " units across, outside the 1e-14 to 1e11 that 32-bit floats "
+                         "render: scale it (Blender: the objects or the unit scale)");
+    }
+    if (use.environment) {
+        p.environment = std::make_unique<EnvironmentMap>(build_environment_map(
+            scene.textures[static_cast<std::size_t>(scene.environment_texture)],
+            scene.environment));
+    }
+    throw_if_cancelled(cancel);
+    p.emitters = build_emitters(scene, geometry.materials, p.bvh, p.bounds, p.environment.get());
+    throw_if_cancelled(cancel);
+
+    // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
+    // scene requires").
+    bool conductor = false, dielectric = false;
+    for (std::uint32_t t = 0; t < p.bvh.triangle_count; ++t) {
+        const auto kind = geometry.materials[static_cast<std::size_t>(
+                                              std::bit_cast<int>(p.bvh.triangles[3 * t].w))]
+                              .kind;
+        conductor |= kind == MaterialKind::Conductor;
+        dielectric |= kind == MaterialKind::Dielectric;
+    }
+    std::vector<std::string> features;
+    auto feature = [&](bool on, const char* define, const char* name) {
+        if (!on && !settings.full_variant) return;
+        p.defines.push_back({define, "1"});
+        features.push_back(name);
+    };
+    feature(!p.bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
+            "HAS_DEPTH_OF_FIELD", "depth-of-field");
+    feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
+    feature(conductor, "HAS_CONDUCTOR", "conductor");
+    feature(dielectric, "HAS_DIELECTRIC", "dielectric");
+    feature(p.emitters.has[0], "HAS_TRIANGLE_EMITTERS", "area-lights");
+    feature(p.emitters.has[1], "HAS_POINT_LIGHTS", "point-lights");
+    feature(p.emitters.has[2], "HAS_SPOT_LIGHTS", "spot-lights");
+    feature(p.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
+    feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
+            "environment");
+    feature(use.materials, "HAS_TEXTURES", "textures");
+    feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
+    // Not features but outputs: the full variant leaves them as the settings say.
+    if (settings.transparent) {
+        p.defines.push_back({"FILM_TRANSPARENT", "1"});
+        features.push_back("transparent");
+        if (settings.transparent_glass) {
+            p.defines.push_back({"FILM_TRANSPARENT_GLASS", "1"});
+            features.push_back("transparent-glass");
+        }
+    }
+    // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
+    // only when asked for; its shadow rays skip the surfaces that cast no shadow (area lights,
+    // objects with shadow visibility off) where the scene has them.
+    if (settings.direct_light == DirectLight::Sampled) {
+        p.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
+        bool shadowless = settings.full_variant;
+        for (std::uint32_t flags : geometry.flags)
+            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow)) != 0;
+        if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
+    }
+    p.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
+    p.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
+    p.defines.push_back({"LOCAL_SIZE", std::to_string(local_size) + "u"});
+    p.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
+    features.push_back("rng=" + to_string(settings.rng));
+    features.push_back("hash=" + to_string(settings.hash));
+    features.push_back("direct=" + to_string(settings.direct_light));
+    for (const std::string& f : features) p.variant += (p.variant.empty() ? "" : ",") + f;
+
+    // Sizes and the frame constants.
+    p.pixels = static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
+    p.photon_threads = settings.photons_per_pass;
+    p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
+    const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
+    const Camera& cam = scene.camera;
+    // The whole frame (larger than the image when the image is a render region).
+    const bool region = cam.full_width > 0;
+    if (region && (cam.region_x + settings.width > cam.full_width ||
+                   cam.region_y + settings.height > cam.full_height))
+        throw std::invalid_argument("camera region: the image (" +
+                                    std::to_string(settings.width) + "x" +
+                                    std::to_string(settings.height) + " at " +
+                                    std::to_string(cam.region_x) + ", " +
+                                    std::to_string(cam.region_y) + ") does not fit in the " +
+                                    std::to_string(cam.full_width) + "x" +
+                                    std::to_string(cam.full_height) + " frame");
+    const int frame_width = region ? cam.full_width : settings.width;
+    const int frame_height = region ? cam.full_height : settings.height;
+    // The film's height over its width; pixels may be non-square.
+    const float aspect = static_cast<float>(frame_height) * cam.pixel_aspect /
+                         static_cast<float>(frame_width);
+    const bool wide = static_cast<float>(frame_width) >=
+                      static_cast<float>(frame_height) * cam.pixel_aspect;
+    const float tan_x = std::tan(0.5f * cam.fov_x);
+    const float tan_larger = wide ? tan_x : tan_x * aspect;
+    FrameBlock& f = p.frame;
+    f.camera_to_world = cam.to_world;
+    glm::vec2 half_extent, shift;
+    if (cam.projection == Projection::Orthographic) {
+        // Blender's ortho_scale spans the larger image side.
+        const float half_larger = 0.5f * cam.ortho_scale;
+        const float half_x = wide ? half_larger : half_larger / aspect;
+        half_extent = glm::vec2(half_x, half_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * half_larger, 2.0f * cam.shift_y * half_larger);
+    } else {
+        half_extent = glm::vec2(tan_x, tan_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
+    }
+    if (region) {
+        // The window's half extent and centre in the frame's film coordinates ([-1, 1],
+        // y up, row 0 at the top).
+        const glm::vec2 frame(frame_width, frame_height);
+        const glm::vec2 size(settings.width, settings.height);
+        const glm::vec2 corner(cam.region_x, cam.region_y);
+        const glm::vec2 centre((2.0f * corner.x + size.x) / frame.x - 1.0f,
+                               1.0f - (2.0f * corner.y + size.y) / frame.y);
+        shift = shift + half_extent * centre;
+        half_extent = half_extent * size / frame;
+    }
+    f.film_half_extent = half_extent;
+    f.film_shift = shift;
+    f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
+    f.aperture_radius = cam.aperture_radius;
+    f.focus_distance = cam.focus_distance;
+    f.scene_lo = p.bounds.lo;
+    f.ray_offset_floor = 1e-3f * diagonal;
+    f.scene_center = p.bounds.center();
+    f.scene_radius = p.bounds.radius();
+    f.world_radiance = scene.environment;
+    f.environment_from_world = glm::mat4(glm::transpose(scene.environment_to_world));
+    if (p.environment) {
+        f.environment_texture = scene.environment_texture;
+        f.environment_cdf_width = p.environment->width;
+        f.environment_cdf_height = p.environment->height;
+    }
+    f.image_width = static_cast<std::uint32_t>(settings.width);
+    f.image_height = static_cast<std::uint32_t>(settings.height);
+    f.photon_threads = p.photon_threads;
+    f.hash_cell_count = p.hash_cells;
+    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
+    // Automatic radius: two pixel footprints at the distance of what the camera sees (the
+    // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
+    // scene's diagonal.
+    float radius = settings.initial_radius;
+    if (radius <= 0.0f) {
+        const glm::vec3 eye(cam.to_world[3]);
+        std::vector<float> distances;
+        for (int j = 0; j < 5; ++j) {
+            for (int i = 0; i < 5; ++i) {
+                const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
+                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
+                const bool ortho = cam.projection == Projection::Orthographic;
+                const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
+                const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
+                Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
+                        glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
+                const Hit hit = closest_hit(p.bvh, ray);
+                if (hit.triangle >= 0) distances.push_back(hit.t);
+            }
+        }
+        float distance = glm::length(p.bounds.center() - eye);
+        if (!distances.empty()) {
+            std::nth_element(distances.begin(), distances.begin() + distances.size() / 2,
+                             distances.end());
+            distance = distances[distances.size() / 2];
+        }
+        const float footprint =
+            cam.projection == Projection::Orthographic
+                ? cam.ortho_scale / static_cast<float>(std::max(frame_width, frame_height))
+                : 2.0f * distance * tan_x / static_cast<float>(frame_width);
+        radius = std::min(2.0f * footprint, 0.05f * diagonal);
+        if (!(radius > 0.0f)) radius = 0.01f * diagonal;
+        radius *= settings.radius_scale;
+    }
+    p.initial_radius = radius;
+    f.sppm_alpha = settings.alpha;
+    f.radius_floor = 1e-5f * diagonal;
+    return p;
+}
+
+}  // namespace glslppm

@@ -1,0 +1,53 @@
+// The scene's preparation for the GPU, done on the CPU without GL: validation, the geometry
+// with its area lights, the MTBVH, the emitter table and the environment's distribution, the
+// feature set the programs are specialized for, the camera's Frame and the automatic
+// radius. The Renderer uploads what this returns; GoogleTest checks it without EGL
+// (tests/native/scene_preparation_test.cpp).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bvh/packed_bvh.h"
+#include "render/area_lights.h"
+#include "render/emitters.h"
+#include "render/environment_map.h"
+#include "render/gpu_layout.h"
+#include "render/settings.h"
+#include "scene/cancel.h"
+#include "scene/scene.h"
+
+namespace glslppm {
+
+// Which images the render needs: base-colour textures of materials on triangles that have
+// uvs, and the environment map.
+struct TextureUse {
+    bool materials = false, environment = false;
+    std::vector<bool> used;  // per scene texture
+};
+
+struct PreparedScene {
+    SceneGeometry geometry;  // the scene's mesh and materials, area lights appended
+    TextureUse textures;
+    PackedBvh bvh;
+    SceneBounds bounds;
+    std::unique_ptr<EnvironmentMap> environment;  // null without an environment map
+    EmitterTable emitters;
+    // The programs' #defines and the variant's name (stats()["variant"]).
+    std::vector<std::pair<std::string, std::string>> defines;
+    std::string variant;
+    std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
+    FrameBlock frame{};
+    float initial_radius = 0.0f;
+    std::vector<std::string> warnings;
+};
+
+// Throws SceneError / std::invalid_argument naming what is wrong, Cancelled when `cancel` is
+// set. local_size is the stages' work-group size (a #define of every program).
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
+                            unsigned local_size, const CancelFlag* cancel = nullptr);
+
+}  // namespace glslppm

@@ -1,0 +1,83 @@
+// The scene's preparation on the CPU, without a GL context: the feature set, the Frame, the
+// sizes and the automatic radius the renderer uploads (render/scene_preparation.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "gl/object_counts.h"
+#include "render/scene_preparation.h"
+#include "scenes/cornell_box.h"
+
+namespace glslppm {
+namespace {
+
+RenderSettings small_settings() {
+    RenderSettings s;
+    s.width = 64;
+    s.height = 48;
+    s.photons_per_pass = 3000;
+    return s;
+}
+
+bool has_define(const PreparedScene& p, const std::string& name) {
+    for (const auto& [define, value] : p.defines)
+        if (define == name) return true;
+    return false;
+}
+
+TEST(ScenePreparation, CornellBoxFeaturesSizesAndFrameWithoutGl) {
+    const auto before = gl::gl_object_counts();
+    const PreparedScene p = prepare_scene(make_cornell_box(), small_settings(), 64);
+    // Only what the scene uses: smooth spheres, a mirror, glass, an emissive quad.
+    for (const char* d : {"HAS_NORMALS", "HAS_CONDUCTOR", "HAS_DIELECTRIC", "HAS_TRIANGLE_EMITTERS"})
+        EXPECT_TRUE(has_define(p, d)) << d;
+    for (const char* d : {"HAS_TEXTURES", "HAS_SPOT_LIGHTS", "HAS_ENVIRONMENT_MAP"})
+        EXPECT_FALSE(has_define(p, d)) << d;
+    EXPECT_NE(p.variant.find("direct=sampled"), std::string::npos) << p.variant;
+    EXPECT_EQ(p.pixels, 64u * 48u);
+    EXPECT_EQ(p.frame.image_width, 64u);
+    EXPECT_EQ(p.frame.image_height, 48u);
+    EXPECT_EQ(p.photon_threads, 3000u);
+    EXPECT_EQ(p.hash_cells, 8192u);  // the power of two at or above 2 x photons (1024 at least)
+    EXPECT_EQ(p.frame.hash_cell_count, p.hash_cells);
+    EXPECT_EQ(p.frame.emitter_count, p.emitters.count);
+    // The film's half extent: tan(fov_x / 2) across, times the aspect up.
+    const float tan_x = std::tan(0.5f * make_cornell_box().camera.fov_x);
+    EXPECT_FLOAT_EQ(p.frame.film_half_extent.x, tan_x);
+    EXPECT_FLOAT_EQ(p.frame.film_half_extent.y, tan_x * 48.0f / 64.0f);
+    // The automatic radius: positive, at most 5% of the scene's diagonal.
+    const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
+    EXPECT_GT(p.initial_radius, 0.0f);
+    EXPECT_LE(p.initial_radius, 0.05f * diagonal);
+    EXPECT_FLOAT_EQ(p.frame.radius_floor, 1e-5f * diagonal);
+    // No GL object was made.
+    EXPECT_EQ(gl::gl_object_counts().contexts, before.contexts);
+}
+
+TEST(ScenePreparation, RadiusScaleAndRegion) {
+    RenderSettings s = small_settings();
+    const PreparedScene base = prepare_scene(make_cornell_box(), s, 64);
+    s.radius_scale = 0.5f;
+    EXPECT_FLOAT_EQ(prepare_scene(make_cornell_box(), s, 64).initial_radius,
+                    0.5f * base.initial_radius);
+    // The right half of a 128 x 48 frame: half the extent across, centred at +1/2.
+    Scene scene = make_cornell_box();
+    scene.camera.full_width = 128;
+    scene.camera.full_height = 48;
+    scene.camera.region_x = 64;
+    const PreparedScene window = prepare_scene(scene, small_settings(), 64);
+    const float tan_x = std::tan(0.5f * scene.camera.fov_x);
+    EXPECT_FLOAT_EQ(window.frame.film_half_extent.x, 0.5f * tan_x);
+    EXPECT_FLOAT_EQ(window.frame.film_shift.x, 0.5f * tan_x);
+}
+
+TEST(ScenePreparation, BadValuesAreErrorsBeforeAnyWork) {
+    Scene scene = make_cornell_box();
+    scene.lights.push_back(Light{});
+    scene.lights.back().power = -1.0f;
+    EXPECT_THROW(prepare_scene(scene, small_settings(), 64), SceneError);
+}
+
+}  // namespace
+}  // namespace glslppm
