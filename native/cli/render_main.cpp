@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "image/exr.h"
 #include "image/image_file.h"
 #include "loaders/scene_file.h"
@@ -137,20 +139,6 @@ Options parse(int argc, char** argv) {
     return o;
 }
 
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (const char ch : s) {
-        const auto c = static_cast<unsigned char>(ch);
-        if (c == '"' || c == '\\') out += {'\\', ch};
-        else if (c < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-        } else out += ch;
-    }
-    return out + "\"";
-}
-
 // The scene to render; the loader's warnings are printed on stderr and kept for --json.
 Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
     Scene scene;
@@ -235,21 +223,23 @@ int main(int argc, char** argv) {
                        {"variant", s.variant}});
         }
         if (o.json) {
-            std::string warning_list;
-            for (const std::string& w : warnings)
-                warning_list += (warning_list.empty() ? "" : ", ") + json_string(w);
-            std::printf(
-                "{\"passes\": %llu, \"photons_emitted\": %llu, \"seconds\": %.6f, "
-                "\"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
-                "\"rays_per_second\": %.1f, \"width\": %d, \"height\": %d, "
-                "\"photons_per_pass\": %u, \"mean_radius\": %.6g, \"renderer\": \"%s\", "
-                "\"variant\": \"%s\", \"direct_light\": \"%s\", \"warnings\": [%s]}\n",
-                static_cast<unsigned long long>(s.passes),
-                static_cast<unsigned long long>(s.photons_emitted), s.seconds,
-                s.seconds > 0 ? s.passes / s.seconds : 0.0, s.photons_per_second,
-                s.rays_per_second, o.settings.width, o.settings.height,
-                o.settings.photons_per_pass, s.mean_radius, s.renderer.c_str(), s.variant.c_str(),
-                s.direct_light.c_str(), warning_list.c_str());
+            const nlohmann::json out = {
+                {"passes", s.passes},
+                {"photons_emitted", s.photons_emitted},
+                {"seconds", s.seconds},
+                {"passes_per_second", s.seconds > 0 ? s.passes / s.seconds : 0.0},
+                {"photons_per_second", s.photons_per_second},
+                {"rays_per_second", s.rays_per_second},
+                {"width", o.settings.width},
+                {"height", o.settings.height},
+                {"photons_per_pass", o.settings.photons_per_pass},
+                {"mean_radius", s.mean_radius},
+                {"renderer", s.renderer},
+                {"variant", s.variant},
+                {"direct_light", s.direct_light},
+                {"warnings", warnings},
+            };
+            std::printf("%s\n", out.dump().c_str());
         } else {
             std::printf("%llu passes, %.3g photons in %.2f s: %.2f Mphotons/s, %.2f Mrays/s (%s)\n",
                         static_cast<unsigned long long>(s.passes), double(s.photons_emitted),
