@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
 
@@ -49,23 +51,33 @@ int bench_passes(int argc, char** argv) {
         const RenderStats st = timed.stats();
         const double ms = 1e3 / profiled_passes;
         if (json) {
-            std::printf(
-                "{\"bench\": \"passes\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
-                "\"photons_per_pass\": %u, \"hash\": \"%s\", \"rng\": \"%s\", "
-                "\"direct_light\": \"%s\", \"passes\": %d, "
-                "\"seconds\": %.6f, \"passes_per_second\": %.3f, \"photons_per_second\": %.1f, "
-                "\"rays_per_second\": %.1f, \"photon_bounces_per_second\": %.1f, "
-                "\"stage_ms\": {\"eye\": %.4f, \"photon\": %.4f, \"hash\": %.4f, \"gather\": %.4f}, "
-                "\"triangles\": %zu, \"gpu_bytes\": %zu, \"bvh_seconds\": %.4f, "
-                "\"renderer\": \"%s\", \"variant\": \"%s\"}\n",
-                scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
-                to_string(settings.hash).c_str(), to_string(settings.rng).c_str(),
-                to_string(settings.direct_light).c_str(), passes, seconds,
-                passes / seconds, photons / seconds, rays / seconds,
-                passes * double(settings.photons_per_pass) / seconds, st.eye_seconds * ms,
-                st.photon_seconds * ms, st.hash_seconds * ms, st.gather_seconds * ms,
-                after.triangles, after.gpu_bytes, after.bvh_seconds, after.renderer.c_str(),
-                after.variant.c_str());
+            const nlohmann::json out = {
+                {"bench", "passes"},
+                {"scene", scene_spec},
+                {"width", settings.width},
+                {"height", settings.height},
+                {"photons_per_pass", settings.photons_per_pass},
+                {"hash", to_string(settings.hash)},
+                {"rng", to_string(settings.rng)},
+                {"direct_light", to_string(settings.direct_light)},
+                {"passes", passes},
+                {"seconds", seconds},
+                {"passes_per_second", passes / seconds},
+                {"photons_per_second", photons / seconds},
+                {"rays_per_second", rays / seconds},
+                {"photon_bounces_per_second",
+                 passes * double(settings.photons_per_pass) / seconds},
+                {"stage_ms", {{"eye", st.eye_seconds * ms},
+                              {"photon", st.photon_seconds * ms},
+                              {"hash", st.hash_seconds * ms},
+                              {"gather", st.gather_seconds * ms}}},
+                {"triangles", after.triangles},
+                {"gpu_bytes", after.gpu_bytes},
+                {"bvh_seconds", after.bvh_seconds},
+                {"renderer", after.renderer},
+                {"variant", after.variant},
+            };
+            std::printf("%s\n", out.dump().c_str());
         } else {
             std::printf("%s: %dx%d, %u photons/pass, %s hash, %s rng, %s direct light\n",
                         after.renderer.c_str(),
