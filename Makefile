@@ -33,7 +33,7 @@ test-bench:
 	GLSLPPM_SHADER_DIR=$(CURDIR)/shaders $(PYTHON) tests/bench/check_bench.py $(BUILD)/glslppm-bench
 
 # Deliberate bugs planted in a copy of the shaders, one at a time: which tests catch each
-# (scripts/mutations.py; about 15 minutes, so not part of `make test`).
+# (scripts/mutations.py; 4-14 minutes a mutation, so not part of `make test`).
 test-mutations: build
 	$(PYTHON) scripts/mutations.py --build $(BUILD)
 

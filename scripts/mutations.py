@@ -7,7 +7,7 @@ each. A mutation that no test catches is a hole in the suite; the script exits 1
 
 Each mutation replaces one exact piece of shader text; when the text is no longer found
 (the shader changed), the script fails and names the mutation, so the list is kept in step
-with the shaders rather than silently testing nothing. Takes about 2-3 minutes a mutation
+with the shaders rather than silently testing nothing. Takes 4-14 minutes a mutation
 on two llvmpipe cores (the Blender suite adds about 4 minutes each); not part of `make test`.
 """
 import argparse
