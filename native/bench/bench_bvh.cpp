@@ -11,6 +11,8 @@
 #include <string_view>
 
 #include "bvh/packed_bvh.h"
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_scene.h"
 #include "bvh/procedural_mesh.h"
 #include "bvh/traverse_cpu.h"
@@ -108,28 +110,38 @@ int bench_bvh(int argc, char** argv) {
     const BvhStats& s = packed.stats;
 
     if (json) {
-        std::printf(
-            "{\"bench\": \"bvh\", \"triangles\": %zu, \"degenerate_dropped\": %zu, "
-            "\"leaf_size\": %d, \"bins\": %d, \"parallel\": %s, \"order_count\": %d, "
-            "\"build_seconds\": %.4f, \"sah_build_seconds\": %.4f, \"thread_seconds\": %.4f, "
-            "\"pack_seconds\": %.4f, \"nodes\": %zu, \"leaves\": %zu, \"max_depth\": %d, "
-            "\"bytes_total\": %zu, \"bytes_per_triangle\": %.2f, "
-            "\"mtbvh_bytes_per_triangle\": %.2f, \"tbvh_bytes_per_triangle\": %.2f, "
-            "\"mtbvh_vec4_per_triangle\": %.2f, \"tbvh_vec4_per_triangle\": %.2f",
-            s.triangles, s.degenerate_dropped, options.leaf_size, options.bins,
-            options.parallel ? "true" : "false", order_count, s.total_seconds(), s.build_seconds,
-            s.thread_seconds, s.pack_seconds, s.nodes, s.leaves, s.max_depth, s.bytes_total,
-            s.bytes_per_triangle, mtbvh.stats.bytes_per_triangle, tbvh.stats.bytes_per_triangle,
-            mtbvh.stats.vec4_per_triangle(), tbvh.stats.vec4_per_triangle());
-        if (rays > 0)
-            std::printf(
-                ", \"rays\": %zu, \"mtbvh_nodes_per_ray\": %.2f, \"tbvh_nodes_per_ray\": %.2f, "
-                "\"mtbvh_triangles_per_ray\": %.2f, \"tbvh_triangles_per_ray\": %.2f, "
-                "\"mtbvh_cpu_mrays_per_second\": %.3f, \"tbvh_cpu_mrays_per_second\": %.3f",
-                rays, mt_rays.nodes_per_ray, t_rays.nodes_per_ray, mt_rays.triangles_per_ray,
-                t_rays.triangles_per_ray, rays / mt_rays.seconds * 1e-6,
-                rays / t_rays.seconds * 1e-6);
-        std::printf("}\n");
+        nlohmann::json out = {
+            {"bench", "bvh"},
+            {"triangles", s.triangles},
+            {"degenerate_dropped", s.degenerate_dropped},
+            {"leaf_size", options.leaf_size},
+            {"bins", options.bins},
+            {"parallel", options.parallel},
+            {"order_count", order_count},
+            {"build_seconds", s.total_seconds()},
+            {"sah_build_seconds", s.build_seconds},
+            {"thread_seconds", s.thread_seconds},
+            {"pack_seconds", s.pack_seconds},
+            {"nodes", s.nodes},
+            {"leaves", s.leaves},
+            {"max_depth", s.max_depth},
+            {"bytes_total", s.bytes_total},
+            {"bytes_per_triangle", s.bytes_per_triangle},
+            {"mtbvh_bytes_per_triangle", mtbvh.stats.bytes_per_triangle},
+            {"tbvh_bytes_per_triangle", tbvh.stats.bytes_per_triangle},
+            {"mtbvh_vec4_per_triangle", mtbvh.stats.vec4_per_triangle()},
+            {"tbvh_vec4_per_triangle", tbvh.stats.vec4_per_triangle()},
+        };
+        if (rays > 0) {
+            out["rays"] = rays;
+            out["mtbvh_nodes_per_ray"] = mt_rays.nodes_per_ray;
+            out["tbvh_nodes_per_ray"] = t_rays.nodes_per_ray;
+            out["mtbvh_triangles_per_ray"] = mt_rays.triangles_per_ray;
+            out["tbvh_triangles_per_ray"] = t_rays.triangles_per_ray;
+            out["mtbvh_cpu_mrays_per_second"] = rays / mt_rays.seconds * 1e-6;
+            out["tbvh_cpu_mrays_per_second"] = rays / t_rays.seconds * 1e-6;
+        }
+        std::printf("%s\n", out.dump().c_str());
         return 0;
     }
     std::printf("BVH benchmark: bumpy sphere, %zu triangles (%zu degenerate dropped)\n",

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
 
@@ -60,16 +62,22 @@ int bench_specialization(int argc, char** argv) {
         const double total = double(passes) * rounds;
         const double ratio = t_full / t_specialized;
         if (json) {
-            std::printf(
-                "{\"bench\": \"specialize\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
-                "\"photons_per_pass\": %u, \"passes\": %.0f, \"renderer\": \"%s\", "
-                "\"specialized_variant\": \"%s\", \"full_variant\": \"%s\", "
-                "\"specialized_passes_per_second\": %.3f, \"full_passes_per_second\": %.3f, "
-                "\"speedup\": %.4f, \"max_image_difference_relative\": %.3g}\n",
-                scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
-                total, st.renderer.c_str(), st.variant.c_str(), ft.variant.c_str(),
-                total / t_specialized, total / t_full, ratio,
-                largest > 0 ? difference / largest : 0.0);
+            const nlohmann::json out = {
+                {"bench", "specialize"},
+                {"scene", scene_spec},
+                {"width", settings.width},
+                {"height", settings.height},
+                {"photons_per_pass", settings.photons_per_pass},
+                {"passes", total},
+                {"renderer", st.renderer},
+                {"specialized_variant", st.variant},
+                {"full_variant", ft.variant},
+                {"specialized_passes_per_second", total / t_specialized},
+                {"full_passes_per_second", total / t_full},
+                {"speedup", ratio},
+                {"max_image_difference_relative", largest > 0 ? difference / largest : 0.0},
+            };
+            std::printf("%s\n", out.dump().c_str());
         } else {
             std::printf("scene %s, %dx%d, %u photons/pass, %.0f passes each, on %s\n",
                         scene_spec.c_str(), settings.width, settings.height,
