@@ -332,3 +332,41 @@ def add_bumpy_grid(quads_per_side, name="Grid"):
     obj = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(obj)
     return obj
+
+
+def render_recorded(name, engine=None):
+    """(image or None, error or None, the recording engine) for the current scene."""
+    load_native()
+    engine = engine or recording_engine()
+    try:
+        return render_image(name, engine.bl_idname), None, engine
+    except RuntimeError as error:
+        path = os.path.join(OUT, f"{name}.exr")
+        image = load_image(path) if os.path.exists(path) else None
+        return image, str(error), engine
+
+
+def warnings_of(engine):
+    return [message for level, message in engine.reports if level == 'WARNING']
+
+
+def render_cycles_box_filter(name, samples=64):
+    """Cycles with a 1-pixel box filter (as GLSLPPM's jittered samples), then back to
+    GLSLPPM."""
+    setup_cycles(samples=samples)
+    cycles = bpy.context.scene.cycles
+    cycles.pixel_filter_type = 'BOX'
+    cycles.filter_width = 1.0
+    image = render_image(f"{name}_cycles", 'CYCLES')
+    bpy.context.scene.render.engine = 'GLSLPPM'
+    return image
+
+
+def region_comparison(ours, reference, grid=3):
+    """Region means (grey) of both images, the worst region's difference relative to the
+    brightest reference region, and the image means' relative difference."""
+    a, b = (region_means(image, grid).mean(axis=2).astype(np.float64)
+            for image in (ours, reference))
+    region_error = float(np.abs(a - b).max() / b.max())
+    mean_error = float(abs(a.mean() - b.mean()) / b.mean())
+    return a, b, region_error, mean_error

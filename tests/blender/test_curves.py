@@ -10,7 +10,6 @@ import numpy as np
 
 import helpers
 from helpers import BLENDER_4, add_camera, add_mesh_object, diffuse_material
-from test_fidelity import _cycles, _render, _warnings
 
 # Image mean within 5% of Cycles' and 3x3 region means within 8% of its brightest region
 # (tubes of six sides and icosahedra against Cycles' round curves and spheres, and both
@@ -32,14 +31,11 @@ def _stage():
 
 
 def _compare(name):
-    ours, error, engine = _render(name)
+    ours, error, engine = helpers.render_recorded(name)
     assert error is None, error
     assert np.isfinite(ours).all()
-    reference = _cycles(name)
-    a, b = (helpers.region_means(image, 3).mean(axis=2).astype(np.float64)
-            for image in (ours, reference))
-    region_error = float(np.abs(a - b).max() / b.max())
-    mean_error = float(abs(a.mean() - b.mean()) / b.mean())
+    reference = helpers.render_cycles_box_filter(name)
+    a, b, region_error, mean_error = helpers.region_comparison(ours, reference)
     print(f"  {name}: image mean GLSLPPM {a.mean():.4f} Cycles {b.mean():.4f} (without "
           f"them 2.0); worst region {region_error:.4f} of the brightest (tolerance "
           f"{REGION_TOLERANCE}), mean {mean_error:.4f} (tolerance {MEAN_TOLERANCE})")
@@ -72,7 +68,7 @@ def test_particle_hair_matches_cycles():
     _stage()
     _hair()
     engine = _compare("hair")
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def test_curves_object_matches_cycles():
@@ -106,7 +102,7 @@ def test_curves_object_matches_cycles():
                                                  dtype=np.float32))
         obj.data.materials.append(bpy.data.materials["Hair"])
     engine = _compare("curves")
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def _points_modifier(obj, radius):
@@ -139,7 +135,7 @@ def test_point_cloud_matches_cycles():
         "Spheres", (0.5, 0.5, 0.5)))
     _points_modifier(obj, 0.08)
     engine = _compare("points")
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def test_curve_triangle_limit_warns_and_still_renders():
@@ -149,11 +145,11 @@ def test_curve_triangle_limit_warns_and_still_renders():
     scene.glslppm.passes = 4
     scene.glslppm.curve_triangle_limit = 6000
     _hair()
-    image, error, engine = _render("hair_limit")
+    image, error, engine = helpers.render_recorded("hair_limit")
     assert error is None, error
     expected = ("hair, curves and points reached the Curve Triangle Limit (6,000 "
                 "triangles) at object 'Emitter'; the rest are left out (Render Properties "
                 "> Photons > Curve Triangle Limit)")
-    assert _warnings(engine).count(expected) == 1, engine.reports
+    assert helpers.warnings_of(engine).count(expected) == 1, engine.reports
     assert image is not None and np.isfinite(image).all()
     assert 0.5 < float(image[..., :3].mean()) < 2.0

@@ -21,32 +21,6 @@ from helpers import add_camera, add_light, add_mesh_object, diffuse_material
 REFERENCE_SAMPLES = 64
 
 
-def _render(name, engine=None):
-    """(image or None, error or None, the recording engine) for the current scene."""
-    helpers.load_native()
-    engine = engine or helpers.recording_engine()
-    try:
-        return helpers.render_image(name, engine.bl_idname), None, engine
-    except RuntimeError as error:
-        path = os.path.join(helpers.OUT, f"{name}.exr")
-        image = helpers.load_image(path) if os.path.exists(path) else None
-        return image, str(error), engine
-
-
-def _warnings(engine):
-    return [message for level, message in engine.reports if level == 'WARNING']
-
-
-def _cycles(name, samples=REFERENCE_SAMPLES):
-    helpers.setup_cycles(samples=samples)
-    cycles = bpy.context.scene.cycles
-    cycles.pixel_filter_type = 'BOX'
-    cycles.filter_width = 1.0
-    image = helpers.render_image(f"{name}_cycles", 'CYCLES')
-    bpy.context.scene.render.engine = 'GLSLPPM'
-    return image
-
-
 def _pixel_error(ours, reference):
     """Mean absolute difference of the RGB pixels over the reference's mean: a pixel
     misplaced across the test pattern's edges shows as tens of percent."""
@@ -89,9 +63,9 @@ def test_render_region_with_crop_matches_cycles():
     19..50 by 12..32 from the bottom), pixel error against Cycles below 5% (one pixel's
     shift measures 24-25%)."""
     _region_scene(crop=True)
-    ours, error, engine = _render("region_crop")
+    ours, error, engine = helpers.render_recorded("region_crop")
     assert error is None, error
-    reference = _cycles("region_crop")
+    reference = helpers.render_cycles_box_filter("region_crop", REFERENCE_SAMPLES)
     assert ours.shape == reference.shape == (21, 32, 4), (ours.shape, reference.shape)
     measured = _pixel_error(ours, reference)
     print(f"  region with crop: pixel error {measured:.4f} (tolerance 0.05)")
@@ -103,9 +77,9 @@ def test_render_region_without_crop_matches_cycles():
     """The same region in the full 64x48 frame: pixel error below 5% against Cycles and
     nothing outside the region (Blender leaves it transparent black)."""
     _region_scene(crop=False)
-    ours, error, engine = _render("region_full")
+    ours, error, engine = helpers.render_recorded("region_full")
     assert error is None, error
-    reference = _cycles("region_full")
+    reference = helpers.render_cycles_box_filter("region_full", REFERENCE_SAMPLES)
     assert ours.shape == reference.shape == (48, 64, 4), (ours.shape, reference.shape)
     measured = _pixel_error(ours, reference)
     print(f"  region without crop: pixel error {measured:.4f} (tolerance 0.05)")
@@ -124,9 +98,9 @@ def test_pixel_aspect_matches_cycles():
         scene = _emissive_grid()
         scene.render.pixel_aspect_x, scene.render.pixel_aspect_y = aspect
         scene.camera.data.sensor_fit = fit
-        ours, error, engine = _render("pixel_aspect")
+        ours, error, engine = helpers.render_recorded("pixel_aspect")
         assert error is None, error
-        reference = _cycles("pixel_aspect")
+        reference = helpers.render_cycles_box_filter("pixel_aspect", REFERENCE_SAMPLES)
         means = float(ours[..., :3].mean()), float(reference[..., :3].mean())
         measured = _pixel_error(ours, reference)
         print(f"  pixel aspect {aspect} {fit}: mean GLSLPPM {means[0]:.4f} Cycles "
@@ -156,7 +130,7 @@ def test_infinite_or_nan_light_is_off_with_a_warning():
     it dark) with a warning naming it: the image is finite and equals the render without
     that light to 1e-5 relative."""
     _floor_and_light()
-    clean, error, engine = _render("light_clean")
+    clean, error, engine = helpers.render_recorded("light_clean")
     assert error is None, error
     cases = ((dict(energy=math.inf), "light 'Bad': power is inf; the light is off"),
              (dict(color=(1.0, math.nan, 1.0)),
@@ -168,9 +142,9 @@ def test_infinite_or_nan_light_is_off_with_a_warning():
         for key, value in settings.items():
             setattr(bad.data, key, value)
         if not all(math.isfinite(v) for v in (bad.data.energy, *bad.data.color)):
-            image, error, engine = _render("light_bad")
+            image, error, engine = helpers.render_recorded("light_bad")
             assert error is None, error
-            assert expected in _warnings(engine), (expected, engine.reports)
+            assert expected in helpers.warnings_of(engine), (expected, engine.reports)
             assert np.isfinite(image).all()
             difference = float(np.abs(image - clean).max() / clean[..., :3].max())
             print(f"  {expected}: largest difference from the clean render {difference:.2e}")
@@ -197,9 +171,9 @@ def test_light_node_emission_matches_cycles():
     tree, emission = _emission_node(light.data)
     emission.inputs["Strength"].default_value = 3.0
     emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
-    ours, error, engine = _render("light_nodes")
+    ours, error, engine = helpers.render_recorded("light_nodes")
     assert error is None, error
-    reference = _cycles("light_nodes")
+    reference = helpers.render_cycles_box_filter("light_nodes", REFERENCE_SAMPLES)
     a = ours[8:24, 8:24, :3].mean(axis=(0, 1))
     b = reference[8:24, 8:24, :3].mean(axis=(0, 1))
     errors = np.abs(a - b) / b
@@ -216,11 +190,11 @@ def test_light_ies_texture_warns():
     tree, emission = _emission_node(light.data)
     ies = tree.nodes.new("ShaderNodeTexIES")
     tree.links.new(ies.outputs[0], emission.inputs["Strength"])
-    image, error, engine = _render("light_ies")
+    image, error, engine = helpers.render_recorded("light_ies")
     assert error is None, error
     expected = f"light '{light.data.name}': IES textures are not supported; the light emits " \
                "evenly"
-    assert expected in _warnings(engine), engine.reports
+    assert expected in helpers.warnings_of(engine), engine.reports
     assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
 
 
@@ -241,9 +215,9 @@ def _object_in_the_world(make_material):
 
 
 def _alpha_error(name):
-    ours, error, engine = _render(name)
+    ours, error, engine = helpers.render_recorded(name)
     assert error is None, error
-    reference = _cycles(name)
+    reference = helpers.render_cycles_box_filter(name, REFERENCE_SAMPLES)
     difference = float(np.abs(ours[..., 3] - reference[..., 3]).mean())
     return ours, reference, difference
 
@@ -299,15 +273,15 @@ def test_volume_object_is_left_out_with_a_warning():
     """A cube whose material has only a Volume output is left out (not an opaque black
     cube): the exact warning, and the image equals the scene without it."""
     scene, light = _floor_and_light()
-    clean, error, engine = _render("volume_clean")
+    clean, error, engine = helpers.render_recorded("volume_clean")
     assert error is None, error
     helpers.add_cube("Smoke", location=(0, 0, 1), scale=(0.6, 0.6, 0.6),
                      material=_volume_material("Smoke"))
-    image, error, engine = _render("volume_object")
+    image, error, engine = helpers.render_recorded("volume_object")
     assert error is None, error
     expected = "object 'Smoke': its material 'Smoke' has only a Volume output; volumes " \
                "are not supported, so the object is left out"
-    assert expected in _warnings(engine), engine.reports
+    assert expected in helpers.warnings_of(engine), engine.reports
     difference = float(np.abs(image - clean).max())
     print(f"  volume object: largest difference from the scene without it {difference:.2e}")
     assert difference == 0.0, difference
@@ -319,21 +293,21 @@ def test_world_volume_warns():
     output = next(node for node in world.node_tree.nodes if node.type == 'OUTPUT_WORLD')
     volume = world.node_tree.nodes.new("ShaderNodeVolumeScatter")
     world.node_tree.links.new(volume.outputs[0], output.inputs["Volume"])
-    image, error, engine = _render("world_volume")
+    image, error, engine = helpers.render_recorded("world_volume")
     assert error is None, error
     expected = "world 'World': world volumes are not supported; rendering without it"
-    assert expected in _warnings(engine), engine.reports
+    assert expected in helpers.warnings_of(engine), engine.reports
     assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
 
 
 def test_motion_blur_warns():
     scene, light = _floor_and_light()
     scene.render.use_motion_blur = True
-    image, error, engine = _render("motion_blur")
+    image, error, engine = helpers.render_recorded("motion_blur")
     assert error is None, error
     expected = "motion blur is not supported; the frame renders at one instant " \
                "(Output > Motion Blur)"
-    assert expected in _warnings(engine), engine.reports
+    assert expected in helpers.warnings_of(engine), engine.reports
     assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
 
 
@@ -351,11 +325,11 @@ def test_udim_image_warns():
     texture.image = image
     diffuse = next(node for node in material.node_tree.nodes if node.type == 'BSDF_DIFFUSE')
     material.node_tree.links.new(texture.outputs["Color"], diffuse.inputs["Color"])
-    result, error, engine = _render("udim")
+    result, error, engine = helpers.render_recorded("udim")
     assert error is None, error
     expected = "material 'White': image 'Tiles' is a UDIM image of 2 tiles; only tile 1001 " \
                "is used, for every UV"
-    assert expected in _warnings(engine), engine.reports
+    assert expected in helpers.warnings_of(engine), engine.reports
     assert np.isfinite(result).all() and result[..., :3].mean() > 1e-3
 
 
@@ -377,9 +351,9 @@ def test_mesh_emission_is_two_sided_as_in_cycles():
                      material=lamp)  # counter-clockwise from above: facing +Z
     location = (0, -3.5, 0.3)
     add_camera(location, helpers.look_at_rotation(location, (0, 0, 0.7)), lens=30.0)
-    ours, error, engine = _render("two_sided")
+    ours, error, engine = helpers.render_recorded("two_sided")
     assert error is None, error
-    reference = _cycles("two_sided")
+    reference = helpers.render_cycles_box_filter("two_sided", REFERENCE_SAMPLES)
     errors = np.abs(helpers.region_means(ours, 2) - helpers.region_means(reference, 2))
     errors = (errors / np.maximum(helpers.region_means(reference, 2), 1e-6)).mean(axis=2)
     means = float(ours[..., :3].mean()), float(reference[..., :3].mean())
@@ -405,7 +379,7 @@ def test_oversized_render_is_refused_at_once():
     scene.render.resolution_x = scene.render.resolution_y = 16384
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     began = time.perf_counter()
-    image, error, engine = _render("oversized")
+    image, error, engine = helpers.render_recorded("oversized")
     seconds = time.perf_counter() - began
     grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - before
     errors = [message for level, message in engine.reports if level == 'ERROR']
@@ -503,7 +477,7 @@ def test_device_preferences_list_devices_by_name():
         scene.glslppm.device = 0
         assert preferences.render_device(scene.glslppm) == 0
         scene.glslppm.device = -1
-        image, error, engine = _render("preferred_device")
+        image, error, engine = helpers.render_recorded("preferred_device")
         assert error is None, error
         assert image[..., :3].mean() > 1e-3
     finally:

@@ -11,7 +11,6 @@ import numpy as np
 
 import helpers
 from helpers import add_camera, add_cube, add_light, add_mesh_object, diffuse_material
-from test_fidelity import _cycles, _render, _warnings
 
 # Region means against Cycles: 6% for a region (measured noise of both renderers at
 # these settings about 2%), 4% for the image's mean.
@@ -34,15 +33,11 @@ def _box_over_floor():
 
 
 def _compare(name):
-    ours, error, engine = _render(name)
+    ours, error, engine = helpers.render_recorded(name)
     assert error is None, error
     assert np.isfinite(ours).all()
-    reference = _cycles(name)
-    a, b = (helpers.region_means(image, 3).mean(axis=2).astype(np.float64)
-            for image in (ours, reference))
-    scale = b.max()
-    region_error = float(np.abs(a - b).max() / scale)
-    mean_error = float(abs(a.mean() - b.mean()) / b.mean())
+    reference = helpers.render_cycles_box_filter(name)
+    a, b, region_error, mean_error = helpers.region_comparison(ours, reference)
     print(f"  {name}: regions GLSLPPM {np.round(a, 3).tolist()} Cycles "
           f"{np.round(b, 3).tolist()}; worst region {region_error:.4f} of the brightest "
           f"(tolerance {REGION_TOLERANCE}), mean {mean_error:.4f} (tolerance "
@@ -58,9 +53,9 @@ def test_hidden_from_camera_matches_cycles():
     box.visible_camera = False
     ours, reference, region_error, mean_error, engine = _compare("hidden_from_camera")
     assert region_error < REGION_TOLERANCE and mean_error < MEAN_TOLERANCE
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
     box.visible_camera = True
-    seen, error, engine = _render("hidden_from_camera_control")
+    seen, error, engine = helpers.render_recorded("hidden_from_camera_control")
     control = float(np.abs(helpers.region_means(seen, 3) - helpers.region_means(reference, 3))
                     .max() / helpers.region_means(reference, 3).max())
     print(f"  the same box seen by the camera: worst region {control:.3f}")
@@ -74,7 +69,7 @@ def test_shadow_off_matches_cycles():
     box.visible_shadow = False
     ours, reference, region_error, mean_error, engine = _compare("shadow_off")
     assert region_error < REGION_TOLERANCE and mean_error < MEAN_TOLERANCE
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def test_other_ray_visibility_holdout_and_shadow_catcher_warn():
@@ -87,7 +82,7 @@ def test_other_ray_visibility_holdout_and_shadow_catcher_warn():
     box.is_holdout = True
     floor = bpy.data.objects["Floor"]
     floor.is_shadow_catcher = True
-    image, error, engine = _render("visibility_warnings")
+    image, error, engine = helpers.render_recorded("visibility_warnings")
     assert error is None, error
     expected = [
         "object 'Box': ray visibility off for Glossy, Transmission is not "
@@ -97,7 +92,7 @@ def test_other_ray_visibility_holdout_and_shadow_catcher_warn():
         "object 'Floor': Shadow Catcher is not supported; it renders as an "
         "ordinary object (Object > Visibility > Mask > Shadow Catcher)",
     ]
-    warnings = _warnings(engine)
+    warnings = helpers.warnings_of(engine)
     for message in expected:
         assert warnings.count(message) == 1, (message, engine.reports)
     assert image is not None and np.isfinite(image).all() and image[..., :3].mean() > 0.05

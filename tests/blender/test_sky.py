@@ -12,7 +12,6 @@ import numpy as np
 
 import helpers
 from helpers import add_camera, add_mesh_object, diffuse_material
-from test_fidelity import _cycles, _render, _warnings
 
 # The 3x3 region means within 8% of Cycles' brightest region (the baked map is 256x128,
 # filtered bilinearly, against Cycles' per-ray evaluation), the image mean within 5%.
@@ -42,14 +41,11 @@ def _sky_scene(sky_type='NISHITA', **settings):
 
 
 def _compare(name):
-    ours, error, engine = _render(name)
+    ours, error, engine = helpers.render_recorded(name)
     assert error is None, error
     assert np.isfinite(ours).all()
-    reference = _cycles(name)
-    a, b = (helpers.region_means(image, 3).mean(axis=2).astype(np.float64)
-            for image in (ours, reference))
-    region_error = float(np.abs(a - b).max() / b.max())
-    mean_error = float(abs(a.mean() - b.mean()) / b.mean())
+    reference = helpers.render_cycles_box_filter(name)
+    a, b, region_error, mean_error = helpers.region_comparison(ours, reference)
     print(f"  {name}: image mean GLSLPPM {a.mean():.4f} Cycles {b.mean():.4f}; regions "
           f"GLSLPPM {np.round(a, 3).tolist()} Cycles {np.round(b, 3).tolist()}; worst "
           f"region {region_error:.4f} of the brightest (tolerance {REGION_TOLERANCE}), mean "
@@ -63,7 +59,7 @@ def test_default_nishita_sky_matches_cycles():
     """Blender's default Sky Texture (Nishita, sun disc on, 15 degrees up)."""
     _sky_scene()
     engine = _compare("sky_nishita")
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def test_sun_disc_in_view_warns():
@@ -74,18 +70,18 @@ def test_sun_disc_in_view_warns():
     location = (0, -8, 1.5)
     scene.camera.rotation_euler = helpers.look_at_rotation(location, (0, 0, 1.5))
     scene.camera.location = location
-    image, error, engine = _render("sky_sun_in_view")
+    image, error, engine = helpers.render_recorded("sky_sun_in_view")
     assert error is None, error
     expected = ("world 'Sky': the Sky Texture's sun disc is in view but not drawn; it "
                 "lights the scene as a sun light")
-    assert _warnings(engine) == [expected], engine.reports
+    assert helpers.warnings_of(engine) == [expected], engine.reports
     assert np.isfinite(image).all() and image[..., :3].mean() > 1.0
 
 
 def test_hosek_wilkie_sky_matches_cycles():
     _sky_scene('HOSEK_WILKIE', sun_direction=(0.3, -0.6, 0.5))
     engine = _compare("sky_hosek")
-    assert not _warnings(engine), engine.reports
+    assert not helpers.warnings_of(engine), engine.reports
 
 
 def test_nishita_sun_strength_scales_the_sun():
