@@ -46,6 +46,8 @@ struct FrameBlock {
     std::int32_t environment_texture = -1;
     std::int32_t environment_cdf_width = 0;
     std::int32_t environment_cdf_height = 0;
+    float glossy_threshold = 0.0f;  // lobes below this roughness are followed, not gathered
+    std::uint32_t frame_padding[3] = {0, 0, 0};
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -73,7 +75,8 @@ static_assert(offsetof(FrameBlock, inv_photons_emitted) == 240);
 static_assert(offsetof(FrameBlock, environment_texture) == 244);
 static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
 static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
-static_assert(sizeof(FrameBlock) == 256);
+static_assert(offsetof(FrameBlock, glossy_threshold) == 256);
+static_assert(sizeof(FrameBlock) == 272);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.
@@ -91,16 +94,33 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 inline constexpr unsigned kRadiusStatsThreads = 256;
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
-// shaders/common/bsdf.glsl: three vec4 per material.
+// shaders/common/bsdf.glsl and lobes.glsl: five vec4 per material, then the albedo tables
+// (render/microfacet_tables.h) the materials' `table` fields point into.
 struct GpuMaterial {
     glm::vec3 color;              // base colour (times its texture)
     float kind;                   // MaterialKind as a float
     glm::vec3 emission;           // radiance
-    float ior;                    // dielectrics
+    float ior;                    // dielectric, plastic
     std::int32_t color_texture;   // texture index or -1
     std::uint32_t flags;          // MaterialFlag bits (render/area_lights.h)
-    std::uint32_t unused[2];
+    float roughness;
+    std::int32_t roughness_texture;
+    std::int32_t mix_a, mix_b;    // Mix: the two materials
+    float mix_factor;
+    std::int32_t mix_texture;
+    std::uint32_t options;        // MaterialOption bits and fields below
+    float mix_ior;
+    std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
+    std::uint32_t unused;
 };
-static_assert(sizeof(GpuMaterial) == 48 && offsetof(GpuMaterial, color_texture) == 32);
+static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
+              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
+
+// GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
+inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's
+inline constexpr std::uint32_t kOptionMixModeShift = 8;      // bits 8-9: MixFactor
+inline constexpr std::uint32_t kOptionMultiscatter = 4096;
+inline constexpr std::uint32_t kOptionSchlick = 8192;
+inline constexpr std::uint32_t kOptionTintReflection = 16384;
 
 }  // namespace glslppm

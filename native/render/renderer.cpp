@@ -134,22 +134,17 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             }
             g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records), g.emitters.records.data(),
                           "lights");
-            std::vector<GpuMaterial> materials;
-            for (std::size_t k = 0; k < geometry.materials.size(); ++k) {
-                const Material& m = geometry.materials[k];
-                materials.push_back({m.color, static_cast<float>(m.kind), m.emission, m.ior,
-                                     use.materials ? m.color_texture : -1,
-                                     static_cast<std::uint32_t>(geometry.flags[k]), {0, 0}});
-            }
-            g.make_buffer(BINDING_MATERIALS, bytes(materials), materials.data(), "materials");
+            g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
+                          prepared.material_records.data(), "materials");
             Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
             g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(counters), &counters, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
-            Gpu::require_fits(px * 3 * 16, "visible points");
+            const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
+            Gpu::require_fits(px * point_vec4s * 16, "visible points");
             Gpu::require_fits(ph * 3 * 16, "photons");
             Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
-            g.make_buffer(BINDING_VISIBLE_POINTS, px * 3 * 16, nullptr, "visible points");
+            g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
             std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
             for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;
             g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, bytes(stats), stats.data(), "pixel statistics");

@@ -4,9 +4,11 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "bvh/traverse_cpu.h"
+#include "render/microfacet_tables.h"
 #include "scene/scene_validation.h"
 
 namespace glslppm {
@@ -24,21 +26,105 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
     TextureUse use;
     use.used.assign(scene.textures.size(), false);
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
-        const int t = scene.materials[k].color_texture;
-        if (t < 0) continue;  // indices were checked by validate_scene
-        if (geometry.mesh.uvs.empty()) {
-            warnings.push_back("materials[" + std::to_string(k) + "] has a texture but the mesh "
-                               "has no uvs: its colour is used instead");
-            continue;
+        const Material& m = scene.materials[k];
+        bool warned = false;
+        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture}) {
+            if (t < 0) continue;  // indices were checked by validate_scene
+            if (geometry.mesh.uvs.empty()) {
+                if (!warned)
+                    warnings.push_back("materials[" + std::to_string(k) + "] has a texture but "
+                                       "the mesh has no uvs: its constant values are used instead");
+                warned = true;
+                continue;
+            }
+            use.used[static_cast<std::size_t>(t)] = true;
+            use.materials = true;
         }
-        use.used[static_cast<std::size_t>(t)] = true;
-        use.materials = true;
     }
     if (scene.environment_texture >= 0) {
         use.used[static_cast<std::size_t>(scene.environment_texture)] = true;
         use.environment = true;
     }
     return use;
+}
+
+// Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
+// model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
+bool needs_microfacet(const Material& m) {
+    switch (m.kind) {
+        case MaterialKind::Diffuse: return false;
+        case MaterialKind::Conductor:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.schlick;
+        case MaterialKind::Dielectric:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.tint_reflection;
+        default: return true;
+    }
+}
+
+// GpuMaterial records, then the albedo tables the rough lobes need (one shared by every
+// conductor, one per dielectric or plastic index), as vec4s.
+std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
+                                        const std::vector<std::uint32_t>& flags, bool textures,
+                                        bool microfacet) {
+    std::vector<GpuMaterial> records;
+    std::vector<glm::vec4> tables;
+    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * 5);
+    auto add_table = [&](AlbedoLobe lobe, float ior) {
+        const std::int32_t at = tables_base + static_cast<std::int32_t>(tables.size());
+        const std::vector<float> t = albedo_table(lobe, ior);
+        static_assert(kAlbedoTableFloats % 4 == 0);
+        for (std::size_t i = 0; i < t.size(); i += 4) tables.push_back({t[i], t[i + 1], t[i + 2], t[i + 3]});
+        return at;
+    };
+    std::int32_t conductor_table = -1;
+    std::vector<std::pair<float, std::int32_t>> dielectric_tables, layer_tables;
+    auto table_for = [&](std::vector<std::pair<float, std::int32_t>>& known, AlbedoLobe lobe,
+                         float ior) {
+        for (auto [i, at] : known)
+            if (i == ior) return at;
+        const std::int32_t at = add_table(lobe, ior);
+        if (lobe == AlbedoLobe::DielectricOutside) add_table(AlbedoLobe::DielectricInside, ior);
+        known.push_back({ior, at});
+        return at;
+    };
+    for (std::size_t k = 0; k < materials.size(); ++k) {
+        const Material& m = materials[k];
+        GpuMaterial g{};
+        g.flags = flags[k];
+        g.color = m.color;
+        g.kind = static_cast<float>(m.kind);
+        g.emission = m.emission;
+        g.ior = m.ior;
+        g.color_texture = textures ? m.color_texture : -1;
+        g.roughness = m.roughness;
+        g.roughness_texture = textures ? m.roughness_texture : -1;
+        g.mix_a = m.mix_a;
+        g.mix_b = m.mix_b;
+        g.mix_factor = m.mix_factor;
+        g.mix_texture = textures ? m.mix_texture : -1;
+        g.mix_ior = m.mix_ior;
+        g.options = static_cast<std::uint32_t>(m.roughness_channel) |
+                    static_cast<std::uint32_t>(m.mix_channel) << kOptionMixChannelShift |
+                    static_cast<std::uint32_t>(m.mix_mode) << kOptionMixModeShift |
+                    (m.multiscatter ? kOptionMultiscatter : 0u) | (m.schlick ? kOptionSchlick : 0u) |
+                    (m.tint_reflection ? kOptionTintReflection : 0u);
+        g.table = -1;
+        const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
+        if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
+            if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
+            g.table = conductor_table;
+        } else if (microfacet && m.kind == MaterialKind::Dielectric && rough && m.multiscatter) {
+            g.table = table_for(dielectric_tables, AlbedoLobe::DielectricOutside, m.ior);
+        } else if (microfacet && m.kind == MaterialKind::Plastic) {
+            g.table = table_for(layer_tables, AlbedoLobe::DielectricLayer, m.ior);
+        }
+        records.push_back(g);
+    }
+    std::vector<glm::vec4> out(records.size() * 5);
+    static_assert(sizeof(GpuMaterial) == 5 * sizeof(glm::vec4));
+    if (!records.empty()) std::memcpy(out.data(), records.data(), records.size() * sizeof(GpuMaterial));
+    out.insert(out.end(), tables.begin(), tables.end());
+    return out;
 }
 
 }  // namespace
@@ -113,6 +199,18 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
+    // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
+    // materials no triangle names). Not part of the full variant: these lobes replace the
+    // closed model's code, with its own random numbers, rather than add branches to it.
+    bool microfacet = false;
+    for (const Material& m : geometry.materials) microfacet |= needs_microfacet(m);
+    if (microfacet) {
+        p.defines.push_back({"HAS_MICROFACET", "1"});
+        features.push_back("microfacet");
+    }
+    p.microfacet = microfacet;
+    p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
+                                          p.microfacet);
     feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
     // Not features but outputs: the full variant leaves them as the settings say.
     if (settings.transparent) {
@@ -213,6 +311,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.photon_threads = p.photon_threads;
     f.hash_cell_count = p.hash_cells;
     f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.glossy_threshold = settings.glossy_threshold;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     // Automatic radius: two pixel footprints at the distance of what the camera sees (the
     // median hit distance of a 5x5 grid of rays through the film), at most 5% of the

@@ -39,6 +39,10 @@ struct PreparedScene {
     // The programs' #defines and the variant's name (stats()["variant"]).
     std::vector<std::pair<std::string, std::string>> defines;
     std::string variant;
+    // HAS_MICROFACET: the lobes of shaders/common/lobes.glsl, visible points of 4 vec4.
+    bool microfacet = false;
+    // The Materials buffer: GpuMaterial records, then albedo tables.
+    std::vector<glm::vec4> material_records;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     FrameBlock frame{};
     float initial_radius = 0.0f;

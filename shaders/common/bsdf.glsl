@@ -1,17 +1,22 @@
-// The closed material model: Lambertian diffuse, specular conductor, smooth dielectric.
+// Materials at a surface point. Scenes whose materials are all Lambert, mirror or smooth
+// glass compile the closed model below (bsdf_eval, scatter_specular); the others compile the
+// lobes of common/lobes.glsl (HAS_MICROFACET).
 #ifndef BSDF_GLSL
 #define BSDF_GLSL
 
 #include "common/scene_buffers.glsl"
 #include "common/surface.glsl"
 #include "common/textures.glsl"
+#include "common/microfacet.glsl"
 
-vec3 material_color(int m) { return materials[3 * m].xyz; }
-int material_kind(int m) { return int(materials[3 * m].w); }
-vec3 material_emission(int m) { return materials[3 * m + 1].xyz; }
-float material_ior(int m) { return materials[3 * m + 1].w; }
-int material_texture(int m) { return floatBitsToInt(materials[3 * m + 2].x); }
-int material_flags(int m) { return floatBitsToInt(materials[3 * m + 2].y); }
+// Five vec4 per material (GpuMaterial in native/render/gpu_layout.h).
+const int MATERIAL_STRIDE = 5;
+vec3 material_color(int m) { return materials[MATERIAL_STRIDE * m].xyz; }
+int material_kind(int m) { return int(materials[MATERIAL_STRIDE * m].w); }
+vec3 material_emission(int m) { return materials[MATERIAL_STRIDE * m + 1].xyz; }
+float material_ior(int m) { return materials[MATERIAL_STRIDE * m + 1].w; }
+int material_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].x); }
+int material_flags(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].y); }
 
 // Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
 // through; some surfaces are hidden from camera rays; some cast no shadow (photons and
@@ -38,19 +43,6 @@ vec3 surface_color(Surface s) {
 vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
     if (material_kind(m) != MATERIAL_DIFFUSE || dot(n, wi) <= 0.0) return vec3(0.0);
     return color / PI;
-}
-
-// Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
-float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
-    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
-    if (sin2_t >= 1.0) {
-        cos_t = 0.0;
-        return 1.0;  // total internal reflection
-    }
-    cos_t = sqrt(1.0 - sin2_t);
-    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5 * (rs * rs + rp * rp);
 }
 
 // Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or

@@ -33,6 +33,7 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     int environment_texture;      // the map's texture index, -1 for none
     int environment_cdf_width;    // its sampling distribution's size
     int environment_cdf_height;
+    float glossy_threshold;       // lobes below this roughness are followed, not gathered
 };
 
 const float PI = 3.14159265358979;

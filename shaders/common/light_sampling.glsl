@@ -169,4 +169,32 @@ vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 c
     return f * ls.radiance_over_pdf * cos_theta;
 }
 
+#ifdef HAS_MICROFACET
+// The same for a material of common/lobes.glsl, whose lobes may transmit: the light may be on
+// either side. `rough_only`: the smooth lobes, followed by the eye path, are left out.
+vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
+                                float pick, vec4 u, inout uint rays) {
+    vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
+    bool transmits = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
+    // A transmitting lobe sees the constant world from below as well: the cosine-sampled
+    // half is chosen by u.w (which that sampler does not read), at half the density.
+    vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
+    LightSample ls = sample_light(p, side, pick, u);
+#if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
+    if (transmits && floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT)
+        ls.radiance_over_pdf *= 2.0;
+#endif
+    float cos_theta = abs(dot(ng, ls.wi));
+    if (cos_theta <= 0.0 || ls.distance <= 0.0 || all(equal(ls.radiance_over_pdf, vec3(0.0))))
+        return vec3(0.0);
+    vec3 f = bsdf_f(sh, wo, ls.wi, rough_only, false);
+    if (all(equal(f, vec3(0.0)))) return vec3(0.0);
+    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
+    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
+    ++rays;
+    if (any_hit(shadow)) return vec3(0.0);
+    return f * ls.radiance_over_pdf * cos_theta;
+}
+#endif
+
 #endif
