@@ -47,6 +47,7 @@ struct ConvergeOptions {
     std::vector<HashMode> hashes = {HashMode::Stochastic};
     std::vector<RngKind> rngs = {RngKind::Pcg};
     std::vector<DirectLight> directs = {RenderSettings{}.direct_light};
+    std::vector<float> glossy_thresholds = {RenderSettings{}.glossy_threshold};
     std::string reference;  // default: references/ beside the binary
     int reference_passes = 1024;
     std::uint32_t reference_photons = 65536;
@@ -290,6 +291,7 @@ int usage() {
         "usage: glslppm-bench converge [--scene S] [--width W --height H] [--passes K]\n"
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
         "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,photons]\n"
+        "       [--glossy-threshold 0,0.2,0.5] (roughness below which lobes are followed)\n"
         "       [--fit-from P]\n"
         "       [--reference X.exr] [--reference-passes R] [--reference-photons N]\n"
         "       [--reference-radius-scale s]\n"
@@ -331,6 +333,8 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
             o.rngs = parse_list<RngKind>(v, parse_rng_kind);
         else if (a == "--direct")
             o.directs = parse_list<DirectLight>(v, parse_direct_light);
+        else if (a == "--glossy-threshold")
+            o.glossy_thresholds = parse_list<float>(v, parse_float);
         else if (a == "--reference")
             o.reference = v;
         else if (a == "--reference-passes")
@@ -394,6 +398,7 @@ void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError
                              {"hash", to_string(s.hash)},
                              {"rng", to_string(s.rng)},
                              {"direct_light", to_string(s.direct_light)},
+                             {"glossy_threshold", s.glossy_threshold},
                              {"slope", run.slope},
                              {"theoretical_slope", theoretical_slope(s.alpha)},
                              {"points", points}});
@@ -476,8 +481,10 @@ int bench_converge(int argc, char** argv) {
                 for (float scale : o.radius_scales)
                     for (HashMode hash : o.hashes)
                         for (RngKind rng : o.rngs)
-                            for (DirectLight direct : o.directs) {
+                            for (DirectLight direct : o.directs)
+                            for (float glossy : o.glossy_thresholds) {
                                 RenderSettings s = probe;
+                                s.glossy_threshold = glossy;
                                 s.photons_per_pass = photons;
                                 s.alpha = alpha;
                                 s.initial_radius = static_cast<float>(scale * automatic);

@@ -49,7 +49,7 @@ void usage(std::FILE* out) {
                          "       glslppm-bench specialize [--scene S --width W --height H "
                          "--photons N --passes K --rounds R] [--json]\n"
                          "       glslppm-bench longrun [--passes K --photons N --width W]\n"
-                         "  scenes: cornell, cornell-diffuse, caustic, million[:N] (e.g. million:100k), "
+                         "  scenes: cornell, cornell-diffuse, cornell-glossy, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
                          "file\n");
 }

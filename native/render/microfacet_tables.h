@@ -1,6 +1,7 @@
 // Directional albedos of the GGX lobes, integrated on the CPU for the energy compensation of
 // shaders/common/lobes.glsl: E(mu, roughness) on a kAlbedoTableSize^2 grid (mu = cos of the
-// outgoing direction and Blender's roughness, both on [0, 1], mu fastest), then
+// outgoing direction, Blender's roughness; the grid is uniform in sqrt(mu), which packs nodes
+// where the albedo falls at grazing angles, and in roughness, sqrt(mu) fastest), then
 // kAlbedoTableSize hemispherical averages E_avg(roughness) = 2 int E(mu) mu dmu of the
 // piecewise-linear E the shaders interpolate.
 #pragma once

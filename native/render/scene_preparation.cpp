@@ -48,6 +48,8 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
     return use;
 }
 
+}  // namespace
+
 // Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
 // model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
 bool needs_microfacet(const Material& m) {
@@ -61,8 +63,6 @@ bool needs_microfacet(const Material& m) {
     }
 }
 
-// GpuMaterial records, then the albedo tables the rough lobes need (one shared by every
-// conductor, one per dielectric or plastic index), as vec4s.
 std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         const std::vector<std::uint32_t>& flags, bool textures,
                                         bool microfacet) {
@@ -126,8 +126,6 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
     out.insert(out.end(), tables.begin(), tables.end());
     return out;
 }
-
-}  // namespace
 
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                             unsigned local_size, const CancelFlag* cancel) {

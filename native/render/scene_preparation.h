@@ -49,6 +49,16 @@ struct PreparedScene {
     std::vector<std::string> warnings;
 };
 
+// Whether a material needs the lobes of shaders/common/lobes.glsl (HAS_MICROFACET).
+bool needs_microfacet(const Material& m);
+
+// The Materials buffer: GpuMaterial records (flags: one per material), then the albedo
+// tables the rough lobes need (one shared by every conductor, one per dielectric or plastic
+// index), as vec4s. `textures`: the texture indices are kept; `microfacet`: tables are made.
+std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
+                                        const std::vector<std::uint32_t>& flags, bool textures,
+                                        bool microfacet);
+
 // Throws SceneError / std::invalid_argument naming what is wrong, Cancelled when `cancel` is
 // set. local_size is the stages' work-group size (a #define of every program).
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,

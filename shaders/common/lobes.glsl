@@ -36,7 +36,8 @@ const uint OPTION_TINT_REFLECTION = 16384u;   // dielectric: the colour tints re
 const int MAX_MIX_DEPTH = 8;  // kMaxMixDepth in native/scene/scene.h
 
 // Albedo tables (native/render/microfacet_tables.h), in the materials buffer after the
-// materials: ALBEDO_TABLE_SIZE^2 values E(mu, roughness) on [0, 1]^2 grids (mu fastest),
+// materials: ALBEDO_TABLE_SIZE^2 values E(mu, roughness) on grids uniform in sqrt(mu) and
+// roughness over [0, 1] (sqrt(mu) fastest),
 // then ALBEDO_TABLE_SIZE hemispherical averages 2 int E(mu) mu dmu; a dielectric has a second
 // block for light inside it.
 const int ALBEDO_TABLE_SIZE = 32;
@@ -46,7 +47,7 @@ float table_entry(int base, int k) { return materials[base + (k >> 2)][k & 3]; }
 
 float albedo_table(int base, float mu, float roughness) {
     const int n = ALBEDO_TABLE_SIZE;
-    vec2 x = clamp(vec2(mu, roughness), 0.0, 1.0) * float(n - 1);
+    vec2 x = vec2(sqrt(clamp(mu, 0.0, 1.0)), clamp(roughness, 0.0, 1.0)) * float(n - 1);
     ivec2 i = min(ivec2(x), ivec2(n - 2));
     vec2 f = x - vec2(i);
     int k = i.y * n + i.x;

@@ -14,9 +14,11 @@ const float GGX_MIN_ALPHA = 1.0e-4;
 
 float ggx_alpha(float roughness) { return max(roughness * roughness, GGX_MIN_ALPHA); }
 
-// D(m) for a normal m in the frame (m.z > 0).
+// D(m) for a unit normal m in the frame (m.z > 0). The denominator
+// cos^2 (a2 - 1) + 1 = a2 cos^2 + sin^2 is formed from sin^2 = x^2 + y^2 directly: near the
+// peak of a smooth lobe 1 - cos^2 would cancel to nothing in float.
 float ggx_d(vec3 m, float a2) {
-    float d = m.z * m.z * (a2 - 1.0) + 1.0;
+    float d = a2 * m.z * m.z + (m.x * m.x + m.y * m.y);
     return a2 / (PI * d * d);
 }
 
