@@ -226,7 +226,8 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         p.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
         bool shadowless = settings.full_variant;
         for (std::uint32_t flags : geometry.flags)
-            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow)) != 0;
+            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow |
+                                    kMaterialMayBeTransparent)) != 0;
         if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
     }
     p.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});

@@ -25,6 +25,7 @@ const int MATERIAL_LIGHT_SURFACE = 1;
 const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
 const int MATERIAL_ONE_SIDED_EMISSION = 4;
 const int MATERIAL_CASTS_NO_SHADOW = 8;
+const int MATERIAL_MAY_BE_TRANSPARENT = 16;
 
 // The surface's colour: the material's, times its base-colour texture at the hit's uv.
 vec3 surface_color(Surface s) {
