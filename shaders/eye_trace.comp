@@ -175,7 +175,7 @@ void main() {
             break;
         }
         vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
-                                    rng_next(rng), throughput);
+                                    rng_next(rng), true, throughput);
 #endif
 #ifdef FILM_TRANSPARENT
         through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&

@@ -149,7 +149,7 @@ void main() {
             bounces = -1.0;
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
-                                   s.geometric_normal, rng_next(rng), flux);
+                                   s.geometric_normal, rng_next(rng), false, flux);
 #ifdef DIRECT_LIGHT_SAMPLED
             scattered = 1.0;
 #endif

@@ -48,9 +48,12 @@ vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
 
 // Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or
 // refraction by Fresnel with probability equal to the reflectance, so the weight is the
-// colour alone. `n` is the shading normal on the geometric normal's side; returns the new
-// direction and multiplies `weight`.
-vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, inout vec3 weight) {
+// colour alone, times eta^2 for the radiance that eye paths carry across a refraction (the
+// solid angle changes by the squared ratio of the indices; photons carry flux, which does
+// not: Veach's thesis, section 5.2). `n` is the shading normal on the geometric normal's
+// side; returns the new direction and multiplies `weight`.
+vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, bool radiance,
+                      inout vec3 weight) {
 #ifdef HAS_DIELECTRIC
     if (material_kind(m) == MATERIAL_DIELECTRIC) {
         bool entering = dot(dir, ng) < 0.0;
@@ -60,7 +63,7 @@ vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, ino
         float cos_t;
         float f = fresnel_dielectric(cos_i, eta, cos_t);
         if (u < f) return reflect(dir, nn);
-        weight *= color;
+        weight *= radiance ? color * (eta * eta) : color;
         return normalize(eta * dir + (eta * cos_i - cos_t) * nn);
     }
 #endif

@@ -326,9 +326,14 @@ float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
 
 // ---- The material: dispatch on the leaf's kind. A lobe is smooth when its roughness is
 // below the threshold (Frame's glossy_threshold): eye paths then follow it by sampling,
-// and visible points hold only the rough lobes ("rough_only").
+// and visible points hold only the rough lobes ("rough_only"). Rough dielectrics are
+// followed at every roughness, as pbrt-v4's SPPM follows glossy lobes: a visible point on
+// frosted glass gathers photons through a narrow transmission lobe, whose estimate is far
+// noisier than that of the surfaces seen through it.
 
-bool lobe_smooth(Shading sh) { return sh.roughness < glossy_threshold; }
+bool lobe_smooth(Shading sh) {
+    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold;
+}
 
 // Whether photons landing here can be gathered: the material has a lobe that visible points
 // evaluate.
