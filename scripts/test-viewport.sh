@@ -36,8 +36,10 @@ blender -b --factory-startup --python-expr \
 status=0
 summaries=()
 # The window: its 3D view fills it (viewport_ui.py maximizes the area).
-ui=(-s "-screen 0 1280x800x24")
+# Xvfb writes its screen to FB/Xvfb_screen0, where the tests read what the display shows.
+ui() { echo "-screen 0 1280x800x24 -fbdir $1"; }
 window=(-p 0 0 640 480)
+mkdir -p "$out/fb-3.4" "$out/fb-4.3"
 
 run_suite() {
   local label=$1; shift
@@ -58,12 +60,13 @@ run_suite() {
 }
 
 run_suite viewport-3.4 env BLENDER_USER_RESOURCES="$repo/$user_dir/3.4" \
-  xvfb-run -a "${ui[@]}" blender --factory-startup "${window[@]}" "$out/start.blend" \
+  GLSLPPM_XVFB_FBDIR="$repo/$out/fb-3.4" \
+  xvfb-run -a -s "$(ui "$repo/$out/fb-3.4")" blender --factory-startup "${window[@]}" "$out/start.blend" \
   --python tests/blender/viewport_ui.py -- --module glslppm --out "$out/3.4" "$@"
 
 run_suite viewport-4.3 scripts/blender-chroot.sh run env \
-  BLENDER_USER_RESOURCES="/src/$user_dir/4.3" \
-  xvfb-run -a "${ui[@]}" blender --factory-startup "${window[@]}" "/src/$out/start.blend" \
+  BLENDER_USER_RESOURCES="/src/$user_dir/4.3" GLSLPPM_XVFB_FBDIR="/src/$out/fb-4.3" \
+  xvfb-run -a -s "$(ui "/src/$out/fb-4.3")" blender --factory-startup "${window[@]}" "/src/$out/start.blend" \
   --python tests/blender/viewport_ui.py -- --module bl_ext.user_default.glslppm \
   --out "/src/$out/4.3" "$@"
 

@@ -267,9 +267,11 @@ class GlslppmEngineMixin:
                                 depsgraph.scene.frame_current)
                 session.camera_key = viewport.view_key(context.region_data, width, height)
             return
-        kind = viewport.change_kind(depsgraph, session.data)
+        kind, reason = viewport.change_kind(depsgraph, session.data, session.objects)
         if kind is None and signature == session.signature:
             return
+        print(f"GLSLPPM viewport: {kind or 'settings'} changed"
+              + (f" ({reason})" if reason else ""))
         data = session.data
         if kind is not None:
             data = session.export(depsgraph, session.data.camera, *session.size)

@@ -61,6 +61,7 @@ class Session:
         self.seconds_per_pass = None
         self.stats = {}
         self.signature = None
+        self.objects = None         # object_names() at the last export
         self.camera_key = None
         self._closed = False
         self._lock = threading.Lock()
@@ -81,6 +82,7 @@ class Session:
             self.fail(str(error))
             return None
         count("exports")
+        self.objects = object_names(depsgraph)
         self.warnings = list(data.warnings)
         if not data.has_surfaces():
             self.fail("the scene has no geometry")
@@ -309,34 +311,52 @@ def viewport_size(region, pixel_size):
     return max(1, region.width // pixel_size), max(1, region.height // pixel_size)
 
 
-def change_kind(depsgraph, data):
-    """What a depsgraph update asks of the viewport: "geometry" (re-export and a new
-    renderer), "tables" (re-export, update_tables), or None (nothing it renders)."""
+def object_names(depsgraph):
+    """The evaluated objects by name: a collection update that changes none of them (Blender
+    4.3 sends some for unrelated edits) changes nothing rendered."""
+    return frozenset(obj.name for obj in depsgraph.objects)
+
+
+def change_kind(depsgraph, data, known_objects=None):
+    """What a depsgraph update asks of the viewport, and why: ("geometry", reason)
+    (re-export and a new renderer), ("tables", reason) (re-export, update_tables), or
+    (None, "") (nothing it renders)."""
     area_lights = data is not None and any(light.kind == "area" for light in data.lights)
-    kind = None
+    kind, reason = None, ""
     for update in depsgraph.updates:
         id_type = type(update.id).__name__
+        what = f"{id_type} '{update.id.name}'"
         if id_type == "Object":
             obj = update.id
             if not (update.is_updated_geometry or update.is_updated_transform):
                 continue
-            if obj.type == 'LIGHT' and not area_lights:
-                kind = kind or "tables"
-                continue
             if obj.type == 'CAMERA':
                 continue  # the viewport looks through its own view
-            return "geometry"
+            if obj.type == 'LIGHT' and not area_lights:
+                kind, reason = kind or "tables", reason or what
+                continue
+            return "geometry", what
+        if id_type == "Image":
+            # Images reach the renderer as textures built with it; others (a script's,
+            # a screenshot's) are none of its business.
+            if data is not None and update.id.name in {t.name for t in data.textures}:
+                return "geometry", what
+            continue
+        if id_type == "Collection":
+            if known_objects is None or object_names(depsgraph) != known_objects:
+                return "geometry", what  # objects added, deleted, hidden or shown
+            continue
         if id_type in ("Mesh", "Curve", "Curves", "PointCloud", "MetaBall", "TextCurve",
-                       "Collection", "ParticleSettings", "Image"):
-            if update.is_updated_geometry or id_type in ("Collection", "Image"):
-                return "geometry"
+                       "ParticleSettings"):
+            if update.is_updated_geometry:
+                return "geometry", what
         if id_type in ("Material", "World", "ShaderNodeTree"):
-            kind = kind or "tables"
+            kind, reason = kind or "tables", reason or what
         if id_type in ("Light", "AreaLight", "PointLight", "SpotLight", "SunLight"):
             if area_lights:
-                return "geometry"
-            kind = kind or "tables"
-    return kind
+                return "geometry", what
+            kind, reason = kind or "tables", reason or what
+    return kind, reason
 
 
 def settings_signature(settings, film):

@@ -1,7 +1,8 @@
 """The rendered viewport and material preview tests, in Blender's real UI (under Xvfb):
 
-    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup -p 0 0 1280 800 \\
-        FILE.blend --python tests/blender/viewport_ui.py -- [--source addon | --module NAME]
+    GLSLPPM_XVFB_FBDIR=FB xvfb-run -a -s "-screen 0 1280x800x24 -fbdir FB" \\
+        blender --factory-startup -p 0 0 640 480 FILE.blend \\
+        --python tests/blender/viewport_ui.py -- [--source addon | --module NAME]
         --out DIR [-k TEXT]
 
 (a .blend on the command line keeps the splash screen away; scripts/test-viewport.sh
@@ -15,6 +16,7 @@ did not finish.
 import argparse
 import math
 import os
+import struct
 import sys
 import time
 import traceback
@@ -121,26 +123,48 @@ def redraw():
 
 
 def screenshot(name):
-    """The 3D view's window region as Blender drew it: (H, W, 3) display values in
-    [0, 1], row 0 at the top."""
-    window, area, space, region = view3d()
-    path = os.path.join(helpers.OUT, f"{name}.png")
-    scene = bpy.context.scene
-    scene.render.image_settings.file_format = 'PNG'
-    scene.render.image_settings.color_mode = 'RGB'
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path, check_existing=False)
-    try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    full = pixels.reshape(height, width, 4)  # row 0 at the bottom of the window
-    x, y = region.x, region.y
-    crop = full[y:y + region.height, x:x + region.width, :3]
-    return crop[::-1]
+    """The 3D view's window region as the X server shows it: (H, W, 3) display values in
+    [0, 1], row 0 at the top, also saved as OUT/name.png. Read from Xvfb's framebuffer
+    file (xvfb-run -s "-fbdir DIR", DIR in GLSLPPM_XVFB_FBDIR): Blender's own read-backs
+    (bpy.ops.screen.screenshot, GPUOffScreen.draw_view3d) return black on Blender 4.3
+    under Xvfb, while the display shows the image."""
+    directory = os.environ.get("GLSLPPM_XVFB_FBDIR")
+    if not directory:
+        raise RuntimeError("GLSLPPM_XVFB_FBDIR is not set: run under xvfb-run -s "
+                           "\"-fbdir DIR\" (scripts/test-viewport.sh)")
+    window, _, _, region = view3d()
+    screen = read_xwd(os.path.join(directory, "Xvfb_screen0"))
+    left = window.x + region.x
+    top = screen.shape[0] - (window.y + region.y + region.height)
+    crop = screen[top:top + region.height, left:left + region.width]
+    assert crop.shape[:2] == (region.height, region.width), (crop.shape, left, top)
+    image = bpy.data.images.new(name, region.width, region.height)
+    rgba = np.concatenate([crop[::-1], np.ones(crop.shape[:2] + (1,), np.float32)], axis=2)
+    image.pixels.foreach_set(rgba.ravel())
+    image.filepath_raw = os.path.join(helpers.OUT, f"{name}.png")
+    image.file_format = 'PNG'
+    image.save()
+    bpy.data.images.remove(image)
+    return crop
+
+
+def read_xwd(path):
+    """An X window dump (the format of Xvfb's -fbdir file) of a 24-bit screen as
+    (H, W, 3) floats in [0, 1], row 0 at the top."""
+    with open(path, "rb") as f:
+        data = f.read()
+    header = struct.unpack(">25I", data[:100])
+    header_size, depth, width, height = header[0], header[3], header[4], header[5]
+    byte_order, bits_per_pixel, bytes_per_line, colours = (header[7], header[11],
+                                                           header[12], header[19])
+    if depth != 24 or bits_per_pixel != 32:
+        raise RuntimeError(f"{path}: depth {depth}, {bits_per_pixel} bits per pixel; "
+                           "expected a 24-bit screen (-screen 0 WxHx24)")
+    offset = header_size + colours * 12
+    rows = np.frombuffer(data, np.uint8, count=height * bytes_per_line, offset=offset)
+    pixels = rows.reshape(height, bytes_per_line)[:, :width * 4].reshape(height, width, 4)
+    rgb = pixels[..., 2::-1] if byte_order == 0 else pixels[..., 1:4]  # BGRX or XRGB
+    return rgb.astype(np.float32) / 255.0
 
 
 def srgb(linear):
@@ -373,7 +397,7 @@ class Driver:
                 window, area, space, region = view3d()
                 plain_view(space)
                 rendered(False)
-                self.current = test()
+                self.current = self.clean_start(test)
                 self.began = time.perf_counter()
             wait = next(self.current)
             return wait
@@ -389,6 +413,13 @@ class Driver:
             sys.stdout.flush()
         self.current = None
         return 0.2
+
+    @staticmethod
+    def clean_start(test):
+        """The previous test's session closed first, so that each test sees its own."""
+        yield from wait_until(lambda: not viewport_module().SESSIONS, 10,
+                              "the previous session to close")
+        yield from test()
 
     def finish(self):
         version = ".".join(map(str, bpy.app.version))
