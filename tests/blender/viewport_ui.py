@@ -14,7 +14,6 @@ did not finish.
 """
 
 import argparse
-import math
 import os
 import struct
 import sys
@@ -23,7 +22,7 @@ import traceback
 
 import bpy
 import numpy as np
-from mathutils import Matrix, Quaternion, Vector
+from mathutils import Vector
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -44,6 +43,8 @@ def parse_args():
     parser.add_argument("--source")
     parser.add_argument("--out", required=True)
     parser.add_argument("-k", dest="keywords", action="append", default=[])
+    parser.add_argument("--capture", help="save the docs' viewport image here instead")
+    parser.add_argument("--capture-passes", type=int, default=8)
     return parser.parse_args(argv)
 
 
@@ -299,6 +300,13 @@ def test_object_move_rebuilds():
     assert after["exports"] == before["exports"] + 1, (before, after)
     assert after["renderers"] == before["renderers"] + 1, (before, after)
     assert after["camera_restarts"] == before["camera_restarts"]
+    # Deleting an object rebuilds too, and the session renders the scene without it.
+    yield from wait_finished(4)
+    bpy.data.objects.remove(bpy.data.objects["Right"])
+    yield from wait_until(lambda: counts()["renderers"] > after["renderers"], 20,
+                          "the rebuild after the delete")
+    yield from wait_until(lambda: session().passes >= 1, 20, "a pass after the delete")
+    assert session().data.triangle_count == 8, session().data.triangle_count
 
 
 def test_leaving_rendered_shading_frees_the_context_and_gl_objects():
@@ -431,6 +439,25 @@ class Driver:
         os._exit(1 if self.failed else 0)
 
 
+def capture_for_docs(path, passes):
+    """Not a test: the Cornell box with glass and mirror spheres in the rendered viewport,
+    header text shown, saved after `passes` passes (docs/viewport.md's image)."""
+    import demo_cornell
+    scene = helpers.reset_scene(size=SIZE)
+    demo_cornell.build_cornell_box(glass=True, mirror=True)
+    scene.glslppm.viewport_passes = 1024
+    _, _, space, _ = view3d()
+    space.overlay.show_overlays = True
+    set_view(space, location=(0.3, -3.9, 1.1), target=(0.0, 0.0, 0.9))
+    rendered()
+    yield from wait_until(lambda: session() is not None and session().passes >= passes, 120,
+                          f"{passes} passes")
+    yield 0.5
+    helpers.OUT, name = os.path.dirname(path), os.path.splitext(os.path.basename(path))[0]
+    screenshot(name)
+    print(f"captured {path} at pass {session().passes}", flush=True)
+
+
 def main():
     args = parse_args()
     helpers.OUT = os.path.abspath(args.out)
@@ -439,6 +466,11 @@ def main():
     helpers.ADDON, helpers.ADDON_NAME = enable_addon(args)
     tests = [t for t in TESTS
              if not args.keywords or any(k in t.__name__ for k in args.keywords)]
+    if args.capture:
+        def capture():
+            yield from capture_for_docs(os.path.abspath(args.capture), args.capture_passes)
+        capture.__name__ = "capture_for_docs"
+        tests = [capture]
     driver = Driver(tests)
 
     def start():
