@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from ..export import ExportError, export_scene
-from .native_scene import native_renderer, native_scene
+from .native_scene import native_scene, native_settings
 
 # One run() call lasts about this long, so restarts and redraws wait at most that.
 BATCH_SECONDS = 0.1
@@ -64,6 +64,7 @@ class Session:
         self.objects = None         # object_names() at the last export
         self.camera_key = None
         self._closed = False
+        self._build = None          # a _Build the worker has yet to construct
         self._lock = threading.Lock()
         self._wake = threading.Condition(self._lock)
         self._closing = False
@@ -93,35 +94,42 @@ class Session:
         return data
 
     def rebuild(self, data, settings, film, width, height, signature=None, frame=0):
-        """A new renderer (BVH build, GL set-up) for data at width x height."""
+        """A new renderer for data at width x height, built on the worker thread (a BVH
+        build takes seconds for millions of triangles; the UI goes on meanwhile, and a
+        later rebuild or close() cancels it within milliseconds)."""
         self.stop_renderer()
-        self.data = data
-        self.size = (width, height)
-        self.signature = signature
         native = self.native
         try:
-            renderer = native_renderer(
-                native, native_scene(native, data),
-                _viewport_settings(settings), width, height, frame, film, self.device)
+            # Read on this (Blender's) thread: the worker must not touch bpy.
+            build = _Build(data, native_settings(native, _viewport_settings(settings), width,
+                                                 height, frame, film=film, device=self.device),
+                           native.CancelFlag())
         except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
             self.fail(f"the renderer could not start: {error}")
             return
-        count("renderers")
-        self._start(renderer)
+        with self._lock:
+            self.data = data
+            self.size = (width, height)
+            self.signature = signature
+            self.error = None
+            self._build = build
+            self._wake.notify_all()
 
     def set_camera(self, camera):
-        """The view changed: the same renderer looks through the new camera."""
+        """The view changed: the same renderer looks through the new camera (True), or
+        the renderer in the making will (True); False when the camera needs a new
+        renderer."""
         with self._lock:
-            renderer = self.renderer
+            renderer, building = self.renderer, self._build is not None
+            self.data.camera = camera  # a build in progress checks it when it is done
         if renderer is None:
-            return
+            return building
         renderer.cancel()
-        self.data.camera = camera
         try:
             changed = renderer.set_camera(self.native.Camera(**_camera_fields(camera)))
         except (self.native.GlslppmError, ValueError, RuntimeError) as error:
             self.fail(f"the camera could not be set: {error}")
-            return
+            return True
         if changed:
             count("camera_restarts")
             self._restarted()
@@ -186,7 +194,10 @@ class Session:
     def stop_renderer(self):
         with self._lock:
             renderer, self.renderer = self.renderer, None
+            build, self._build = self._build, None
             self.passes = 0
+        if build is not None:
+            build.cancel.set()  # a construction in progress stops within milliseconds
         if renderer is not None:
             renderer.close()  # cancels a run in flight; the GPU is freed when it returns
 
@@ -215,12 +226,6 @@ class Session:
         if self in SESSIONS:
             SESSIONS.remove(self)
 
-    def _start(self, renderer):
-        with self._lock:
-            self.renderer = renderer
-            self.error = None
-        self._restarted()
-
     def _restarted(self):
         with self._lock:
             self.passes = 0
@@ -231,14 +236,56 @@ class Session:
 
     # --- the worker thread ---
 
+    def _construct(self, build):
+        """Builds the renderer of a _Build; it becomes the session's unless superseded."""
+        native = self.native
+        camera = build.data.camera
+        try:
+            renderer = native.Renderer(native_scene(native, build.data), build.settings,
+                                       cancel=build.cancel)
+        except native.Cancelled:
+            return
+        except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
+            with self._lock:
+                if self._build is build:
+                    self._build = None
+                    self.error = f"the renderer could not start: {error}"
+                    self.error_shown = False
+            return
+        with self._lock:
+            current = self._build is build and not self._closing
+            if current:
+                self._build = None
+                self.renderer = renderer
+                moved = build.data.camera is not camera
+        if not current:
+            renderer.close()
+            return
+        count("renderers")
+        if moved:  # the view changed while the renderer was built
+            try:
+                renderer.set_camera(native.Camera(**_camera_fields(build.data.camera)))
+            except (native.GlslppmError, ValueError, RuntimeError) as error:
+                with self._lock:
+                    self.error = f"the camera could not be set: {error}"
+                    self.error_shown = False
+        self._restarted()
+
     def _work(self):
         while True:
             with self._lock:
-                while not self._closing and (self.renderer is None or self.finished
-                                             or self.error is not None):
+                while not self._closing and self._build is None and (
+                        self.renderer is None or self.finished or self.error is not None):
                     self._wake.wait()
                 if self._closing:
                     return
+                build = self._build
+            if build is not None:
+                self._construct(build)
+                continue
+            with self._lock:
+                if self.renderer is None or self.finished or self.error is not None:
+                    continue
                 renderer = self.renderer
                 passes, seconds = self.limits
                 elapsed = time.perf_counter() - self.started
@@ -281,6 +328,16 @@ def preview_settings(settings):
     viewport's photons per pass."""
     return _Overridden(settings, passes=settings.preview_passes, time_limit=0.0,
                        photons_per_pass=settings.viewport_photons_per_pass)
+
+
+class _Build:
+    """A renderer to make on the worker: the exported data, the native Settings, and the
+    flag that cancels the construction."""
+
+    def __init__(self, data, settings, cancel):
+        self.data = data
+        self.settings = settings
+        self.cancel = cancel
 
 
 class _Overridden:
