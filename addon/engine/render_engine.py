@@ -260,7 +260,8 @@ class GlslppmEngineMixin:
         film = film_options(depsgraph.scene)
         signature = viewport.settings_signature(settings, film)
         if session.data is None:
-            camera = viewport_camera(context.region_data, width, height)
+            camera = viewport_camera(context.region_data, width, height,
+                                     0.5 * context.space_data.clip_end)
             data = session.export(depsgraph, camera, width, height)
             if data is not None:
                 session.rebuild(data, settings, film, width, height, signature,
@@ -292,7 +293,8 @@ class GlslppmEngineMixin:
         width, height = viewport.viewport_size(region, settings.viewport_pixel_size)
         key = viewport.view_key(region_data, width, height)
         if session.data is not None and session.error is None and key != session.camera_key:
-            camera = viewport_camera(region_data, width, height)
+            camera = viewport_camera(region_data, width, height,
+                                     0.5 * context.space_data.clip_end)
             session.camera_key = key
             if session.size != (width, height) or not session.set_camera(camera):
                 session.data.camera = camera

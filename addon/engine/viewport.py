@@ -211,6 +211,9 @@ class Session:
         if per_pass:
             parts.append(f"{per_pass:.3f} s/pass")
         parts.append(f"{elapsed:.1f} s" + (" (done)" if finished else ""))
+        if self.warnings:
+            more = f" (+{len(self.warnings) - 1} more)" if len(self.warnings) > 1 else ""
+            parts.append(f"warning: {self.warnings[0]}{more}")
         return " | ".join(parts)
 
     def close(self):

@@ -286,6 +286,32 @@ def test_material_colour_change_shows_without_bvh_build():
     del scene
 
 
+def test_time_limit_stops_refinement_and_redraws():
+    """Viewport Time Limit 3 s: the worker stops within a batch (0.1 s) and a pass of the
+    limit, and after that no pass runs and no film is read (redraws stopped)."""
+    scene = cornell()
+    scene.glslppm.viewport_passes = 100000
+    scene.glslppm.viewport_time_limit = 3.0
+    _, _, space, _ = view3d()
+    set_view(space)
+    rendered()
+    yield from wait_until(lambda: session() is not None and session().finished, 30,
+                          "the time limit")
+    began = time.perf_counter()
+    per_pass = session().seconds_per_pass or 0.0
+    ran_for = session().stats.get("seconds", 0.0)
+    yield 1.0
+    passes, reads = session().passes, counts()["film_reads"]
+    yield 1.5
+    print(f"time limit 3 s: {passes} passes in {ran_for:.2f} s of run(), "
+          f"{per_pass:.3f} s a pass")
+    assert 0 < passes < 100000
+    assert ran_for <= 3.0 + 0.2 + 2.0 * per_pass, (ran_for, per_pass)
+    assert session().passes == passes, "passes ran after the time limit"
+    assert counts()["film_reads"] == reads, "the film was read after the time limit"
+    assert time.perf_counter() - began >= 2.5
+
+
 def test_object_move_rebuilds():
     cornell()
     _, _, space, _ = view3d()
@@ -379,6 +405,7 @@ def test_material_preview_renders_a_sphere():
 TESTS = [test_viewport_matches_the_final_render_of_the_same_view,
          test_camera_move_restarts_without_export_or_bvh_build,
          test_material_colour_change_shows_without_bvh_build,
+         test_time_limit_stops_refinement_and_redraws,
          test_object_move_rebuilds,
          test_leaving_rendered_shading_frees_the_context_and_gl_objects,
          test_error_shows_as_text_and_blender_goes_on,
