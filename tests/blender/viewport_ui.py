@@ -273,6 +273,36 @@ def test_orthographic_viewport_matches_the_final_render():
     assert share >= 0.97, share
 
 
+def test_pixel_size_renders_at_a_fraction_of_the_region():
+    """Pixel Size 2: the renderer's image is half the region's width and height, drawn over
+    the whole region; its 3x3 region means match F12 of the same view at that half size
+    within 0.02."""
+    scene = cornell()
+    scene.glslppm.viewport_pixel_size = 2
+    _, _, space, region = view3d()
+    set_view(space)
+    rendered()
+    yield from wait_finished(PASSES)
+    size = session().size
+    assert size == (region.width // 2, region.height // 2), size
+    shot = screenshot("viewport_pixel_size_2")
+    camera = bpy.data.cameras.new("ViewCamera")
+    camera.lens, camera.sensor_width, camera.sensor_fit = space.lens, 72.0, 'AUTO'
+    obj = bpy.data.objects.new("ViewCamera", camera)
+    obj.matrix_world = space.region_3d.view_matrix.inverted()
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    scene.render.resolution_x, scene.render.resolution_y = size
+    rendered(False)
+    yield 0.5
+    final = srgb(helpers.render_image("viewport_pixel_size_final")[..., :3])
+    means = np.abs(region_grid_means(shot, 3) - region_grid_means(final, 3))
+    print(f"pixel size 2: {size[0]}x{size[1]} over {region.width}x{region.height}, region "
+          f"means within {means.max():.4f}")
+    assert shot.mean() > 0.1, shot.mean()
+    assert means.max() <= 0.02, means
+
+
 def test_camera_move_restarts_without_export_or_bvh_build():
     cornell()
     _, _, space, _ = view3d()
@@ -445,6 +475,7 @@ def test_material_preview_renders_a_sphere():
 
 TESTS = [test_viewport_matches_the_final_render_of_the_same_view,
          test_orthographic_viewport_matches_the_final_render,
+         test_pixel_size_renders_at_a_fraction_of_the_region,
          test_camera_move_restarts_without_export_or_bvh_build,
          test_material_colour_change_shows_without_bvh_build,
          test_time_limit_stops_refinement_and_redraws,
