@@ -276,6 +276,9 @@ py::dict stats_dict(const RenderStats& s) {
     d["programs_compiled"] = s.programs_compiled;
     d["programs_reused"] = s.programs_reused;
     d["compile_seconds"] = s.compile_seconds;
+    d["camera_updates"] = s.camera_updates;
+    d["table_updates"] = s.table_updates;
+    d["film_resets"] = s.film_resets;
     d["eye_seconds"] = s.eye_seconds;
     d["photon_seconds"] = s.photon_seconds;
     d["hash_seconds"] = s.hash_seconds;
@@ -522,6 +525,23 @@ PYBIND11_MODULE(_glslppm, m) {
         "Runs that many passes; returns how many ran (fewer after cancel() or close()).")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
+        .def("reset_film", [](PyRenderer& r) {
+            py::gil_scoped_release release;
+            r.get()->reset_film();
+        }, "Starts the image again from no passes; scene, BVH and programs stay.")
+        .def("set_camera", [](PyRenderer& r, const Camera& camera) {
+            py::gil_scoped_release release;
+            return r.get()->set_camera(camera);
+        }, py::arg("camera"),
+        "Looks through another camera and starts the image again, without a BVH build. "
+        "False (nothing changed) when the camera needs other programs: make a new Renderer.")
+        .def("update_tables", [](PyRenderer& r, const Scene& scene) {
+            py::gil_scoped_release release;
+            return r.get()->update_tables(scene);
+        }, py::arg("scene"),
+        "Takes the materials, lights, world and camera of a scene with the same geometry and "
+        "starts the image again, without a BVH build. False (nothing changed) when they need "
+        "other programs, images or geometry: make a new Renderer.")
         .def("_debug_set_photons_emitted", [](PyRenderer& r, std::uint64_t count) {
             py::gil_scoped_release release;
             r.get()->debug_set_photons_emitted(count);

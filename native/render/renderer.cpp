@@ -25,9 +25,9 @@
 #include "render/scene_preparation.h"
 #include "render/texture_atlas.h"
 #include "render/rng_seed.h"
+#include "scene/scene_validation.h"
 
 namespace glslppm {
-
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), gpu_(std::make_unique<Gpu>()) {
     Gpu& g = *gpu_;
@@ -46,6 +46,9 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
     g.hash_cells = prepared.hash_cells;
     g.initial_radius = prepared.initial_radius;
     g.warnings = std::move(prepared.warnings);
+    g.geometry_triangles = prepared.geometry.mesh.triangles.size();
+    g.material_count = prepared.geometry.materials.size();
+    g.textures_used = prepared.textures.used;
     const SceneGeometry& geometry = prepared.geometry;
     const TextureUse& use = prepared.textures;
     const EnvironmentMap* environment = prepared.environment.get();
@@ -132,12 +135,11 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             } else if (settings.full_variant) {
                 g.make_buffer(BINDING_ENVIRONMENT_CDF, 16, nullptr, "environment distribution");
             }
-            g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records), g.emitters.records.data(),
-                          "lights");
-            g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
-                          prepared.material_records.data(), "materials");
-            Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
-            g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(counters), &counters, "counters");
+            g.emitter_records = g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records),
+                                              g.emitters.records.data(), "lights");
+            g.materials = g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
+                                        prepared.material_records.data(), "materials");
+            g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
             const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
@@ -145,16 +147,15 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             Gpu::require_fits(ph * 3 * 16, "photons");
             Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
             g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
-            std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
-            for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;
-            g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, bytes(stats), stats.data(), "pixel statistics");
-            stats.assign(px * 2, glm::vec4(0.0f));
-            g.make_buffer(BINDING_DIRECT_LIGHT, bytes(stats), stats.data(), "direct light");
-            std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
-            for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
-            g.make_buffer(BINDING_PHOTON_PATHS, bytes(paths), paths.data(), "photon paths");
-            paths.assign(ph * 3, glm::vec4(0.0f));
-            g.photons = g.make_buffer(BINDING_PHOTONS, bytes(paths), paths.data(), "photons");
+            g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr,
+                                          "pixel statistics");
+            g.direct_light = g.make_buffer(BINDING_DIRECT_LIGHT, px * 2 * 16, nullptr,
+                                           "direct light");
+            g.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * 3 * 16, nullptr,
+                                           "photon paths");
+            const std::vector<glm::vec4> no_photons(ph * 3, glm::vec4(0.0f));
+            g.photons = g.make_buffer(BINDING_PHOTONS, bytes(no_photons), no_photons.data(),
+                                      "photons");
             if (settings.rng == RngKind::Paper) {
                 const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
                 g.make_buffer(BINDING_RNG_STATES, bytes(seeds), seeds.data(), "generator states");
@@ -165,6 +166,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
+            g.restart_film();
             g.setup_cancel = nullptr;
             glFinish();
         } catch (...) {
@@ -199,6 +201,62 @@ int Renderer::run(int passes) {
         glFinish();
         g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return done;
+    });
+}
+
+void Renderer::reset_film() {
+    Gpu& g = *gpu_;
+    g.thread->call([&] {
+        g.restart_film();
+        ++g.film_resets;
+    });
+}
+
+bool Renderer::set_camera(const Camera& camera) {
+    Gpu& g = *gpu_;
+    validate_camera(camera);
+    // The programs were specialized for the projection and for depth of field.
+    const auto has = [&](const char* define) {
+        return std::any_of(g.defines.begin(), g.defines.end(),
+                           [&](const auto& d) { return d.first == define; });
+    };
+    const bool orthographic = camera.projection == Projection::Orthographic;
+    const bool depth_of_field = !orthographic && camera.aperture_radius > 0.0f;
+    if (!g.settings.full_variant &&
+        (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
+        return false;
+    return g.thread->call([&] {
+        FrameBlock frame = g.frame;
+        const float radius = frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
+        g.frame = frame;
+        g.initial_radius = radius;
+        g.restart_film();
+        ++g.camera_updates;
+        ++g.film_resets;
+        return true;
+    });
+}
+
+bool Renderer::update_tables(const Scene& scene) {
+    Gpu& g = *gpu_;
+    return g.thread->call([&] {
+        PreparedScene p = prepare_scene(scene, g.settings, kLocalSize, nullptr, &g.bvh);
+        if (p.geometry.mesh.triangles.size() != g.geometry_triangles ||
+            p.geometry.materials.size() != g.material_count ||
+            p.variant != g.variant || p.defines != g.defines || p.textures.used != g.textures_used ||
+            p.environment)
+            return false;
+        g.replace_buffer(g.materials, p.material_records.size() * sizeof(glm::vec4),
+                         p.material_records.data(), "materials");
+        g.emitters = std::move(p.emitters);
+        g.replace_buffer(g.emitter_records, g.emitters.records.size() * sizeof(g.emitters.records[0]),
+                         g.emitters.records.data(), "lights");
+        g.frame = p.frame;
+        g.initial_radius = p.initial_radius;
+        g.restart_film();
+        ++g.table_updates;
+        ++g.film_resets;
+        return true;
     });
 }
 
@@ -292,6 +350,9 @@ RenderStats Renderer::stats() {
     s.programs_compiled = g.programs_compiled;
     s.programs_reused = g.programs_reused;
     s.compile_seconds = g.compile_seconds;
+    s.camera_updates = g.camera_updates;
+    s.table_updates = g.table_updates;
+    s.film_resets = g.film_resets;
     return s;
 }
 

@@ -127,8 +127,96 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
     return out;
 }
 
+float frame_camera(const Camera& cam, const RenderSettings& settings, const PackedBvh& bvh,
+                   const SceneBounds& bounds, FrameBlock& f) {
+    const float diagonal = glm::length(bounds.hi - bounds.lo);
+    // The whole frame (larger than the image when the image is a render region).
+    const bool region = cam.full_width > 0;
+    if (region && (cam.region_x + settings.width > cam.full_width ||
+                   cam.region_y + settings.height > cam.full_height))
+        throw std::invalid_argument("camera region: the image (" +
+                                    std::to_string(settings.width) + "x" +
+                                    std::to_string(settings.height) + " at " +
+                                    std::to_string(cam.region_x) + ", " +
+                                    std::to_string(cam.region_y) + ") does not fit in the " +
+                                    std::to_string(cam.full_width) + "x" +
+                                    std::to_string(cam.full_height) + " frame");
+    const int frame_width = region ? cam.full_width : settings.width;
+    const int frame_height = region ? cam.full_height : settings.height;
+    // The film's height over its width; pixels may be non-square.
+    const float aspect = static_cast<float>(frame_height) * cam.pixel_aspect /
+                         static_cast<float>(frame_width);
+    const bool wide = static_cast<float>(frame_width) >=
+                      static_cast<float>(frame_height) * cam.pixel_aspect;
+    const float tan_x = std::tan(0.5f * cam.fov_x);
+    const float tan_larger = wide ? tan_x : tan_x * aspect;
+    f.camera_to_world = cam.to_world;
+    glm::vec2 half_extent, shift;
+    if (cam.projection == Projection::Orthographic) {
+        // Blender's ortho_scale spans the larger image side.
+        const float half_larger = 0.5f * cam.ortho_scale;
+        const float half_x = wide ? half_larger : half_larger / aspect;
+        half_extent = glm::vec2(half_x, half_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * half_larger, 2.0f * cam.shift_y * half_larger);
+    } else {
+        half_extent = glm::vec2(tan_x, tan_x * aspect);
+        shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
+    }
+    if (region) {
+        // The window's half extent and centre in the frame's film coordinates ([-1, 1],
+        // y up, row 0 at the top).
+        const glm::vec2 frame(frame_width, frame_height);
+        const glm::vec2 size(settings.width, settings.height);
+        const glm::vec2 corner(cam.region_x, cam.region_y);
+        const glm::vec2 centre((2.0f * corner.x + size.x) / frame.x - 1.0f,
+                               1.0f - (2.0f * corner.y + size.y) / frame.y);
+        shift = shift + half_extent * centre;
+        half_extent = half_extent * size / frame;
+    }
+    f.film_half_extent = half_extent;
+    f.film_shift = shift;
+    f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
+    f.aperture_radius = cam.aperture_radius;
+    f.focus_distance = cam.focus_distance;
+    // Automatic radius: two pixel footprints at the distance of what the camera sees (the
+    // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
+    // scene's diagonal.
+    float radius = settings.initial_radius;
+    if (radius <= 0.0f) {
+        const glm::vec3 eye(cam.to_world[3]);
+        std::vector<float> distances;
+        for (int j = 0; j < 5; ++j) {
+            for (int i = 0; i < 5; ++i) {
+                const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
+                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
+                const bool ortho = cam.projection == Projection::Orthographic;
+                const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
+                const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
+                Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
+                        glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
+                const Hit hit = closest_hit(bvh, ray);
+                if (hit.triangle >= 0) distances.push_back(hit.t);
+            }
+        }
+        float distance = glm::length(bounds.center() - eye);
+        if (!distances.empty()) {
+            std::nth_element(distances.begin(), distances.begin() + distances.size() / 2,
+                             distances.end());
+            distance = distances[distances.size() / 2];
+        }
+        const float footprint =
+            cam.projection == Projection::Orthographic
+                ? cam.ortho_scale / static_cast<float>(std::max(frame_width, frame_height))
+                : 2.0f * distance * tan_x / static_cast<float>(frame_width);
+        radius = std::min(2.0f * footprint, 0.05f * diagonal);
+        if (!(radius > 0.0f)) radius = 0.01f * diagonal;
+        radius *= settings.radius_scale;
+    }
+    return radius;
+}
+
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel) {
+                            unsigned local_size, const CancelFlag* cancel, const PackedBvh* built) {
     validate(settings);
     validate_scene(scene);
     PreparedScene p;
@@ -138,17 +226,22 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     p.textures = texture_use(scene, geometry, p.warnings);
     const TextureUse& use = p.textures;
     if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
-    const ValidMesh mesh =
-        validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
-    if (mesh.kept.empty())
-        throw SceneError("the scene has no geometry: nothing to render (" +
-                         std::to_string(mesh.stats.degenerate_dropped) +
-                         " degenerate triangles dropped)");
-    BvhBuildOptions options;
-    options.leaf_size = settings.leaf_size;
-    options.cancel = cancel;
-    p.bvh = build_packed_bvh(mesh, options, 6);
-    p.bounds = scene_bounds(p.bvh);
+    if (!built) {
+        const ValidMesh mesh =
+            validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
+        if (mesh.kept.empty())
+            throw SceneError("the scene has no geometry: nothing to render (" +
+                             std::to_string(mesh.stats.degenerate_dropped) +
+                             " degenerate triangles dropped)");
+        BvhBuildOptions options;
+        options.leaf_size = settings.leaf_size;
+        options.cancel = cancel;
+        p.bvh = build_packed_bvh(mesh, options, 6);
+    }
+    // Tables and camera change, the geometry did not: the earlier MTBVH stands (p.bvh stays
+    // empty).
+    const PackedBvh& bvh = built ? *built : p.bvh;
+    p.bounds = scene_bounds(bvh);
     // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
     // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
     const double extent = glm::length(glm::dvec3(p.bounds.hi) - glm::dvec3(p.bounds.lo));
@@ -165,15 +258,15 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
             scene.environment));
     }
     throw_if_cancelled(cancel);
-    p.emitters = build_emitters(scene, geometry.materials, p.bvh, p.bounds, p.environment.get());
+    p.emitters = build_emitters(scene, geometry.materials, bvh, p.bounds, p.environment.get());
     throw_if_cancelled(cancel);
 
     // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
     // scene requires").
     bool conductor = false, dielectric = false;
-    for (std::uint32_t t = 0; t < p.bvh.triangle_count; ++t) {
+    for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
         const auto kind = geometry.materials[static_cast<std::size_t>(
-                                              std::bit_cast<int>(p.bvh.triangles[3 * t].w))]
+                                              std::bit_cast<int>(bvh.triangles[3 * t].w))]
                               .kind;
         conductor |= kind == MaterialKind::Conductor;
         dielectric |= kind == MaterialKind::Dielectric;
@@ -184,7 +277,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         p.defines.push_back({define, "1"});
         features.push_back(name);
     };
-    feature(!p.bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(!bvh.normals.empty(), "HAS_NORMALS", "normals");
     feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
             "HAS_DEPTH_OF_FIELD", "depth-of-field");
     feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
@@ -244,56 +337,8 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     p.photon_threads = settings.photons_per_pass;
     p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
     const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
-    const Camera& cam = scene.camera;
-    // The whole frame (larger than the image when the image is a render region).
-    const bool region = cam.full_width > 0;
-    if (region && (cam.region_x + settings.width > cam.full_width ||
-                   cam.region_y + settings.height > cam.full_height))
-        throw std::invalid_argument("camera region: the image (" +
-                                    std::to_string(settings.width) + "x" +
-                                    std::to_string(settings.height) + " at " +
-                                    std::to_string(cam.region_x) + ", " +
-                                    std::to_string(cam.region_y) + ") does not fit in the " +
-                                    std::to_string(cam.full_width) + "x" +
-                                    std::to_string(cam.full_height) + " frame");
-    const int frame_width = region ? cam.full_width : settings.width;
-    const int frame_height = region ? cam.full_height : settings.height;
-    // The film's height over its width; pixels may be non-square.
-    const float aspect = static_cast<float>(frame_height) * cam.pixel_aspect /
-                         static_cast<float>(frame_width);
-    const bool wide = static_cast<float>(frame_width) >=
-                      static_cast<float>(frame_height) * cam.pixel_aspect;
-    const float tan_x = std::tan(0.5f * cam.fov_x);
-    const float tan_larger = wide ? tan_x : tan_x * aspect;
     FrameBlock& f = p.frame;
-    f.camera_to_world = cam.to_world;
-    glm::vec2 half_extent, shift;
-    if (cam.projection == Projection::Orthographic) {
-        // Blender's ortho_scale spans the larger image side.
-        const float half_larger = 0.5f * cam.ortho_scale;
-        const float half_x = wide ? half_larger : half_larger / aspect;
-        half_extent = glm::vec2(half_x, half_x * aspect);
-        shift = glm::vec2(2.0f * cam.shift_x * half_larger, 2.0f * cam.shift_y * half_larger);
-    } else {
-        half_extent = glm::vec2(tan_x, tan_x * aspect);
-        shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
-    }
-    if (region) {
-        // The window's half extent and centre in the frame's film coordinates ([-1, 1],
-        // y up, row 0 at the top).
-        const glm::vec2 frame(frame_width, frame_height);
-        const glm::vec2 size(settings.width, settings.height);
-        const glm::vec2 corner(cam.region_x, cam.region_y);
-        const glm::vec2 centre((2.0f * corner.x + size.x) / frame.x - 1.0f,
-                               1.0f - (2.0f * corner.y + size.y) / frame.y);
-        shift = shift + half_extent * centre;
-        half_extent = half_extent * size / frame;
-    }
-    f.film_half_extent = half_extent;
-    f.film_shift = shift;
-    f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
-    f.aperture_radius = cam.aperture_radius;
-    f.focus_distance = cam.focus_distance;
+    p.initial_radius = frame_camera(scene.camera, settings, bvh, p.bounds, f);
     f.scene_lo = p.bounds.lo;
     f.ray_offset_floor = 1e-3f * diagonal;
     f.scene_center = p.bounds.center();
@@ -312,41 +357,6 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
     f.glossy_threshold = settings.glossy_threshold;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
-    // Automatic radius: two pixel footprints at the distance of what the camera sees (the
-    // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
-    // scene's diagonal.
-    float radius = settings.initial_radius;
-    if (radius <= 0.0f) {
-        const glm::vec3 eye(cam.to_world[3]);
-        std::vector<float> distances;
-        for (int j = 0; j < 5; ++j) {
-            for (int i = 0; i < 5; ++i) {
-                const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
-                const bool ortho = cam.projection == Projection::Orthographic;
-                const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
-                const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
-                Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
-                        glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
-                const Hit hit = closest_hit(p.bvh, ray);
-                if (hit.triangle >= 0) distances.push_back(hit.t);
-            }
-        }
-        float distance = glm::length(p.bounds.center() - eye);
-        if (!distances.empty()) {
-            std::nth_element(distances.begin(), distances.begin() + distances.size() / 2,
-                             distances.end());
-            distance = distances[distances.size() / 2];
-        }
-        const float footprint =
-            cam.projection == Projection::Orthographic
-                ? cam.ortho_scale / static_cast<float>(std::max(frame_width, frame_height))
-                : 2.0f * distance * tan_x / static_cast<float>(frame_width);
-        radius = std::min(2.0f * footprint, 0.05f * diagonal);
-        if (!(radius > 0.0f)) radius = 0.01f * diagonal;
-        radius *= settings.radius_scale;
-    }
-    p.initial_radius = radius;
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;
     return p;

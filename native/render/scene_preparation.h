@@ -60,8 +60,17 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         bool microfacet);
 
 // Throws SceneError / std::invalid_argument naming what is wrong, Cancelled when `cancel` is
-// set. local_size is the stages' work-group size (a #define of every program).
+// set. local_size is the stages' work-group size (a #define of every program). `built`, when
+// given, is this scene's MTBVH from an earlier preparation, used instead of building one (the
+// scene's materials, lights, world or camera changed, not its geometry); p.bvh stays empty.
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel = nullptr);
+                            unsigned local_size, const CancelFlag* cancel = nullptr,
+                            const PackedBvh* built = nullptr);
+
+// The camera's part of the Frame (film extent and shift, projection, depth of field) at the
+// settings' image size, and the automatic radius it implies (settings.initial_radius when
+// positive): two pixel footprints at the median distance the camera sees, through `bvh`.
+float frame_camera(const Camera& camera, const RenderSettings& settings, const PackedBvh& bvh,
+                   const SceneBounds& bounds, FrameBlock& frame);
 
 }  // namespace glslppm

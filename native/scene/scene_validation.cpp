@@ -137,6 +137,8 @@ void validate_light(const Light& l, const std::string& name) {
     }
 }
 
+}  // namespace
+
 void validate_camera(const Camera& c) {
     Checker::matrix("camera.to_world", c.to_world);
     if (c.projection == Projection::Perspective)
@@ -154,6 +156,8 @@ void validate_camera(const Camera& c) {
             Checker::fail("camera.region", "expected a corner inside a frame of positive size");
     }
 }
+
+namespace {
 
 void validate_texture(const Texture& t, const std::string& name) {
     if (t.width < 1 || t.height < 1)
