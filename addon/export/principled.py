@@ -13,11 +13,13 @@ The node is a tree of Mix materials, as Cycles composes its closures:
   non-white Specular Tint is not modelled: warned);
 - glass: a GGX dielectric tinting its transmission by the base colour; v1 tints its
   reflection too (its glass reflection starts at the base colour), v2 does not;
-- plastic: a white GGX dielectric layer over a Lambert base of the base colour, energy
-  conserving. Its index: v1 derives it from Specular (F0 = 0.08 specular), v2 from IOR
-  scaled by Specular IOR Level (F0 times 2 level, as Cycles 4.x does). v1 adds its
-  specular to an unattenuated Disney diffuse, so v1 plastics are a few percent brighter
-  in Cycles than the layer here;
+- plastic, v2: a white GGX dielectric layer over a Lambert base of the base colour,
+  energy conserving (as 4.x layers them), its index from IOR scaled by Specular IOR
+  Level (F0 times 2 level, as Cycles 4.x does);
+- plastic, v1: Cycles 3.x adds a Fresnel-weighted white specular to a diffuse it does
+  not attenuate, so v1 is that sum: Mix(0.5, Lambert of twice the base colour,
+  Mix(Fresnel, nothing, GGX reflector of colour 2)), both weights doubled, the index from
+  Specular (F0 = 0.08 specular). Its Disney diffuse's retro-reflection is Lambert here;
 - coat: approximated by a Fresnel-weighted choice of a white GGX reflector (Fresnel of
   the coat's IOR at the view direction, times its weight: v1's clearcoat weight is a
   quarter of Clearcoat at IOR 1.5, as Cycles 3.x scales it). Tint and the coat's
@@ -32,7 +34,8 @@ import math
 
 from dataclasses import replace
 
-from .material import MaterialData, Mix, distribution, mix, with_emission, emission, _ior
+from .material import (BLACK, MaterialData, Mix, distribution, emission, mix, with_emission,
+                       _ior)
 from .node_inputs import input_socket
 
 TRANSPARENT = MaterialData("transparent", (1.0, 1.0, 1.0))
@@ -68,7 +71,14 @@ def convert_principled(node, context):
                             multiscatter=multiscatter, **{**roughness, **kwargs})
 
     metal = lobe("conductor", schlick=True)
-    plastic = lobe("plastic", ior=layer_ior)
+    if v2:
+        plastic = lobe("plastic", ior=layer_ior)
+    else:
+        diffuse = MaterialData("diffuse", tuple(2.0 * c for c in base_color),
+                               color_texture=base_texture)
+        specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
+                                **roughness)
+        plastic = Mix(diffuse, Mix(BLACK, specular, mode="fresnel", ior=layer_ior))
     glass = lobe("dielectric", ior=glass_ior, tint_reflection=not v2)
     if not v2:
         glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)

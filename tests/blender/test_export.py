@@ -149,17 +149,34 @@ def _single(material):
     return export()
 
 
+def _check_plastic(materials, index, base, ior):
+    """4.x: one plastic layer of index ior over base; 3.x: Cycles 3.x's sum of a diffuse
+    and a Fresnel-weighted specular, as Mix(0.5, diffuse of 2 base, Mix(Fresnel(ior),
+    black, reflector of colour 2))."""
+    material = materials[index]
+    if helpers.BLENDER_4:
+        assert material.kind == "plastic", material
+        assert_close(material.color, base, 1e-6, "plastic base colour")
+        assert abs(material.ior - ior) < 1e-4, material
+        return
+    assert material.kind == "mix" and material.mix_factor == 0.5, material
+    diffuse, specular = materials[material.mix_a], materials[material.mix_b]
+    assert diffuse.kind == "diffuse", diffuse
+    assert_close(diffuse.color, [2 * c for c in base], 1e-6, "doubled base colour")
+    assert specular.mix_mode == "fresnel" and abs(specular.mix_ior - ior) < 1e-4, specular
+    assert materials[specular.mix_a].color == (0.0, 0.0, 0.0)
+    reflector = materials[specular.mix_b]
+    assert reflector.kind == "conductor" and reflector.color == (2.0, 2.0, 2.0), reflector
+
+
 def test_principled_mappings():
     """Principled BSDF's parts: a plastic layer (index from Specular in 3.x, from IOR and
     Specular IOR Level in 4.x), a Schlick metal, glass, emission, and a rough metal kept
     rough."""
     base = (0.2, 0.4, 0.6, 1.0)
     data = _single(node_material("Plastic", PRINCIPLED, **{"Base Color": base, "IOR": 1.5}))
-    material = _material_of(data)
-    assert material.kind == "plastic", material
-    assert_close(material.color, base[:3], 1e-6, "principled base colour")
     # 3.x: Specular 0.5 is F0 = 0.04, index 1.5; 4.x: IOR 1.5 at level 0.5.
-    assert abs(material.ior - 1.5) < 1e-5, material
+    _check_plastic(data.materials, int(data.material_ids[0]), base[:3], 1.5)
     assert not data.warnings, data.warnings
 
     metal = {"Base Color": base, "Metallic": 1.0, "Roughness": 0.0}
@@ -200,11 +217,11 @@ def test_principled_parts_become_mixes():
     assert materials[metallic.mix_b].kind == "conductor"
     transmission = materials[metallic.mix_a]
     assert abs(transmission.mix_factor - 0.4) < 1e-6, transmission
-    assert [materials[transmission.mix_a].kind, materials[transmission.mix_b].kind] == \
-        ["plastic", "dielectric"]
-    for leaf in (materials[metallic.mix_b], materials[transmission.mix_a],
-                 materials[transmission.mix_b]):
-        assert abs(leaf.roughness - 0.35) < 1e-6, leaf
+    _check_plastic(materials, transmission.mix_a, (0.8, 0.8, 0.8), 1.5)
+    assert materials[transmission.mix_b].kind == "dielectric"
+    for leaf in materials:
+        if leaf.kind in ("plastic", "dielectric", "conductor"):
+            assert abs(leaf.roughness - 0.35) < 1e-6, leaf
     assert not data.warnings, data.warnings
 
 
@@ -214,9 +231,8 @@ def test_principled_v2_specular_level_sets_the_index():
     0.02, the same index."""
     name = "Specular IOR Level" if helpers.BLENDER_4 else "Specular"
     data = _single(node_material("Half", PRINCIPLED, **{name: 0.25, "IOR": 1.5}))
-    material = _material_of(data)
     expected = (1 + math.sqrt(0.02)) / (1 - math.sqrt(0.02))
-    assert material.kind == "plastic" and abs(material.ior - expected) < 1e-4, material
+    _check_plastic(data.materials, int(data.material_ids[0]), (0.8, 0.8, 0.8), expected)
 
 
 def test_principled_unmodelled_parts_warn_once_each():
