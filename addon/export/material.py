@@ -51,8 +51,8 @@ class Mix:
 
 def mix(a, b, factor, texture=-1, channel="luminance", mean_texel=0.5):
     """Mix(a, b) with a constant or textured factor, or a or b alone where the factor
-    is a constant 0 or 1."""
-    if texture < 0 and factor <= 0.0:
+    is 0 or a constant 1."""
+    if factor <= 0.0:
         return a
     if texture < 0 and factor >= 1.0:
         return b
