@@ -491,13 +491,17 @@ def test_obj_mtl_materials_textures_and_triangulation(glslppm, tmp_path):
     assert scene.triangle_count == 8
     mats = c["materials"]
     assert [m["kind"] for m in mats] == ["diffuse", "conductor", "dielectric", "diffuse",
-                                         "diffuse"]
+                                         "plastic"]
     assert mats[0]["color_texture"] == 0
     assert c["textures"][0]["width"] == 8 and c["textures"][0]["height"] == 4
     np.testing.assert_allclose(mats[1]["color"], [0.9, 0.8, 0.7], rtol=1e-6)
     assert mats[2]["ior"] == pytest.approx(1.45)
     np.testing.assert_allclose(mats[3]["emission"], [10, 9, 8])
-    assert any("material 'plastic'" in w and "Ks" in w for w in warnings), warnings
+    # Ks 0.9 Ns 50: F0 = 0.08 x 0.9, roughness 1 - sqrt(50 / 1000), as Blender reads them.
+    f0 = 0.072
+    assert mats[4]["ior"] == pytest.approx((1 + math.sqrt(f0)) / (1 - math.sqrt(f0)), rel=1e-5)
+    assert mats[4]["roughness"] == pytest.approx(1 - math.sqrt(0.05), rel=1e-5)
+    assert mats[1]["roughness"] == 0 and mats[2]["roughness"] == 0   # no Ns: smooth
     # The pentagon's triangles cover exactly its area (concave at vertex 8): 2.5.
     p, t, ids = c["positions"], c["triangles"], c["material_ids"]
     tri = t[ids == 1]
@@ -507,6 +511,71 @@ def test_obj_mtl_materials_textures_and_triangulation(glslppm, tmp_path):
     # Every triangle keeps the face's winding (+Z facing).
     n = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])
     assert np.all(n[:, 2] > 0)
+
+
+ILLUM_OBJ = """mtllib scene.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+usemtl matte
+f 1 2 3
+usemtl satin
+f 1 3 4
+usemtl brushed
+f 1 2 4
+usemtl frosted
+f 2 3 4
+usemtl tinted
+f 1 2 3
+"""
+
+ILLUM_MTL = """newmtl matte
+illum 1
+Kd 0.5 0.5 0.5
+Ks 0.5 0.5 0.5
+newmtl satin
+illum 2
+Kd 0.6 0.2 0.1
+Ks 0.25 0.25 0.25
+Ns 360
+newmtl brushed
+illum 3
+Ks 0.9 0.9 0.9
+Ns 250
+newmtl frosted
+illum 7
+Ni 1.5
+Ns 640
+newmtl tinted
+illum 2
+Kd 0.5 0.5 0.5
+Ks 0.5 0.2 0.2
+"""
+
+
+def test_mtl_illum_modes_and_ns_as_roughness(glslppm, tmp_path):
+    """illum 1: Kd alone; illum 2: Kd under a specular layer of F0 = 0.08 mean(Ks) (Blender's
+    Principled Specular = mean(Ks)); 3: a mirror of Ks; 7: glass; Ns -> roughness =
+    1 - sqrt(Ns / 1000), the inverse of Blender's exporter's Ns = 1000 (1 - roughness)^2."""
+    _, c, warnings = load(glslppm, write_obj(tmp_path, ILLUM_OBJ, ILLUM_MTL, texture=False))
+    mats = {name: m for name, m in zip(["matte", "satin", "brushed", "frosted", "tinted"],
+                                       c["materials"])}
+    assert mats["matte"]["kind"] == "diffuse"
+    satin = mats["satin"]
+    assert satin["kind"] == "plastic"
+    np.testing.assert_allclose(satin["color"], [0.6, 0.2, 0.1], rtol=1e-6)
+    assert satin["roughness"] == pytest.approx(0.4, rel=1e-5)   # 1 - sqrt(0.36)
+    f0 = 0.02
+    assert satin["ior"] == pytest.approx((1 + math.sqrt(f0)) / (1 - math.sqrt(f0)), rel=1e-5)
+    brushed = mats["brushed"]
+    assert brushed["kind"] == "conductor" and brushed["roughness"] == pytest.approx(0.5)
+    frosted = mats["frosted"]
+    assert frosted["kind"] == "dielectric" and frosted["roughness"] == pytest.approx(0.2)
+    assert mats["tinted"]["kind"] == "plastic"
+    assert [w for w in warnings if "material '" in w] == [
+        w for w in warnings if "material 'tinted'" in w and "colour of Ks" in w], warnings
+    assert any("material 'tinted'" in w for w in warnings), warnings
 
 
 def test_obj_missing_mtl_and_texture_are_warnings_with_fallbacks(glslppm, tmp_path):
