@@ -71,7 +71,10 @@ def convert_principled(node, context):
                             multiscatter=multiscatter, **{**roughness, **kwargs})
 
     metal = lobe("conductor", schlick=True)
-    if v2:
+    if abs(layer_ior - 1.0) < 1e-6:
+        # No specular (Specular or Specular IOR Level 0): the diffuse base alone.
+        plastic = MaterialData("diffuse", base_color, color_texture=base_texture)
+    elif v2:
         plastic = lobe("plastic", ior=layer_ior)
     else:
         diffuse = MaterialData("diffuse", tuple(2.0 * c for c in base_color),

@@ -140,6 +140,17 @@ def _material_of(data, index=0):
     return data.materials[int(data.material_ids[index])]
 
 
+def _base_colour(data, index=0):
+    """(colour, texture) of the base lobe of the first triangle's material: the first part
+    of its mixes, a 0.5 mix's doubled weight undone."""
+    material, scale = _material_of(data, index), 1.0
+    while material.kind == "mix":
+        if material.mix_mode == "constant" and material.mix_factor == 0.5:
+            scale *= 0.5
+        material = data.materials[material.mix_a]
+    return tuple(scale * c for c in material.color), material.color_texture
+
+
 def _single(material):
     """Exports one cube with the material (clearing earlier objects, keeping materials)."""
     for obj in list(bpy.data.objects):
@@ -432,8 +443,13 @@ def test_image_texture_becomes_a_texture():
     assert texture.pixels.dtype == np.uint8 and texture.pixels.shape == (4, 3, 4)
     assert_close(texture.pixels, np.rint(rows * 255), 0, "sRGB bytes")
     assert texture.wrap == "repeat"
-    for material in data.materials:
-        assert material.color_texture == 0 and material.color == (1.0, 1.0, 1.0), material
+    # The Diffuse BSDF's material and the Principled BSDF's base, each white times the
+    # texture (3.x's Principled base at twice its weight, as Cycles 3.x sums it).
+    textured = [m for m in data.materials if m.color_texture >= 0]
+    assert len(textured) == 2, data.materials
+    for material in textured:
+        assert material.color_texture == 0 and len(set(material.color)) == 1, material
+        assert material.color[0] in (1.0, 2.0), material
     assert data.uvs is not None and data.uvs.shape == (len(data.positions), 2)
     corners = data.uvs.reshape(-1, 3, 2)
     assert_close(np.sort(np.unique(data.uvs)), (0.0, 1.0), 0, "unit-square UVs")
@@ -472,8 +488,9 @@ def test_image_texture_colour_spaces_and_fallbacks():
     principled = next(node for node in tree.nodes if node.type == 'BSDF_PRINCIPLED')
     tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
     data = _single(missing)
-    assert_close(_material_of(data).color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
-    assert _material_of(data).color_texture == -1 and not data.textures
+    color, texture = _base_colour(data)
+    assert_close(color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
+    assert texture == -1 and not data.textures
     assert data.uvs is None
     assert any("missing" in w for w in data.warnings), data.warnings
 

@@ -22,11 +22,11 @@ SIZE = (48, 48)
 PRINCIPLED = "ShaderNodeBsdfPrincipled"
 
 
-def _render_both(name, passes, photons, samples, direct_light=None):
+def _render_both(name, passes, photons, samples, glossy_threshold=None):
     helpers.load_native()
     scene = bpy.context.scene
-    if direct_light is not None:
-        scene.glslppm.direct_light = direct_light
+    if glossy_threshold is not None:
+        scene.glslppm.glossy_threshold = glossy_threshold
     scene.glslppm.passes = passes
     scene.glslppm.photons_per_pass = photons
     ours, error, engine = helpers.render_recorded(name)
@@ -109,12 +109,16 @@ def test_rough_gold_sphere_matches_cycles():
 def test_frosted_glass_matches_cycles():
     """A Glass BSDF sphere (IOR 1.5, roughness 0.3, Multiscatter GGX) in front of a
     bright two-tone backdrop: the backdrop blurred through it, and its caustic on the
-    floor. Worst region of 3x3 within 5%, mean within 2.5%.
+    floor. Worst region of 3x3 within 3%, mean within 1.5%.
 
-    Rendered with photons alone: with light sampling (the default) the region holding the
-    sphere renders 28-32% brighter than Cycles under 3.4 and 4.3 (the other regions and
-    the smooth sphere agree within 1.2%), a defect of light sampling at rough dielectric
-    visible points, not of the material's export."""
+    Rendered with Glossy Threshold 0.5, so that the eye follows the glass's lobe (measured:
+    worst region 0.7%, mean 0.3% under 4.3). At the default threshold (0.2) the sphere's
+    surface holds visible points that gather photons and sample lights, and two renderer
+    defects show there, not the export's: with light sampling the sphere's region renders
+    28-32% brighter than Cycles (3.4 and 4.3), with photons alone 7-10% darker (4.3; 2-7%
+    under 3.4, whose rough glass splits reflection and refraction by the macro-normal's
+    Fresnel); roughness 0 and 0.15 (below the threshold) agree within 2% either way.
+    """
     helpers.reset_scene(size=SIZE)
     glass = node_material("Frosted", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.3)
     _set_distribution(glass, 'MULTI_GGX')
@@ -126,9 +130,9 @@ def test_frosted_glass_matches_cycles():
              material=helpers.diffuse_material("Orange", (0.9, 0.5, 0.1)))
     add_camera((0.0, -4.0, 1.5), helpers.look_at_rotation((0.0, -4.0, 1.5), (0, 0, 0.8)),
                lens=45.0)
-    ours, reference, warnings = _render_both("frosted", 256, 32768, 1024, 'PHOTONS')
+    ours, reference, warnings = _render_both("frosted", 128, 32768, 1024, glossy_threshold=0.5)
     assert not warnings, warnings
-    _compare("frosted glass", ours, reference, 3, 0.05, 0.025)
+    _compare("frosted glass", ours, reference, 3, 0.03, 0.015)
 
 
 def test_plastic_cube_matches_cycles():
@@ -271,7 +275,8 @@ def test_alpha_cut_out_leaf_matches_cycles():
     helpers.set_world((0.1, 0.1, 0.1))
     add_camera((0, -1.0, 6.0), helpers.look_at_rotation((0, -1.0, 6.0), (0, -0.3, 0.5)),
                type='ORTHO', ortho_scale=3.2)
-    ours, reference, warnings = _render_both("leaf", 128, 16384, 256, 'PHOTONS')
+    bpy.context.scene.glslppm.direct_light = 'PHOTONS'
+    ours, reference, warnings = _render_both("leaf", 128, 16384, 256)
     assert not warnings, warnings
     _compare("alpha cut-out leaf", ours, reference, 4, 0.05, 0.02)
 
