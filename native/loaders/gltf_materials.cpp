@@ -240,7 +240,7 @@ Material Converter::mix_of(int a, int b, float factor, int texture, TextureChann
 // a and b mixed, or one of them alone where the factor is 0 or a constant 1.
 Material Converter::mix(const Material& a, const Material& b, float factor, int texture,
                         TextureChannel channel) {
-    if (factor <= 0.0f) return a;
+    if (!(factor > 0.0f)) return a;  // NaN too
     if (texture < 0 && factor >= 1.0f) return b;
     return mix_of(part(a), part(b), factor, texture, channel);
 }
@@ -302,10 +302,12 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
         fail(element, "emissiveFactor times emissiveStrength must be finite and >= 0");
     base.color_texture =
         texture(pbr.baseColorTexture, element + ".pbrMetallicRoughness.baseColorTexture");
-    const float roughness = float(pbr.roughnessFactor);
-    if (!(roughness >= 0.0f && roughness <= 1.0f))
-        fail(element, "pbrMetallicRoughness.roughnessFactor " + number_text(roughness) +
-                          " must be in [0, 1]");
+    float roughness = float(pbr.roughnessFactor);
+    if (!(roughness >= 0.0f && roughness <= 1.0f)) {
+        warn(element, "pbrMetallicRoughness.roughnessFactor " + number_text(roughness) +
+                          " is outside [0, 1]: clamped");
+        roughness = std::isnan(roughness) ? 1.0f : std::clamp(roughness, 0.0f, 1.0f);
+    }
     base.roughness = roughness;
     const int metal_roughness = data_texture(
         pbr.metallicRoughnessTexture, element + ".pbrMetallicRoughness.metallicRoughnessTexture");
