@@ -43,6 +43,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
+        glossy_threshold=settings.glossy_threshold,
         device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31))
 

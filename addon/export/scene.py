@@ -62,6 +62,7 @@ class SceneBuilder:
         self._uvs = []
         self._material_ids = []
         self._material_index = {}
+        self._material_size = {}
         self.materials = []
         self.lights = []
         self.warnings = []
@@ -77,13 +78,25 @@ class SceneBuilder:
             self.warnings.append(message)
 
     def material_id(self, key, make):
-        """Index of a material in the table, converting it the first time it is seen."""
+        """Index of a material's root in the table, converting it the first time it is
+        seen. make() returns the material's entries, root first, their mix indices
+        relative to that list; they are appended with the indices rebased."""
         index = self._material_index.get(key)
         if index is None:
             index = len(self.materials)
-            self.materials.append(make())
+            entries = make()
+            self.materials.extend(
+                replace(m, mix_a=m.mix_a + index, mix_b=m.mix_b + index)
+                if m.kind == "mix" else m for m in entries)
             self._material_index[key] = index
+            self._material_size[index] = len(entries)
         return index
+
+    def material_textured(self, index):
+        """True when the material rooted at index (or one of its mixed parts) reads a
+        texture."""
+        return any(m.textured()
+                   for m in self.materials[index:index + self._material_size[index]])
 
     def add_light(self, light):
         self.lights.append(light)
@@ -269,16 +282,16 @@ def _slot_materials(obj, builder):
     materials, flagged so."""
     visibility = object_visibility(obj, builder.warn)
 
-    def flagged(material):
-        return replace(material, visible_to_camera=visibility.camera,
-                       casts_shadow=visibility.shadow)
+    def flagged(entries):
+        return [replace(material, visible_to_camera=visibility.camera,
+                        casts_shadow=visibility.shadow) for material in entries]
 
     slot_materials = np.array(
         [builder.material_id((_material_key(slot.material), visibility),
                              lambda slot=slot: flagged(convert_material(
                                  slot.material, builder.warn, builder.textures)))
          for slot in obj.material_slots] or
-        [builder.material_id((None, visibility), lambda: flagged(DEFAULT_MATERIAL))],
+        [builder.material_id((None, visibility), lambda: flagged([DEFAULT_MATERIAL]))],
         dtype=np.uint32)
     return slot_materials
 
@@ -287,7 +300,7 @@ def _read_object(obj, builder):
     """(object-space MeshGeometry or None, material table index per slot). UVs are read
     only when one of the object's materials has a texture."""
     slot_materials = _slot_materials(obj, builder)
-    need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
+    need_uvs = any(builder.material_textured(int(i)) for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "

@@ -11,8 +11,10 @@ import numpy as np
 
 @dataclass
 class MaterialData:
-    """``_glslppm.Material``: kind is "diffuse", "conductor" or "dielectric";
-    emission is radiance (colour × strength)."""
+    """``_glslppm.Material``: kind is "diffuse", "conductor", "dielectric", "plastic",
+    "translucent", "transparent" or "mix"; emission is radiance (colour × strength).
+    A Blender material becomes a list of these, its root first, whose mix_a / mix_b
+    index that list (``SceneBuilder.material_id`` rebases them into the scene's table)."""
     kind: str = "diffuse"
     color: tuple = (0.8, 0.8, 0.8)
     ior: float = 1.5
@@ -20,6 +22,22 @@ class MaterialData:
     color_texture: int = -1          # index into SceneData.textures; colour x texel(uv)
     visible_to_camera: bool = True   # False: camera rays pass through
     casts_shadow: bool = True        # False: photons pass through (lighting it on the way)
+    roughness: float = 0.0           # Blender's roughness (GGX alpha = roughness^2)
+    roughness_texture: int = -1      # roughness x the texture's channel
+    roughness_channel: str = "luminance"
+    multiscatter: bool = True        # Blender's "Multiscatter GGX"; False: "GGX"
+    schlick: bool = False            # conductor: Schlick Fresnel from the colour
+    tint_reflection: bool = False    # dielectric: the colour tints reflection too
+    mix_a: int = -1                  # mix: the material picked with probability 1 - factor
+    mix_b: int = -1                  # mix: the one picked with probability factor
+    mix_factor: float = 0.5
+    mix_texture: int = -1            # factor x the texture's channel
+    mix_channel: str = "luminance"
+    mix_mode: str = "constant"       # "constant", "fresnel" (IOR mix_ior), "facing" (blend)
+    mix_ior: float = 1.5
+
+    def textured(self):
+        return max(self.color_texture, self.roughness_texture, self.mix_texture) >= 0
 
 
 @dataclass

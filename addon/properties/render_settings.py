@@ -63,6 +63,10 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/direct_light.md)"),
                    ('PHOTONS', "Photons", "All light from photons, as in the paper: shadows "
                     "blurred by the gather radius"))),
+        "glossy_threshold": FloatProperty(
+            name="Glossy Threshold", default=0.2, min=0.0, max=1.0, precision=2,
+            description="Glossy and glass lobes smoother than this roughness are followed "
+                        "by the eye paths; rougher ones gather photons"),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "

@@ -28,6 +28,7 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "passes")
         column.prop(settings, "time_limit", text="Time Limit (s)")
         column.prop(settings, "direct_light")
+        column.prop(settings, "glossy_threshold")
         column.prop(settings, "seed")
         column = layout.column(heading="Viewport")
         column.prop(settings, "viewport_passes", text="Passes")
