@@ -136,7 +136,7 @@ void main() {
 #ifdef DIRECT_LIGHT_SAMPLED
             direct += throughput * direct_light_sampled_lobes(s.position, s.geometric_normal, sh,
                                                               wo, p_smooth > 0.0, light_pick,
-                                                              light_u, rays);
+                                                              light_u, u_dir, rays);
 #endif
             break;
         }
