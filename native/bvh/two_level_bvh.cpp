@@ -157,25 +157,43 @@ TwoLevelBvh build_two_level_bvh(std::span<const ValidMesh> meshes,
                                         std::to_string(meshes.size()) + " meshes");
         check_transform(instances[i].to_world, i);
     }
-    TwoLevelBvh out;
-    TwoLevelStats& s = out.stats;
-    s.meshes = meshes.size();
-    s.instances = instances.size();
-
-    auto start = std::chrono::steady_clock::now();
+    const auto start = std::chrono::steady_clock::now();
     std::vector<PackedBvh> bottoms;
     bottoms.reserve(meshes.size());
-    bool normals = false, uvs = false;
-    for (const ValidMesh& mesh : meshes) {
+    for (const ValidMesh& mesh : meshes)
         bottoms.push_back(build_packed_bvh(mesh, options, kMtbvhOrderCount));
-        normals |= !bottoms.back().normals.empty();
-        uvs |= !bottoms.back().uvs.empty();
-        s.mesh_triangles += bottoms.back().triangle_count;
+    const double bottom_seconds = seconds_since(start);
+    TwoLevelBvh out = build_two_level_bvh(bottoms, instances, options);
+    out.stats.bottom_seconds = bottom_seconds;
+    return out;
+}
+
+TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
+                                std::span<const Instance> instances,
+                                const BvhBuildOptions& options) {
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        if (instances[i].mesh >= bottoms.size())
+            throw std::invalid_argument("instances[" + std::to_string(i) + "].mesh is " +
+                                        std::to_string(instances[i].mesh) + " but there are " +
+                                        std::to_string(bottoms.size()) + " meshes");
+        check_transform(instances[i].to_world, i);
     }
-    s.bottom_seconds = seconds_since(start);
+    for (const PackedBvh& b : bottoms)
+        if (b.node_count > 0 && b.order_count != kMtbvhOrderCount)
+            throw std::invalid_argument("a two-level MTBVH's meshes need six link orders");
+    TwoLevelBvh out;
+    TwoLevelStats& s = out.stats;
+    s.meshes = bottoms.size();
+    s.instances = instances.size();
+    bool normals = false, uvs = false;
+    for (const PackedBvh& b : bottoms) {
+        normals |= !b.normals.empty();
+        uvs |= !b.uvs.empty();
+        s.mesh_triangles += b.triangle_count;
+    }
+    const auto start = std::chrono::steady_clock::now();
 
     // The top tree: one leaf per instance, over its world box.
-    start = std::chrono::steady_clock::now();
     // Instances of empty meshes can never be hit and stay out of the top tree.
     std::vector<Aabb> boxes;
     std::vector<std::int32_t> placed;
@@ -221,7 +239,7 @@ TwoLevelBvh build_two_level_bvh(std::span<const ValidMesh> meshes,
     }
     out.links = std::move(threaded.links);
 
-    std::vector<glm::ivec4> mesh_bases(meshes.size());
+    std::vector<glm::ivec4> mesh_bases(bottoms.size());
     std::size_t node_base = top.nodes.size(), tri_base = 0;
     out.triangles.reserve(3 * tri_total);
     if (normals) out.normals.reserve(3 * tri_total);

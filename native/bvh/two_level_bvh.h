@@ -39,14 +39,6 @@
 
 namespace glslppm {
 
-// One placement of a mesh: world = to_world * (x, 1), to_world affine (bottom row 0 0 0 1)
-// and invertible; its material ids are the mesh's plus material_offset.
-struct Instance {
-    glm::mat4 to_world{1.0f};
-    std::uint32_t mesh = 0;
-    std::uint32_t material_offset = 0;
-};
-
 constexpr int kInstanceRecordVec4 = 8;
 
 struct InstanceHit {
@@ -88,6 +80,10 @@ Aabb instance_world_box(const glm::vec3& lo, const glm::vec3& hi, const glm::mat
 // meshes are allowed and never hit. normals / uvs are uploaded when any mesh has them
 // (zeros for the others).
 TwoLevelBvh build_two_level_bvh(std::span<const ValidMesh> meshes,
+                                std::span<const Instance> instances,
+                                const BvhBuildOptions& options);
+// The same from meshes already built as MTBVHs (packed_bvh.h, six orders).
+TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
                                 std::span<const Instance> instances,
                                 const BvhBuildOptions& options);
 

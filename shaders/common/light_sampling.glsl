@@ -22,6 +22,12 @@ bool bvh_any_hit_passes(int triangle) {
     int m = floatBitsToInt(triangles[3 * triangle].w);
     return (material_flags(m) & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0;
 }
+#ifdef GLSLPPM_INSTANCES
+bool bvh_any_hit_passes_instanced(int triangle, int instance) {
+    int m = floatBitsToInt(triangles[3 * triangle].w) + bvh_instance_bases(instance).w;
+    return (material_flags(m) & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0;
+}
+#endif
 #endif
 
 const float DISTANT_LIGHT = 3.0e38;
