@@ -110,8 +110,12 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
             else
                 out->uvs.insert(out->uvs.end(), m.uvs.begin(), m.uvs.end());
         }
+        // A mirror reverses the winding; swapping two corners keeps each triangle's front
+        // side where it was, as Blender does with negatively scaled objects.
+        const bool mirrored = transform && glm::determinant(a) < 0.0f;
         for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-            out->triangles.push_back(m.triangles[t] + first);
+            const glm::uvec3 tri = m.triangles[t] + first;
+            out->triangles.push_back(mirrored ? glm::uvec3(tri.x, tri.z, tri.y) : tri);
             out->material_ids.push_back((m.material_ids.empty() ? 0 : m.material_ids[t]) + offset);
         }
     };

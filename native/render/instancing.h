@@ -34,7 +34,8 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
 // `world` followed by every instance's triangles in world space: positions A x + T, normals
 // A^-T n (not normalized: interpolated across a triangle and then normalized, they point as
 // the two-level traversal's do), zero normals and uvs for meshes without them (the renderer
-// then falls back to the geometric normal), material ids plus the instance's offset.
+// then falls back to the geometric normal), material ids plus the instance's offset; the
+// corners of a mirrored instance's triangles swapped so that their front sides stay.
 std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene& scene,
                                              bool keep_uvs);
 

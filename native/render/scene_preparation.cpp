@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -96,16 +97,20 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     p.bvh = build_packed_bvh(mesh, options, 6);
     if (two_level) {
         // Mesh 0: the placed-once triangles, under the identity; instance meshes after it.
+        const auto bottom_start = std::chrono::steady_clock::now();
         std::vector<PackedBvh> bottoms;
         bottoms.push_back(p.bvh);
         for (const ValidMesh& m : valid_instance_meshes)
             bottoms.push_back(build_packed_bvh(m, options, 6));
+        const double bottom_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - bottom_start).count();
         std::vector<Instance> instances{Instance{}};
         for (Instance inst : scene.instances) {
             ++inst.mesh;
             instances.push_back(inst);
         }
         p.two_level = std::make_unique<TwoLevelBvh>(build_two_level_bvh(bottoms, instances, options));
+        p.two_level->stats.bottom_seconds = bottom_seconds;  // mesh 0 is timed in p.bvh.stats
     }
     p.bounds = scene.instances.empty() ? scene_bounds(p.bvh) : instanced_bounds;
     // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across

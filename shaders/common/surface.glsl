@@ -26,8 +26,9 @@ struct Surface {
 #ifdef GLSLPPM_INSTANCES
 // A surface found in an instance's space, moved to world space: the position by A x + T
 // (interpolated in the instance, where its coordinates are small, and moved once), normals
-// by A^-T, the winding's normal also by the sign of det A (a mirror reverses the winding),
-// the material by the instance's offset (native/bvh/two_level_bvh.h).
+// by A^-T, the material by the instance's offset (native/bvh/two_level_bvh.h). A mirrored
+// instance (det A < 0) keeps its front side, as in Blender: the winding's normal is moved
+// like the others rather than recomputed from the mirrored winding.
 void instance_surface_to_world(inout Surface s, int instance) {
     int base = INSTANCE_RECORD_VEC4 * instance;
     vec4 i0 = instances[base];
@@ -36,13 +37,12 @@ void instance_surface_to_world(inout Surface s, int instance) {
     vec4 a0 = instances[base + 3];
     vec4 a1 = instances[base + 4];
     vec4 a2 = instances[base + 5];
-    float mirror = instances[base + 7].y;
     s.position = vec3(dot(a0.xyz, s.position), dot(a1.xyz, s.position),
                       dot(a2.xyz, s.position)) + vec3(a0.w, a1.w, a2.w);
     // A^-T n: the rows of A^-1 weighted by n's components.
     vec3 ng = i0.xyz * s.geometric_normal.x + i1.xyz * s.geometric_normal.y +
               i2.xyz * s.geometric_normal.z;
-    s.geometric_normal = mirror * normalize(ng);
+    s.geometric_normal = normalize(ng);
     vec3 n = i0.xyz * s.normal.x + i1.xyz * s.normal.y + i2.xyz * s.normal.z;
     s.normal = normalize(n);
     if (dot(s.normal, s.geometric_normal) < 0.0) s.normal = -s.normal;
