@@ -16,7 +16,9 @@ def native_scene(native, data):
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
         lights=lights, camera=camera, environment=tuple(data.environment),
         textures=textures, environment_texture=data.environment_texture,
-        environment_to_world=data.environment_to_world)
+        environment_to_world=data.environment_to_world,
+        instance_meshes=data.instance_meshes or None, instances=data.instances,
+        instance_mesh=data.instance_mesh)
 
 
 def film_options(scene):

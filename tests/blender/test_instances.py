@@ -1,0 +1,94 @@
+"""Instanced geometry exported by mesh: a geometry-nodes scatter becomes one mesh in
+object space and an instance table (one matrix per instance), rendered through the
+two-level MTBVH; its export time is measured."""
+
+import importlib
+import math
+import time
+
+import bpy
+import numpy as np
+
+import helpers
+from helpers import add_camera, add_light, add_quad, assert_close, export, load_native
+
+
+def scatter(count_x, count_y, size, radius, subdivisions):
+    """An object whose geometry nodes place an ico sphere on every point of a grid of
+    count_x x count_y points, size across, in the XY plane at z = radius."""
+    tree = bpy.data.node_groups.new("Scatter", 'GeometryNodeTree')
+    if helpers.BLENDER_4:
+        tree.interface.new_socket(name="Geometry", in_out='INPUT',
+                                  socket_type='NodeSocketGeometry')
+        tree.interface.new_socket(name="Geometry", in_out='OUTPUT',
+                                  socket_type='NodeSocketGeometry')
+    else:
+        tree.inputs.new('NodeSocketGeometry', "Geometry")
+        tree.outputs.new('NodeSocketGeometry', "Geometry")
+    nodes, links = tree.nodes, tree.links
+    nodes.new('NodeGroupInput')
+    output = nodes.new('NodeGroupOutput')
+    grid = nodes.new('GeometryNodeMeshGrid')
+    grid.inputs["Size X"].default_value = size
+    grid.inputs["Size Y"].default_value = size
+    grid.inputs["Vertices X"].default_value = count_x
+    grid.inputs["Vertices Y"].default_value = count_y
+    ball = nodes.new('GeometryNodeMeshIcoSphere')
+    ball.inputs["Radius"].default_value = radius
+    ball.inputs["Subdivisions"].default_value = subdivisions
+    place = nodes.new('GeometryNodeInstanceOnPoints')
+    links.new(grid.outputs["Mesh"], place.inputs["Points"])
+    links.new(ball.outputs["Mesh"], place.inputs["Instance"])
+    links.new(place.outputs["Instances"], output.inputs[0])
+    mesh = bpy.data.meshes.new("ScatterBase")
+    obj = bpy.data.objects.new("Scatter", mesh)
+    obj.location = (0.0, 0.0, radius)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.modifiers.new("Scatter", 'NODES').node_group = tree
+    return obj
+
+
+def _scene(count_x, count_y, subdivisions):
+    add_camera((0, -14, 9), (math.radians(58), 0, 0))
+    add_quad("Floor", [(-8, -8, 0), (8, -8, 0), (8, 8, 0), (-8, 8, 0)])
+    add_light('SUN', 3.0, rotation=(0.3, 0.2, 0))
+    return scatter(count_x, count_y, 10.0, 0.04 * 100 / max(count_x, count_y) + 0.02,
+                   subdivisions)
+
+
+def test_geometry_nodes_scatter_exports_by_mesh():
+    _scene(100, 100, 3)  # Blender: subdivisions 1 is the icosahedron, 3 has 320 faces
+    bpy.context.evaluated_depsgraph_get().update()  # evaluate the nodes before timing
+    times = []
+    for _ in range(3):
+        start = time.perf_counter()
+        data = export()
+        times.append(time.perf_counter() - start)
+    print(f"10,000-instance scatter: export {min(times):.3f} s (best of 3: "
+          f"{', '.join(f'{t:.3f}' for t in times)}), {data.stats['seconds']:.3f} s inside "
+          "export_scene")
+    # Not flattened: one mesh (an ico sphere of 320 triangles) and 10,000 rows.
+    assert data.instance_count == 10000, data.stats
+    assert len(data.instance_meshes) == 1, data.stats
+    mesh = data.instance_meshes[0]
+    assert mesh["indices"].shape == (320, 3)
+    assert data.triangle_count == 2  # the floor alone in world space
+    assert data.instances.dtype == np.float32 and data.instances.shape == (10000, 4, 4)
+    # The grid's points, 10 units across, at z = the sphere radius.
+    translations = data.instances[:, :3, 3]
+    assert_close(translations.min(axis=0)[:2], (-5, -5), 1e-5, "grid corner")
+    assert_close(translations.max(axis=0)[:2], (5, 5), 1e-5, "grid corner")
+    assert_close(np.ptp(translations[:, 2]), 0.0, 1e-6, "one height")
+    assert min(times) < 2.0, times
+
+    native = load_native()
+    native_scene = importlib.import_module(helpers.ADDON.__name__ +
+                                           ".engine.native_scene").native_scene
+    renderer = native.Renderer(native_scene(native, data),
+                               native.Settings(width=32, height=32, photons_per_pass=4096))
+    renderer.run(1)
+    stats = renderer.stats()
+    assert stats["instancing"] == "two-level", stats["instancing_reason"]
+    assert stats["instances"] == 10000 and stats["instanced_triangles"] == 3200000
+    assert stats["triangles"] == 2 + 320
+    assert float(np.mean(renderer.film()[..., :3])) > 0.0
