@@ -45,6 +45,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
+        instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31))
 
