@@ -14,10 +14,12 @@
 
 namespace glslppm {
 
-// Flatten when the flattened copy holds at most this many triangles: below it the one-level
-// MTBVH traced faster than the two-level one on llvmpipe (docs/instancing.md), and its memory
-// (212 bytes a triangle) stays small.
-constexpr std::size_t kFlattenMaxTriangles = 1u << 20;
+// Flatten when the flattened copy holds at most this many triangles. Measured on llvmpipe
+// (docs/instancing.md, glslppm-bench passes --scene instances:NxM): the flattened MTBVH
+// was 14% faster at 64 x 1k triangles, the two paths within noise at 4 x 4k and 16 x 4k,
+// and the two-level one 24% faster at 256 x 4k (1M) and the only one that fits at 64 x 64k;
+// the bound sits between 64k and 1M. Not yet measured on a GPU.
+constexpr std::size_t kFlattenMaxTriangles = 1u << 18;
 
 struct InstancePlan {
     bool two_level = false;

@@ -165,7 +165,15 @@ def test_auto_rule_and_errors(glslppm):
     kw = instanced_scene(glslppm)
     _, stats = render(glslppm, kw, "auto", passes=1)
     assert stats["instancing"] == "flattened"  # 8 small instances: under the rule's bound
-    assert "<=" in stats["instancing_reason"]
+    assert "<= 262144" in stats["instancing_reason"]
+    # 600 balls of 528 triangles: 316,800 instanced triangles, past the bound.
+    ball_triangles = len(kw["instance_meshes"][0]["indices"])
+    many = dict(kw, instances=np.repeat(kw["instances"][:1], 600, axis=0),
+                instance_mesh=np.zeros(600, np.uint32),
+                instance_material_offset=np.full(600, 2, np.uint32))
+    _, stats = render(glslppm, many, "auto", passes=1)
+    assert stats["instancing"] == "two-level", stats["instancing_reason"]
+    assert stats["instanced_triangles"] == 600 * ball_triangles > 262144
     bad = dict(kw, instance_mesh=np.array([0, 1, 2, 0, 1, 0, 1, 0], np.uint32))
     with pytest.raises(ValueError, match=r"instances\[2\]\.mesh"):
         glslppm.Scene(**bad)
