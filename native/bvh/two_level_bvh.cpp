@@ -48,15 +48,14 @@ void write_record(glm::vec4* rec, const glm::mat4& m, glm::ivec4 bases, std::uin
 }
 
 inline bool is_closer(float t, std::int32_t instance, std::int32_t id, const InstanceHit& best) {
-    return t < best.t ||
-           (t == best.t && (instance < best.instance ||
-                            (instance == best.instance && id < best.triangle)));
+    return t < best.t || (t == best.t && (instance < best.instance ||
+                                          (instance == best.instance && id < best.triangle)));
 }
 
 // The bottom walk of one instance: the mesh's own link set for the moved ray, starting at
 // its root; updates `best` in place. Mirrors bvh_walk_instance in mtbvh_instances.glsl.
-void walk_instance(const TwoLevelBvh& bvh, std::int32_t instance, const Ray& ray,
-                   InstanceHit& best, TraversalCounts* counts) {
+void walk_instance(const TwoLevelBvh& bvh, std::int32_t instance, const Ray& ray, InstanceHit& best,
+                   TraversalCounts* counts) {
     const Ray r = ray_to_instance(bvh, instance, ray);
     const glm::vec4 bases = bvh.instances[kInstanceRecordVec4 * instance + 6];
     const std::int32_t root = float_bits(bases.x), count = float_bits(bases.y);
@@ -77,8 +76,8 @@ void walk_instance(const TwoLevelBvh& bvh, std::int32_t instance, const Ray& ray
                 const glm::vec4 c = bvh.triangles[3 * i + 2];
                 if (counts) ++counts->triangles_tested;
                 float t, u, v;
-                if (intersect_triangle(r.origin, r.dir, r.tmin, r.tmax, glm::vec3(a),
-                                       glm::vec3(b), glm::vec3(c), t, u, v)) {
+                if (intersect_triangle(r.origin, r.dir, r.tmin, r.tmax, glm::vec3(a), glm::vec3(b),
+                                       glm::vec3(c), t, u, v)) {
                     const std::int32_t id = float_bits(b.w);
                     if (is_closer(t, instance, id, best) &&
                         confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, glm::vec3(a),
@@ -235,7 +234,8 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
             top_boxes[i].grow(top_boxes[node.right]);
         }
         out.nodes[2 * i] = glm::vec4(top_boxes[i].lo, int_bits(instance));
-        out.nodes[2 * i + 1] = glm::vec4(top_boxes[i].hi, int_bits(static_cast<std::int32_t>(node.count)));
+        out.nodes[2 * i + 1] =
+            glm::vec4(top_boxes[i].hi, int_bits(static_cast<std::int32_t>(node.count)));
     }
     out.links = std::move(threaded.links);
 
@@ -286,8 +286,8 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
         write_record(&out.instances[kInstanceRecordVec4 * i], inst.to_world, bases, inst.mesh);
     }
     s.top_seconds = seconds_since(start);
-    s.bytes_total = (out.nodes.size() + out.triangles.size() + out.normals.size() +
-                     out.uvs.size() + out.instances.size()) *
+    s.bytes_total = (out.nodes.size() + out.triangles.size() + out.normals.size() + out.uvs.size() +
+                     out.instances.size()) *
                         sizeof(glm::vec4) +
                     out.links.size() * sizeof(glm::ivec2);
     return out;

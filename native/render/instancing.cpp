@@ -71,8 +71,8 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
         plan.reason = "asked for";
     } else if (plan.instanced_triangles <= kFlattenMaxTriangles) {
         plan.path = "flattened";
-        plan.reason = std::to_string(plan.instanced_triangles) + " instanced triangles <= " +
-                      std::to_string(kFlattenMaxTriangles);
+        plan.reason = std::to_string(plan.instanced_triangles) +
+                      " instanced triangles <= " + std::to_string(kFlattenMaxTriangles);
     } else {
         plan.path = "two-level";
         plan.reason = std::to_string(plan.instanced_triangles) + " instanced triangles > " +

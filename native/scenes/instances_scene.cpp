@@ -38,7 +38,8 @@ Scene make_instances_scene(std::size_t count, std::size_t triangles, std::uint32
     meshes->room.append(light.positions, light.triangles, 1);
 
     // make_sphere gives 4 r^2 - 4 r triangles for r rings (segments = 2 r).
-    const double r = 0.5 * (1.0 + std::sqrt(1.0 + static_cast<double>(std::max<std::size_t>(triangles, 24))));
+    const double r =
+        0.5 * (1.0 + std::sqrt(1.0 + static_cast<double>(std::max<std::size_t>(triangles, 24))));
     const int rings = std::max(3, static_cast<int>(std::lround(r)));
     Shape s = make_sphere(V(0.0f), 1.0f, rings, 2 * rings);
     for (V& p : s.positions) {
@@ -72,10 +73,10 @@ Scene make_instances_scene(std::size_t count, std::size_t triangles, std::uint32
         inst.mesh = 0;
         inst.material_offset = 2;
         const float mirror = i % 2 ? -1.0f : 1.0f;
-        inst.to_world = glm::mat4(glm::vec4(mirror * radius * c, 0, mirror * radius * -sn, 0),
-                                  glm::vec4(0, radius * stretch, 0, 0),
-                                  glm::vec4(radius * sn, 0, radius * c, 0),
-                                  glm::vec4(centre, 1.0f));
+        inst.to_world =
+            glm::mat4(glm::vec4(mirror * radius * c, 0, mirror * radius * -sn, 0),
+                      glm::vec4(0, radius * stretch, 0, 0),
+                      glm::vec4(radius * sn, 0, radius * c, 0), glm::vec4(centre, 1.0f));
         scene.instances.push_back(inst);
     }
     const V eye(0.0f, 1.7f, 3.2f), back = glm::normalize(eye - V(0.0f, 0.35f, -0.1f));

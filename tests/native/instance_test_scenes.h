@@ -5,12 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
 
 #include "bvh/two_level_bvh.h"
 #include "bvh_test_scenes.h"
@@ -30,13 +29,12 @@ struct InstancedScene {
 inline glm::mat4 random_transform(detail::Rng& rng, int index, const glm::vec3& offset,
                                   float spread) {
     using detail::uniform;
-    glm::quat q(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1),
-                uniform(rng, -1, 1));
+    glm::quat q(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
     q = glm::normalize(q);
     glm::vec3 s(uniform(rng, 0.3f, 3.0f), uniform(rng, 0.3f, 3.0f), uniform(rng, 0.3f, 3.0f));
     if (index % 2 == 1) s[index / 2 % 3] = -s[index / 2 % 3];
-    const glm::vec3 t = offset + spread * glm::vec3(uniform(rng, -1, 1), uniform(rng, -1, 1),
-                                                    uniform(rng, -1, 1));
+    const glm::vec3 t =
+        offset + spread * glm::vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
     glm::mat4 m = glm::mat4_cast(q);
     for (int c = 0; c < 3; ++c) m[c] *= s[c];
     m[3] = glm::vec4(t, 1.0f);

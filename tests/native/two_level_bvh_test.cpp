@@ -1,6 +1,8 @@
 // The two-level MTBVH (two_level_bvh.h) on the CPU: its closest and any hit equal the
 // instance-space brute force bit for bit (id, t, u, v), and agree with the flattened copy's
 // MTBVH within the bound that moving the ray instead of the triangles allows.
+#include "bvh/two_level_bvh.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -11,7 +13,6 @@
 
 #include "bvh/packed_bvh.h"
 #include "bvh/traverse_cpu.h"
-#include "bvh/two_level_bvh.h"
 #include "instance_test_scenes.h"
 
 namespace glslppm {
@@ -82,18 +83,16 @@ TEST(TwoLevelBvh, EqualsInstanceBruteForceBitForBit) {
             const bool any_got = any_hit(bvh, r);
             hits += want.instance >= 0;
             occluded += any_want;
-            if (want.instance >= 0 && glm::determinant(glm::mat3(
-                                          s.instances[static_cast<std::size_t>(want.instance)]
-                                              .to_world)) < 0.0f)
+            if (want.instance >= 0 &&
+                glm::determinant(glm::mat3(
+                    s.instances[static_cast<std::size_t>(want.instance)].to_world)) < 0.0f)
                 ++mirrored_hits;
-            const bool same = got.instance == want.instance && got.triangle == want.triangle &&
-                              std::bit_cast<std::uint32_t>(got.t) ==
-                                  std::bit_cast<std::uint32_t>(want.t) &&
-                              std::bit_cast<std::uint32_t>(got.u) ==
-                                  std::bit_cast<std::uint32_t>(want.u) &&
-                              std::bit_cast<std::uint32_t>(got.v) ==
-                                  std::bit_cast<std::uint32_t>(want.v) &&
-                              any_got == any_want && any_want == (want.instance >= 0);
+            const bool same =
+                got.instance == want.instance && got.triangle == want.triangle &&
+                std::bit_cast<std::uint32_t>(got.t) == std::bit_cast<std::uint32_t>(want.t) &&
+                std::bit_cast<std::uint32_t>(got.u) == std::bit_cast<std::uint32_t>(want.u) &&
+                std::bit_cast<std::uint32_t>(got.v) == std::bit_cast<std::uint32_t>(want.v) &&
+                any_got == any_want && any_want == (want.instance >= 0);
             if (!same && mismatches++ < 5)
                 ADD_FAILURE() << c.name << ": " << describe(r) << "\n  brute force "
                               << describe(want) << " any " << any_want << "\n  two-level   "
@@ -105,9 +104,10 @@ TEST(TwoLevelBvh, EqualsInstanceBruteForceBitForBit) {
         if (c.instances > 1) {
             EXPECT_GT(mirrored_hits, hits / 5) << c.name;
         }
-        std::printf("[ two-level] %-22s %zu rays, %d hits (%d on mirrored instances), "
-                    "%d occluded: all equal\n",
-                    c.name, rays.size(), hits, mirrored_hits, occluded);
+        std::printf(
+            "[ two-level] %-22s %zu rays, %d hits (%d on mirrored instances), "
+            "%d occluded: all equal\n",
+            c.name, rays.size(), hits, mirrored_hits, occluded);
     }
 }
 
@@ -183,8 +183,7 @@ TEST(TwoLevelBvh, AgreesWithFlattenedCopyWithinRounding) {
             const Seen s2 = has2 ? seen(two_id, two.t) : Seen{};
             const Seen sf = hasf ? seen(f.triangle, f.t) : Seen{};
             const glm::dvec3 far = hasf ? sf.p : s2.p;
-            const double delta =
-                std::ldexp(std::max(max_abs(o), max_abs(far)), -20);
+            const double delta = std::ldexp(std::max(max_abs(o), max_abs(far)), -20);
             const double cos = std::min(has2 ? s2.cos : 1.0, hasf ? sf.cos : 1.0);
             if (cos < 1e-3) {
                 ++grazing;
@@ -218,11 +217,11 @@ TEST(TwoLevelBvh, AgreesWithFlattenedCopyWithinRounding) {
         }
         EXPECT_EQ(bad, 0) << c.name;
         EXPECT_GT(hits, static_cast<int>(rays.size() / 3)) << c.name;
-        std::printf("[ flattened] %-22s %zu rays, %d hits: %d same triangle (worst distance "
-                    "%.3g of the bound), %d differ within the bound of an edge, %d of the "
-                    "origin, %d at the same depth; %d grazing\n",
-                    c.name, rays.size(), hits, same_id, worst, near_edge, near_origin,
-                    same_depth, grazing);
+        std::printf(
+            "[ flattened] %-22s %zu rays, %d hits: %d same triangle (worst distance "
+            "%.3g of the bound), %d differ within the bound of an edge, %d of the "
+            "origin, %d at the same depth; %d grazing\n",
+            c.name, rays.size(), hits, same_id, worst, near_edge, near_origin, same_depth, grazing);
     }
 }
 

@@ -41,10 +41,10 @@ std::vector<Probe> run_probe(const TwoLevelBvh& bvh, const std::vector<Ray>& ray
             packed_rays.emplace_back(r.origin, r.tmin);
             packed_rays.emplace_back(r.dir, r.tmax);
         }
-        const void* data[6] = {bvh.nodes.data(),     bvh.links.data(),     bvh.triangles.data(),
-                               packed_rays.data(),   nullptr,              bvh.instances.data()};
-        const std::size_t bytes[6] = {bvh.nodes.size() * 16,   bvh.links.size() * 8,
-                                      bvh.triangles.size() * 16, packed_rays.size() * 16,
+        const void* data[6] = {bvh.nodes.data(),   bvh.links.data(), bvh.triangles.data(),
+                               packed_rays.data(), nullptr,          bvh.instances.data()};
+        const std::size_t bytes[6] = {bvh.nodes.size() * 16,       bvh.links.size() * 8,
+                                      bvh.triangles.size() * 16,   packed_rays.size() * 16,
                                       rays.size() * sizeof(Probe), bvh.instances.size() * 16};
         const GLuint bindings[6] = {BINDING_BVH_NODES, BINDING_BVH_LINKS, BINDING_TRIANGLES, 3, 4,
                                     BINDING_INSTANCES};
@@ -128,11 +128,11 @@ TEST(TwoLevelGlsl, EqualsCpuTraversalBitForBit) {
                          v = std::bit_cast<float>(got.tail.y);
             // The world triangle (the flattened copy's) and the two answers as world points:
             // along the ray by t, and on the triangle by (u, v).
-            const std::size_t id =
-                s.id_base[static_cast<std::size_t>(h.instance)] + static_cast<std::size_t>(h.triangle);
+            const std::size_t id = s.id_base[static_cast<std::size_t>(h.instance)] +
+                                   static_cast<std::size_t>(h.triangle);
             const glm::uvec3 tri = s.flattened.triangles[id];
-            const glm::dvec3 a(s.flattened.positions[tri.x]), e1 =
-                glm::dvec3(s.flattened.positions[tri.y]) - a,
+            const glm::dvec3 a(s.flattened.positions[tri.x]),
+                e1 = glm::dvec3(s.flattened.positions[tri.y]) - a,
                 e2 = glm::dvec3(s.flattened.positions[tri.z]) - a, n = glm::cross(e1, e2);
             const glm::dvec3 o(rays[i].origin), d(rays[i].dir);
             const double cos = std::abs(glm::dot(glm::normalize(n), glm::normalize(d)));
@@ -149,10 +149,11 @@ TEST(TwoLevelGlsl, EqualsCpuTraversalBitForBit) {
                               << " v " << h.v << ", GPU t " << t << " u " << u << " v " << v
                               << "; cos " << cos << " kappa " << kappa;
         }
-        std::printf("[ two-level GLSL] %-22s %zu rays, %d hits: %d equal bit for bit, %d differ "
-                    "in instance, triangle, any hit or work; worst t %.3g and u, v %.3g of "
-                    "the bound\n",
-                    c.name, rays.size(), hits, exact, id_mismatches, worst_t, worst_uv);
+        std::printf(
+            "[ two-level GLSL] %-22s %zu rays, %d hits: %d equal bit for bit, %d differ "
+            "in instance, triangle, any hit or work; worst t %.3g and u, v %.3g of "
+            "the bound\n",
+            c.name, rays.size(), hits, exact, id_mismatches, worst_t, worst_uv);
         EXPECT_EQ(far_off, 0) << c.name;
         EXPECT_LE(id_mismatches, static_cast<int>(rays.size() / 200)) << c.name;
         EXPECT_GT(hits, 30000) << c.name;
