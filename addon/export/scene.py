@@ -282,8 +282,10 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
 
 
 def _export_instance(obj, matrix, builder, geometry_cache):
-    """A row of the instance table; the object's mesh is read and converted once."""
-    key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
+    """A row of the instance table; the object's mesh is read and converted once. Keyed by
+    the data's address: geometry-nodes instances of different geometry share one object
+    and one data name ('Mesh'), but not the data."""
+    key = (obj.name_full, obj.data.as_pointer() if obj.data is not None else 0)
 
     def make_mesh():
         cached = geometry_cache.get(key)

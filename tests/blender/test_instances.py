@@ -94,6 +94,32 @@ def test_geometry_nodes_scatter_exports_by_mesh():
     assert float(np.mean(renderer.film()[..., :3])) > 0.0
 
 
+def test_instances_of_different_geometry_stay_apart():
+    """Geometry nodes picking an ico sphere or a cube per point: both instanced geometries
+    are named 'Mesh' on one object, and must still export as two meshes."""
+    add_camera((0, -14, 9), (math.radians(58), 0, 0))
+    obj = scatter(3, 3, 4.0, 0.5, 1)
+    tree = obj.modifiers[0].node_group
+    nodes, links = tree.nodes, tree.links
+    place = next(n for n in nodes if n.bl_idname == 'GeometryNodeInstanceOnPoints')
+    ball = next(n for n in nodes if n.bl_idname == 'GeometryNodeMeshIcoSphere')
+    cube = nodes.new('GeometryNodeMeshCube')
+    both = nodes.new('GeometryNodeGeometryToInstance')
+    links.new(ball.outputs["Mesh"], both.inputs[0])
+    links.new(cube.outputs["Mesh"], both.inputs[0])
+    links.new(both.outputs[0], place.inputs["Instance"])
+    place.inputs["Pick Instance"].default_value = True
+    links.new(nodes.new('GeometryNodeInputIndex').outputs[0], place.inputs["Instance Index"])
+    data = export()
+    assert data.instance_count == 9, data.stats
+    counts = sorted(len(m["indices"]) for m in data.instance_meshes)
+    assert counts == [12, 20], counts  # a cube's 12 triangles, an icosahedron's 20
+    per_instance = sorted(len(data.instance_meshes[k]["indices"]) for k in data.instance_mesh)
+    # Index modulo 2 over 9 points: 5 of the first geometry, 4 of the second (the
+    # multi-input socket's order decides which is first).
+    assert per_instance in ([12] * 4 + [20] * 5, [12] * 5 + [20] * 4), per_instance
+
+
 def test_small_scatter_matches_cycles():
     """A 4 x 4 scatter of ico spheres on a floor under a sun and a grey world, traced
     through the two-level MTBVH (Instancing: Two-Level; the automatic rule would flatten
