@@ -69,10 +69,16 @@ const Config kConfigs[] = {
     {"1000 instances at 1e5", 1000, 12, true, kFar, 100000},
 };
 
-TEST(TwoLevelBvh, EqualsInstanceBruteForceBitForBit) {
-    std::uint32_t seed = 100;
-    for (const Config& c : kConfigs) {
-        const InstancedScene s = make(c, seed += 10);
+// One test per scene (the brute force costs instances x triangles per ray: minutes for the
+// 1,000-instance scenes on a busy machine, so each gets its own ctest time limit).
+class TwoLevelBruteForce : public ::testing::TestWithParam<int> {};
+
+TEST_P(TwoLevelBruteForce, EqualsInstanceBruteForceBitForBit) {
+    const int index = GetParam();
+    const std::uint32_t seed = 110 + 10 * static_cast<std::uint32_t>(index);
+    {
+        const Config& c = kConfigs[index];
+        const InstancedScene s = make(c, seed);
         const TwoLevelBvh bvh = build_two_level_bvh(s.meshes, s.instances, BvhBuildOptions{});
         const std::vector<Ray> rays = bvh_test::make_instance_rays(s, c.rays, seed + 5);
         int mismatches = 0, hits = 0, occluded = 0, mirrored_hits = 0;
@@ -110,6 +116,8 @@ TEST(TwoLevelBvh, EqualsInstanceBruteForceBitForBit) {
             c.name, rays.size(), hits, mirrored_hits, occluded);
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Scenes, TwoLevelBruteForce, ::testing::Range(0, 6));
 
 // The flattened copy intersects triangles whose vertices were moved to world space and
 // rounded there (by up to half an ulp of each world coordinate: 0.004 at 1e5, where these
