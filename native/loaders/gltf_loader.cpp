@@ -34,9 +34,9 @@ struct Loader {
     // glTF node instancing: a mesh that several nodes use is read once, in its own space,
     // into an instance mesh, and each node that uses it becomes an instance (nested nodes
     // flattened to one level: the instance's matrix is the node's world matrix).
-    std::vector<int> mesh_users;           // per glTF mesh: nodes that use it
-    std::vector<int> instance_mesh_of;     // per glTF mesh: index into instance_meshes, or -1
-    std::vector<std::shared_ptr<OwnedMesh>> instance_meshes;
+    std::vector<int> mesh_users{};        // per glTF mesh: nodes that use it
+    std::vector<int> instance_mesh_of{};  // per glTF mesh: index into instance_meshes, or -1
+    std::vector<std::shared_ptr<OwnedMesh>> instance_meshes{};
     bool any_normals = false;
     bool any_uvs = false;
     int default_material = -1;
