@@ -53,8 +53,10 @@ struct Loader {
     void count_mesh_users(int node, int depth);
     void add_mesh(int mesh, const glm::mat4& to_world, const std::string& element);
     void add_instance(int mesh, const glm::mat4& to_world, const std::string& element);
+    // Appends a primitive's triangles to `target`: the scene's mesh (world space) or an
+    // instance mesh (to_world the identity).
     void add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_world,
-                       const std::string& element, OwnedMesh& target, bool object_space);
+                       const std::string& element, OwnedMesh& target);
     void add_camera(int camera, const glm::mat4& to_world, const std::string& element);
     void add_light(const tinygltf::Node& node, const glm::mat4& to_world,
                    const std::string& element);
@@ -149,8 +151,7 @@ void Loader::add_mesh(int index, const glm::mat4& to_world, const std::string& e
     for (std::size_t p = 0; p < m.primitives.size(); ++p)
         add_primitive(
             m.primitives[p], to_world,
-            "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]", mesh,
-            false);
+            "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]", mesh);
 }
 
 void Loader::add_instance(int index, const glm::mat4& to_world, const std::string& element) {
@@ -168,7 +169,7 @@ void Loader::add_instance(int index, const glm::mat4& to_world, const std::strin
             add_primitive(
                 m.primitives[p], glm::mat4(1.0f),
                 "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]",
-                *target, true);
+                *target);
         instance_meshes.push_back(target);
     }
     Instance inst;
@@ -209,7 +210,7 @@ std::vector<glm::uvec3> assemble(const std::vector<std::uint32_t>& v, int mode) 
 }
 
 void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_world,
-                           const std::string& element, OwnedMesh& mesh, bool object_space) {
+                           const std::string& element, OwnedMesh& target) {
     const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
@@ -248,7 +249,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
              std::to_string(corners.size()) +
                  " indices are not a multiple of 3: the last incomplete triangle is dropped");
     std::vector<glm::uvec3> triangles = assemble(corners, mode);
-    if (mesh.triangles.size() + triangles.size() > kMaxTriangles)
+    if (target.triangles.size() + triangles.size() > kMaxTriangles)
         fail(element, "the scene exceeds " + std::to_string(kMaxTriangles) + " triangles");
 
     std::vector<float> normals, uvs;
@@ -273,7 +274,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
     const glm::mat3 linear(to_world);
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
     const bool mirrored = glm::determinant(linear) < 0.0f;
-    const std::size_t base = mesh.positions.size();
+    const std::size_t base = target.positions.size();
     if (base + vertex_count > 0xffffffffu) fail(element, "the scene exceeds 2^32 vertices");
     for (std::size_t v = 0; v < vertex_count; ++v) {
         const glm::vec3 world(to_world * glm::vec4(positions[3 * v], positions[3 * v + 1],
@@ -281,15 +282,15 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
         if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z))
             fail(element + ".attributes.POSITION",
                  "element " + std::to_string(v) + " is not finite once transformed");
-        mesh.positions.push_back(world);
+        target.positions.push_back(world);
         glm::vec3 n(0.0f);
         if (!normals.empty()) {
             n = normal_matrix * glm::vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
             const float length = glm::length(n);
             n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f);
         }
-        mesh.normals.push_back(n);
-        mesh.uvs.push_back(uvs.empty()
+        target.normals.push_back(n);
+        target.uvs.push_back(uvs.empty()
                                ? glm::vec2(0.0f)
                                : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
     }
@@ -297,8 +298,8 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
     any_uvs |= !uvs.empty();
     for (glm::uvec3 t : triangles) {
         if (mirrored) std::swap(t.y, t.z);
-        mesh.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
-        mesh.material_ids.push_back(material);
+        target.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
+        target.material_ids.push_back(material);
     }
 }
 
