@@ -291,8 +291,8 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
         }
         target.normals.push_back(n);
         target.uvs.push_back(uvs.empty()
-                               ? glm::vec2(0.0f)
-                               : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
+                                 ? glm::vec2(0.0f)
+                                 : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
     }
     any_normals |= !normals.empty();
     any_uvs |= !uvs.empty();
