@@ -24,7 +24,7 @@ struct Config {
     const char* name;
     int instances;
     std::size_t soup_triangles;
-    bool cornell;  // a second mesh: the Cornell box scaled to about 2 units
+    int second;  // a second mesh: 0 none, 1 the Cornell box scaled to 2 units, 2 a 2-unit cube
     glm::vec3 offset;
     std::size_t rays;
 };
@@ -37,7 +37,12 @@ OwnedMesh small_cornell() {
 
 InstancedScene make(const Config& c, std::uint32_t seed) {
     std::vector<OwnedMesh> meshes{bvh_test::make_random_soup(c.soup_triangles, seed)};
-    if (c.cornell) meshes.push_back(small_cornell());
+    if (c.second == 1) meshes.push_back(small_cornell());
+    if (c.second == 2) {
+        OwnedMesh cube;
+        bvh_test::add_block(cube, glm::vec3(-1.0f), glm::vec3(1.0f));
+        meshes.push_back(std::move(cube));
+    }
     return bvh_test::make_instanced_scene(std::move(meshes), c.instances, seed + 1, c.offset);
 }
 
@@ -59,14 +64,14 @@ const glm::vec3 kFar(1e5f, -1e5f, 1e5f);
 
 // 1, 10 and 1,000 instances, near the origin and translated by 1e5 on every axis. The brute
 // force costs instances x triangles per ray, so the 1,000-instance scenes use 12-triangle
-// meshes (the Cornell box's 36 triangles and a 12-triangle soup).
+// meshes (a 12-triangle soup and a cube).
 const Config kConfigs[] = {
-    {"1 instance", 1, 2000, false, glm::vec3(0.0f), 100000},
-    {"1 instance at 1e5", 1, 2000, false, kFar, 100000},
-    {"10 instances", 10, 200, true, glm::vec3(0.0f), 100000},
-    {"10 instances at 1e5", 10, 200, true, kFar, 100000},
-    {"1000 instances", 1000, 12, true, glm::vec3(0.0f), 100000},
-    {"1000 instances at 1e5", 1000, 12, true, kFar, 100000},
+    {"1 instance", 1, 2000, 0, glm::vec3(0.0f), 100000},
+    {"1 instance at 1e5", 1, 2000, 0, kFar, 100000},
+    {"10 instances", 10, 200, 1, glm::vec3(0.0f), 100000},
+    {"10 instances at 1e5", 10, 200, 1, kFar, 100000},
+    {"1000 instances", 1000, 12, 2, glm::vec3(0.0f), 100000},
+    {"1000 instances at 1e5", 1000, 12, 2, kFar, 100000},
 };
 
 // One test per scene (the brute force costs instances x triangles per ray: minutes for the
