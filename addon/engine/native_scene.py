@@ -16,7 +16,9 @@ def native_scene(native, data):
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
         lights=lights, camera=camera, environment=tuple(data.environment),
         textures=textures, environment_texture=data.environment_texture,
-        environment_to_world=data.environment_to_world)
+        environment_to_world=data.environment_to_world,
+        instance_meshes=data.instance_meshes or None, instances=data.instances,
+        instance_mesh=data.instance_mesh)
 
 
 def film_options(scene):
@@ -44,6 +46,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
         glossy_threshold=settings.glossy_threshold,
+        instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31))
 

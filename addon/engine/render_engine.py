@@ -102,7 +102,8 @@ class GlslppmEngineMixin:
             return
         for warning in data.warnings:
             self.report_to_user('WARNING', warning)
-        print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
+        print(f"GLSLPPM: exported {data.triangle_count} triangles, {data.instance_count} "
+              f"instances of {len(data.instance_meshes)} meshes, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
         film = film_options(scene)

@@ -109,18 +109,32 @@ class SceneData:
     environment_to_world: object = None  # float32 (4, 4) rotation of the map, or None
     warnings: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
+    # Instanced geometry (geometry nodes, particles, collection instances): each mesh once in
+    # object space (dicts of positions, indices, normals, uvs, material_ids as above), placed
+    # by (N, 4, 4) float32 matrices and (N,) uint32 mesh indices.
+    instance_meshes: list = field(default_factory=list)
+    instances: object = None
+    instance_mesh: object = None
 
     @property
     def triangle_count(self):
         return len(self.indices)
 
+    @property
+    def instance_count(self):
+        return 0 if self.instance_mesh is None else len(self.instance_mesh)
+
     def has_surfaces(self):
         """True when a camera ray can hit something: triangles or an area light."""
-        return self.triangle_count > 0 or any(light.kind == "area" for light in self.lights)
+        return (self.triangle_count > 0 or self.instance_count > 0 or
+                any(light.kind == "area" for light in self.lights))
 
     def emits_light(self):
         """True when something in the scene can light it."""
         if self.lights or max(self.environment) > 0.0:
             return True
         emissive = np.array([max(m.emission) > 0.0 for m in self.materials], dtype=bool)
-        return bool(len(self.material_ids) and emissive[self.material_ids].any())
+        if len(self.material_ids) and emissive[self.material_ids].any():
+            return True
+        return any(len(m["material_ids"]) and emissive[m["material_ids"]].any()
+                   for m in self.instance_meshes)

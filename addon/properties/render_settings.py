@@ -78,6 +78,13 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "draws 2.5-4.4x faster (docs/rng.md)"),
                    ('PAPER', "Float (paper)", "The float-only generator of Hachisuka's GLSL "
                     "rendering system, as printed (fails dieharder's bit tests at 24 bits)"))),
+        "instancing": EnumProperty(
+            name="Instancing", default='AUTO',
+            items=(('AUTO', "Automatic", "Two-level MTBVH or flattened copy, whichever was "
+                    "measured faster for the scene's size (docs/instancing.md)"),
+                   ('TWO_LEVEL', "Two-Level", "Each instanced mesh once, a tree over the "
+                    "instances: memory for the meshes, not for every copy"),
+                   ('FLATTENED', "Flattened", "Every instance's triangles in world space"))),
         "device": IntProperty(
             name="Device Override", default=-1, min=-1, max=64,
             description="EGL device index for this scene only; -1 uses the device chosen "

@@ -81,6 +81,7 @@ class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "hash_mode")
         column.prop(settings, "rng")
+        column.prop(settings, "instancing")
         if settings.device >= 0:  # set by a script or an older file
             column.prop(settings, "device")
         else:

@@ -60,6 +60,8 @@ std::string usage() {
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
         "                            (default %s; docs/direct_light.md says why)\n"
+        "  --instancing auto|two-level|flattened  how instances are traced (default %s;\n"
+        "                            docs/instancing.md)\n"
         "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
@@ -70,7 +72,8 @@ std::string usage() {
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
-        to_string(d.direct_light).c_str(), static_cast<unsigned long long>(d.seed));
+        to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
+        static_cast<unsigned long long>(d.seed));
     return text;
 }
 
@@ -119,6 +122,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
+        else if (a == "--instancing") o.settings.instancing = parse_instancing(value());
         else if (a == "--device") o.settings.device = static_cast<int>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
@@ -237,6 +241,9 @@ int main(int argc, char** argv) {
                 {"renderer", s.renderer},
                 {"variant", s.variant},
                 {"direct_light", s.direct_light},
+                {"instancing", s.instancing},
+                {"instances", s.instances},
+                {"instanced_triangles", s.instanced_triangles},
                 {"warnings", warnings},
             };
             std::printf("%s\n", out.dump().c_str());

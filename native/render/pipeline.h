@@ -20,6 +20,7 @@
 #include "gl/shader_program.h"
 #include "render/emitters.h"
 #include "render/gpu_layout.h"
+#include "render/instancing.h"
 #include "render/renderer.h"
 #include "render/texture_atlas.h"
 #include "scene/cancel.h"
@@ -45,7 +46,10 @@ using pipeline_detail::mix_seed;
 struct Renderer::Gpu {
     std::unique_ptr<gl::GlThread> thread;
     RenderSettings settings;
-    PackedBvh bvh;
+    PackedBvh bvh;  // what is uploaded: the two-level MTBVH's arrays when it is the path
+    std::vector<glm::vec4> instances;  // two-level instance records, else empty
+    InstancePlan instancing;
+    std::size_t instance_count = 0;
     EmitterTable emitters;
     SceneBounds bounds;
     FrameBlock frame{};

@@ -36,6 +36,26 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
 
     PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
     g.bvh = std::move(prepared.bvh);
+    g.instancing = prepared.instancing;
+    g.instance_count = scene.instances.size();
+    if (prepared.two_level) {
+        // The same buffers carry the two-level tree (bvh/two_level_bvh.h): the top tree's node
+        // count is what the traversal starts from.
+        TwoLevelBvh& two = *prepared.two_level;
+        g.bvh.nodes = std::move(two.nodes);
+        g.bvh.links = std::move(two.links);
+        g.bvh.triangles = std::move(two.triangles);
+        g.bvh.normals = std::move(two.normals);
+        g.bvh.uvs = std::move(two.uvs);
+        g.bvh.node_count = two.top_node_count;
+        g.instances = std::move(two.instances);
+        BvhStats& st = g.bvh.stats;
+        st.triangles = two.stats.mesh_triangles;
+        st.build_seconds += two.stats.bottom_seconds + two.stats.top_seconds;
+        st.bytes_total = two.stats.bytes_total;
+        st.bytes_per_triangle =
+            st.triangles ? static_cast<double>(st.bytes_total) / static_cast<double>(st.triangles) : 0.0;
+    }
     g.bounds = prepared.bounds;
     g.emitters = std::move(prepared.emitters);
     g.frame = prepared.frame;
@@ -108,6 +128,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             g.make_buffer(BINDING_BVH_NODES, bytes(g.bvh.nodes), g.bvh.nodes.data(), "BVH nodes");
             g.make_buffer(BINDING_BVH_LINKS, bytes(g.bvh.links), g.bvh.links.data(), "BVH links");
             g.make_buffer(BINDING_TRIANGLES, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
+            if (!g.instances.empty())
+                g.make_buffer(BINDING_INSTANCES, bytes(g.instances), g.instances.data(), "instances");
             if (!g.bvh.normals.empty())
                 g.make_buffer(BINDING_NORMALS, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
             else if (settings.full_variant)
@@ -338,6 +360,10 @@ RenderStats Renderer::stats() {
     s.direct_light = to_string(g.settings.direct_light);
     s.triangles = g.bvh.stats.triangles;
     s.degenerate_dropped = g.bvh.stats.degenerate_dropped;
+    s.instancing = g.instancing.path;
+    s.instancing_reason = g.instancing.reason;
+    s.instances = g.instance_count;
+    s.instanced_triangles = g.instancing.instanced_triangles;
     s.emitters = g.emitters.count;
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;

@@ -27,8 +27,14 @@ struct RenderStats {
     std::string renderer;               // GL_RENDERER
     std::string variant;                // the feature set the programs were compiled with
     std::string direct_light;           // "sampled" or "photons" (RenderSettings::direct_light)
-    std::size_t triangles = 0;
+    std::size_t triangles = 0;  // distinct: each instanced mesh counted once
     std::size_t degenerate_dropped = 0;
+    // How instances were traced ("none", "two-level", "flattened"), why, how many, and the
+    // triangles a flattened copy holds.
+    std::string instancing;
+    std::string instancing_reason;
+    std::size_t instances = 0;
+    std::size_t instanced_triangles = 0;
     std::size_t emitters = 0;
     double bvh_seconds = 0.0;
     double bvh_bytes_per_triangle = 0.0;

@@ -12,6 +12,9 @@ enum class RngKind { Paper, Pcg };
 // (photons then carry only light that has scattered at least once), or photons alone, as in
 // Hachisuka 2015.
 enum class DirectLight { Sampled, Photons };
+// How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
+// triangles, or chosen by the measured rule in render/instancing.h.
+enum class Instancing { Auto, TwoLevel, Flattened };
 
 struct RenderSettings {
     int width = 256;
@@ -45,14 +48,17 @@ struct RenderSettings {
     // through smooth glass, in proportion to what the glass transmits.
     bool transparent = false;
     bool transparent_glass = false;
+    Instancing instancing = Instancing::Auto;
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
+Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);
 std::string to_string(RngKind kind);
 std::string to_string(DirectLight direct);
+std::string to_string(Instancing instancing);
 
 // Throws std::invalid_argument naming the setting when one is out of range.
 void validate(const RenderSettings& settings);

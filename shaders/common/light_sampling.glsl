@@ -24,8 +24,7 @@ uint shadow_ray_seed = 0u;
 // with a number drawn per surface crossed (common/mtbvh.glsl asks this of every hit). The
 // mixes' view-dependent factors are taken at normal incidence, and a transparent leaf's
 // tint does not colour the shadow.
-bool bvh_any_hit_passes(int triangle, float u, float v) {
-    int m = floatBitsToInt(triangles[3 * triangle].w);
+bool shadow_passes(int m, int triangle, float u, float v) {
     int flags = material_flags(m);
     if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0) return true;
 #ifdef HAS_MICROFACET
@@ -44,6 +43,15 @@ bool bvh_any_hit_passes(int triangle, float u, float v) {
 #endif
     return false;
 }
+bool bvh_any_hit_passes(int triangle, float u, float v) {
+    return shadow_passes(floatBitsToInt(triangles[3 * triangle].w), triangle, u, v);
+}
+#ifdef GLSLPPM_INSTANCES
+bool bvh_any_hit_passes_instanced(int triangle, int instance, float u, float v) {
+    int m = floatBitsToInt(triangles[3 * triangle].w) + bvh_instance_bases(instance).w;
+    return shadow_passes(m, triangle, u, v);
+}
+#endif
 #endif
 
 const float DISTANT_LIGHT = 3.0e38;

@@ -75,15 +75,20 @@ def test_modifiers_and_instances():
         empty.scale = (0.5, 0.5, 0.5)
         bpy.context.scene.collection.objects.link(empty)
     data = export()
-    assert data.triangle_count == 3 * 12 + 2 * 12, data.triangle_count
-    centers = _triangles(data).mean(axis=1)
-    instanced = centers[centers[:, 0] > 15]
-    assert len(instanced) == 24
-    assert_close(sorted({10 * round(float(x) / 10) for x in instanced[:, 0]}), [20, 30], 0,
+    # The array's cubes are the object's own triangles, in world space; the collection's
+    # two instances are rows of the instance table over one mesh read once.
+    assert data.triangle_count == 3 * 12, data.triangle_count
+    assert_close(data.positions[:, 0].max(), 9.0, 1e-5, "array end")
+    assert data.instance_count == 2 and len(data.instance_meshes) == 1, data.stats
+    assert data.instance_meshes[0]["indices"].shape == (12, 3)
+    assert_close(sorted(float(m[0, 3]) for m in data.instances), [20, 30], 1e-5,
                  "instance placement")
-    inst = data.positions[data.positions[:, 0] > 15]
-    assert_close(inst[:, 1].min(), -0.5, 1e-5, "instance scale")
-    assert_close(data.positions[:, 0][data.positions[:, 0] < 15].max(), 9.0, 1e-5, "array end")
+    for m in data.instances:
+        assert_close(np.diag(m)[:3], (0.5, 0.5, 0.5), 1e-6, "instance scale")
+    # Placed: x in 20 +- 0.5 and 30 +- 0.5, y in +-0.5.
+    corners = data.instance_meshes[0]["positions"]
+    placed = np.concatenate([corners @ m[:3, :3].T + m[:3, 3] for m in data.instances])
+    assert_close(placed[:, 1].min(), -0.5, 1e-5, "instance scale")
     assert data.stats["meshes"] == 2, data.stats  # the instanced mesh was read once
 
 

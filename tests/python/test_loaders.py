@@ -136,13 +136,14 @@ def test_gltf_node_transforms_apply_to_positions_and_normals(glslppm, tmp_path):
     g = Gltf()
     normals = np.tile([0.0, 0.0, 1.0], (4, 1))
     mesh = g.mesh(QUAD, QUAD_TRIS, normals=normals)
+    other = g.mesh(QUAD, QUAD_TRIS, normals=normals)  # one node each: world triangles
     child = g.node(root=False, mesh=mesh, scale=[2, 2, 2])
     # The parent turns 90 degrees about +Y (quaternion x, y, z, w) and moves by (1, 2, 3).
     s = math.sqrt(0.5)
     g.node(children=[child], translation=[1, 2, 3], rotation=[0, s, 0, s])
-    g.node(mesh=mesh, matrix=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1])
+    g.node(mesh=other, matrix=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1])
     scene, c, warnings = load(glslppm, g.write(tmp_path / "t.gltf"))
-    assert scene.triangle_count == 4
+    assert scene.triangle_count == 4 and scene.instance_count == 0
     assert len(c["materials"]) == 1 and c["materials"][0]["kind"] == "diffuse"  # the default
     p = c["positions"]
     # Child: scaled by 2, then Ry(90): (x, y, z) -> (z, y, -x), then translated.
@@ -152,6 +153,81 @@ def test_gltf_node_transforms_apply_to_positions_and_normals(glslppm, tmp_path):
     # The +Z normal turns to +X under Ry(90) and stays unit length despite the scale.
     np.testing.assert_allclose(c["normals"][:4], np.tile([1, 0, 0], (4, 1)), atol=1e-6)
     assert any("no camera" in w for w in warnings)
+
+
+def box_mesh(g):
+    """A unit cube, 12 triangles, outward winding, one mesh of the document."""
+    c = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float32)
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+             (1, 5, 7, 3)]
+    tris = [[a, b, c_] for a, b, c_, d in faces] + [[a, c_, d] for a, b, c_, d in faces]
+    return g.mesh(c, np.array(tris))
+
+
+def instancing_document(shared):
+    """A floor, a sun, a camera and a cube placed by five nodes: nested (a parent that
+    turns and a child that scales), mirrored, and translated. shared: one mesh used by all
+    five nodes (glTF node instancing); else a copy of the mesh per node."""
+    g = Gltf()
+    g.doc["materials"] = [{"pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.3, 0.2, 1], "metallicFactor": 0.0}}]
+    g.extension("KHR_lights_punctual")
+    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "directional", "intensity": 2000.0}]}}  # lux: about 3 W/m^2
+    floor = g.mesh(np.array([[-5, 0, -5], [5, 0, -5], [5, 0, 5], [-5, 0, 5]], np.float32),
+                   np.array([[0, 2, 1], [0, 3, 2]]))
+    g.node(mesh=floor)
+    s = math.sqrt(0.5)
+    g.node(rotation=[-s, 0, 0, s], extensions={"KHR_lights_punctual": {"light": 0}})
+    g.doc["cameras"] = [{"type": "perspective",
+                         "perspective": {"yfov": 0.8, "znear": 0.1, "aspectRatio": 1.0}}]
+    g.node(camera=0, translation=[0, 4, 9], rotation=[-0.2164, 0, 0, 0.9763])
+    cube = box_mesh(g)
+    g.doc["meshes"][cube]["primitives"][0]["material"] = 0
+
+    def mesh():
+        if shared:
+            return cube
+        copy = json.loads(json.dumps(g.doc["meshes"][cube]))
+        g.doc["meshes"].append(copy)
+        return len(g.doc["meshes"]) - 1
+
+    child = g.node(root=False, mesh=mesh(), scale=[0.5, 1.5, 0.5])
+    g.node(children=[child], translation=[-2, 0, 0], rotation=[0, 0.3827, 0, 0.9239])
+    g.node(mesh=mesh(), translation=[1.5, 0, 1], scale=[-1, 1, 1])  # mirrored
+    g.node(mesh=mesh(), translation=[0, 0, -1.5], rotation=[0.2, 0.1, 0, 0.9747])
+    g.node(mesh=mesh(), translation=[2.5, 0, -2], scale=[0.7, 0.7, 0.7])
+    g.node(mesh=mesh(), translation=[-0.5, 0, 2], scale=[1.2, 0.4, 0.8])
+    return g
+
+
+def test_gltf_node_instancing_becomes_instances(glslppm, tmp_path):
+    """One mesh used by five nodes (one nested under a parent) loads as one instance mesh
+    and five instances, nested transforms flattened to one level; it renders as the same
+    document with a mesh per node does (world triangles), from the same seed."""
+    shared, _, _ = load(glslppm, instancing_document(True).write(tmp_path / "shared.gltf"))
+    copies, _, _ = load(glslppm, instancing_document(False).write(tmp_path / "copies.gltf"))
+    assert shared.instance_count == 5 and shared.triangle_count == 2
+    assert copies.instance_count == 0 and copies.triangle_count == 2 + 5 * 12
+    images = {}
+    for name, scene, mode in (("two-level", shared, "two-level"),
+                              ("flattened", shared, "flattened"), ("copies", copies, "auto")):
+        r = glslppm.Renderer(scene, glslppm.Settings(width=48, height=48, seed=3,
+                                                     photons_per_pass=8192, instancing=mode))
+        r.run(4)
+        assert r.stats()["instancing"] == {"copies": "none"}.get(name, name)
+        images[name] = r.film()[..., :3]
+    mean = float(images["copies"].mean())
+    assert mean > 0.01
+    # Same path, same bounds: rounding only (measured 1e-8 of the mean).
+    diff = float(np.abs(images["two-level"] - images["flattened"]).mean()) / mean
+    print(f"glTF instancing: two-level vs flattened {diff:.3g} of the mean; means "
+          + ", ".join(f"{k} {float(v.mean()):.5f}" for k, v in images.items()))
+    assert diff < 1e-6, diff
+    # The copies' scene has no instances, so its bounds (the MTBVH's padded root box) and
+    # with them the photon hash grid differ: the same estimate, other noise.
+    for name in ("two-level", "flattened"):
+        assert abs(float(images[name].mean()) / mean - 1.0) < 0.03, name
 
 
 def test_gltf_mirroring_transform_reverses_the_winding(glslppm, tmp_path):
