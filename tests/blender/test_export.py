@@ -722,7 +722,7 @@ def test_presets_set_the_settings_they_name():
     settings = bpy.context.scene.glslppm
     assert {"PREVIEW", "FINAL", "CAUSTICS"} <= set(presets)
     for key, preset in presets.items():
-        settings.passes, settings.photons_per_pass, settings.radius_scale = 3, 5, 7.0
+        settings.passes, settings.radius_scale = 3, 7.0
         result = bpy.ops.glslppm.apply_preset(preset=key)
         assert result == {'FINISHED'}, result
         assert preset["description"], key
@@ -736,8 +736,10 @@ def test_presets_set_the_settings_they_name():
     # final render, caustics keep every photon and start from a smaller radius.
     table = {key: preset["settings"] for key, preset in presets.items()}
     preview, final, caustics = table["PREVIEW"], table["FINAL"], table["CAUSTICS"]
-    assert preview["passes"] * preview["photons_per_pass"] < \
-        final["passes"] * final["photons_per_pass"]
+    sizing = {key: preset["photons"] for key, preset in presets.items()}
+    assert preview["passes"] < final["passes"]
+    assert sizing["PREVIEW"]["photon_to_eye"] <= sizing["FINAL"]["photon_to_eye"]
+    assert sizing["PREVIEW"]["highest"] <= sizing["FINAL"]["highest"]
     assert caustics["hash_mode"] == 'EXACT' and caustics["radius_scale"] < 1.0
 
 
