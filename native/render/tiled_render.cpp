@@ -1,10 +1,10 @@
 #include "render/tiled_render.h"
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
-
-#include <epoxy/gl.h>
 
 #include "gl/egl_context.h"
 #include "render/scene_preparation.h"
@@ -32,9 +32,9 @@ TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
         const std::size_t rows = largest_block / row;
         if (rows < 1)
             throw std::invalid_argument(
-                "one row of " + std::to_string(width) + " pixels needs " +
-                std::to_string(row) + " bytes of visible points, more than this GPU's largest " +
-                "storage buffer (" + std::to_string(largest_block) + " bytes)");
+                "one row of " + std::to_string(width) + " pixels needs " + std::to_string(row) +
+                " bytes of visible points, more than this GPU's largest " + "storage buffer (" +
+                std::to_string(largest_block) + " bytes)");
         bands = static_cast<int>((std::size_t(height) + rows - 1) / rows);
     }
     // Equal bands (heights differ by at most one row) rather than full ones and a thin rest.
@@ -129,12 +129,11 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
             sum.max_radius = std::max(sum.max_radius, s.max_radius);
         }
         // The mean radius weighted by each tile's pixels.
-        const double share = double(tile.width) * tile.height /
-                             (double(settings.width) * settings.height);
+        const double share =
+            double(tile.width) * tile.height / (double(settings.width) * settings.height);
         if (t == 0) sum.mean_radius = 0.0;
         sum.mean_radius += s.mean_radius * share;
-        if (on_tile && !on_tile(t, tile, film) && t + 1 < plan.tiles.size())
-            throw Cancelled();
+        if (on_tile && !on_tile(t, tile, film) && t + 1 < plan.tiles.size()) throw Cancelled();
     }
     RenderStats& sum = out.stats;
     sum.tiles = static_cast<int>(plan.tiles.size());
