@@ -52,7 +52,13 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
+#ifdef RNG_PCG
+    // The pixel's stream is its index in the whole frame: a tile or render region draws the
+    // numbers the whole frame's render draws there.
+    RNG_STATE rng = rng_load(frame_first_pixel + (i / image_width) * frame_width + i % image_width);
+#else
     RNG_STATE rng = rng_load(i);
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
     // The light sample's numbers come first, so that draws only some variants make (the
     // lens) do not change them: every variant of a scene renders the same image.

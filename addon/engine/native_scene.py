@@ -48,15 +48,5 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         glossy_threshold=settings.glossy_threshold,
         instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,
-        seed=(settings.seed + seed_offset) % (2**31))
-
-
-def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
-                    device=None, cancel=None):
-    """A Renderer for scene (a native Scene) with settings (scene.glslppm). The radius
-    scale multiplies the module's automatic radius (it is ignored with an absolute one).
-    cancel (a native CancelFlag) set from another thread stops construction:
-    native.Cancelled."""
-    return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, film=film, device=device),
-                           cancel=cancel)
+        seed=(settings.seed + seed_offset) % (2**31),
+        max_block_bytes=settings.max_block_bytes)

@@ -97,6 +97,11 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         "seed": IntProperty(
             name="Seed", default=0, min=0, max=INT_MAX,
             description="Random seed; renders with the same seed and settings repeat"),
+        "max_block_bytes": IntProperty(
+            name="Largest Pixel Buffer", default=0, min=0, max=INT_MAX,
+            description="Caps the per-pixel GPU buffers below the GPU's largest storage "
+                        "buffer (0: the GPU's own limit); a frame past it renders as image "
+                        "tiles. For tests: forces tiles on small images"),
     }
 
     def radius(self):

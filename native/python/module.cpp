@@ -18,6 +18,7 @@
 #include "python/loaders_module.h"
 #include "render/instancing.h"
 #include "render/renderer.h"
+#include "render/tiled_render.h"
 #include "scene/scene.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
@@ -379,6 +380,8 @@ py::dict stats_dict(const RenderStats& s) {
     d["bvh_seconds"] = s.bvh_seconds;
     d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
     d["gpu_bytes"] = s.gpu_bytes;
+    d["gpu_bytes_per_pixel"] = s.gpu_bytes_per_pixel;
+    d["tiles"] = s.tiles;
     d["warnings"] = s.warnings;
     d["programs_compiled"] = s.programs_compiled;
     d["programs_reused"] = s.programs_reused;
@@ -573,7 +576,7 @@ PYBIND11_MODULE(_glslppm, m) {
                          bool profile, bool full_variant, int max_texture_size,
                          bool transparent, bool transparent_glass,
                          const std::string& direct_light, float glossy_threshold,
-                         const std::string& instancing) {
+                         const std::string& instancing, std::uint64_t max_block_bytes) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -595,6 +598,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.transparent_glass = transparent_glass;
                  s.glossy_threshold = glossy_threshold;
                  s.instancing = parse_instancing(instancing);
+                 s.max_block_bytes = max_block_bytes;
                  validate(s);
                  return s;
              }),
@@ -611,8 +615,10 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("transparent_glass") = defaults.transparent_glass,
              py::arg("direct_light") = to_string(defaults.direct_light),
              py::arg("glossy_threshold") = defaults.glossy_threshold,
-             py::arg("instancing") = to_string(defaults.instancing))
+             py::arg("instancing") = to_string(defaults.instancing),
+             py::arg("max_block_bytes") = defaults.max_block_bytes)
         .def_readonly("width", &RenderSettings::width)
+        .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale);
 
@@ -695,6 +701,68 @@ PYBIND11_MODULE(_glslppm, m) {
             r.close();
         }, "Frees the GL context and every GPU buffer now (also done on garbage collection).")
         .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); });
+
+    // Frames larger than one storage buffer holds, as image tiles (render/tiled_render.h).
+    auto tile_tuple = [](const Tile& t) { return py::make_tuple(t.x, t.y, t.width, t.height); };
+    auto plan_dict = [tile_tuple](const TilePlan& plan) {
+        py::list tiles;
+        for (const Tile& t : plan.tiles) tiles.append(tile_tuple(t));
+        py::dict d;
+        d["tiles"] = tiles;
+        d["gpu_bytes_per_pixel"] = plan.gpu_bytes_per_pixel;
+        d["block_bytes_per_pixel"] = plan.block_bytes_per_pixel;
+        d["largest_block"] = plan.largest_block;
+        return d;
+    };
+    m.def("plan_tiles", [plan_dict](const Scene& scene, const RenderSettings& settings) {
+        TilePlan plan;
+        {
+            py::gil_scoped_release release;
+            plan = plan_tiles(scene, settings);
+        }
+        return plan_dict(plan);
+    }, py::arg("scene"), py::arg("settings"),
+       "The image tiles (x, y, width, height; y from the top) that a render of this size "
+       "needs on its device, decided before allocating: one when it fits. Also the per-pixel "
+       "bytes and the device's largest storage buffer.");
+    m.def("tile_render_inputs", [](const Scene& scene, const RenderSettings& settings,
+                                   std::array<int, 4> tile) {
+        const Tile t{tile[0], tile[1], tile[2], tile[3]};
+        Scene s = scene;
+        s.camera = tile_camera(scene.camera, settings, t);
+        return py::make_tuple(s, tile_settings(settings, t));
+    }, py::arg("scene"), py::arg("settings"), py::arg("tile"),
+       "The (scene, settings) that render one tile (x, y, width, height) of the frame: its "
+       "camera looks through the tile's window, with the whole frame's radius and streams.");
+    m.def("render_tiled", [plan_dict, tile_tuple](const Scene& scene, const RenderSettings& settings,
+                                                  int passes, py::object on_tile,
+                                                  std::shared_ptr<CancelFlag> cancel) {
+        TiledImage image;
+        {
+            py::gil_scoped_release release;
+            const TilePlan plan = plan_tiles(scene, settings);
+            TileDone done;
+            if (!on_tile.is_none()) {
+                done = [&](std::size_t index, const Tile& t, const std::vector<float>& rgba) {
+                    py::gil_scoped_acquire acquire;
+                    py::array_t<float> a({t.height, t.width, 4});
+                    std::memcpy(a.mutable_data(), rgba.data(), rgba.size() * sizeof(float));
+                    const py::object keep = on_tile(index, tile_tuple(t), a);
+                    return keep.is_none() || keep.cast<bool>();
+                };
+            }
+            image = render_tiled(scene, settings, passes, plan, done, cancel.get());
+        }
+        py::array_t<float> out({settings.height, settings.width, 4});
+        std::memcpy(out.mutable_data(), image.rgba.data(), image.rgba.size() * sizeof(float));
+        py::dict stats = stats_dict(image.stats);
+        stats["plan"] = plan_dict(image.plan);
+        return py::make_tuple(out, stats);
+    }, py::arg("scene"), py::arg("settings"), py::arg("passes"), py::arg("on_tile") = py::none(),
+       py::arg("cancel") = nullptr,
+       "Renders the frame as the tiles plan_tiles gives, `passes` SPPM passes each (each tile "
+       "traces its own photons: time grows with the tile count). on_tile(index, (x, y, w, h), "
+       "rgba) after each; returning False stops. Returns (rgba, stats).");
 
     m.def("cornell_box", [](bool mirror_sphere, bool glass_sphere, int sphere_rings) {
         CornellBoxOptions o;

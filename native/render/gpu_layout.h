@@ -47,7 +47,12 @@ struct FrameBlock {
     std::int32_t environment_cdf_width = 0;
     std::int32_t environment_cdf_height = 0;
     float glossy_threshold = 0.0f;  // lobes below this roughness are followed, not gathered
-    std::uint32_t frame_padding[3] = {0, 0, 0};
+    // The image's place in the whole frame (a render region or a tile): its first pixel's
+    // index in the frame, the frame's width and pixel count. The random streams are keyed by
+    // the frame's pixel and photon indices, so that a tile draws what the whole frame would.
+    std::uint32_t frame_first_pixel = 0;
+    std::uint32_t frame_width = 0;
+    std::uint32_t frame_pixels = 0;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -76,6 +81,8 @@ static_assert(offsetof(FrameBlock, environment_texture) == 244);
 static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
 static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
 static_assert(offsetof(FrameBlock, glossy_threshold) == 256);
+static_assert(offsetof(FrameBlock, frame_first_pixel) == 260);
+static_assert(offsetof(FrameBlock, frame_pixels) == 268);
 static_assert(sizeof(FrameBlock) == 272);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the

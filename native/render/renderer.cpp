@@ -165,9 +165,11 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
             const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
-            Gpu::require_fits(px * point_vec4s * 16, "visible points");
-            Gpu::require_fits(ph * 3 * 16, "photons");
-            Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
+            g.require_fits(px * point_vec4s * 16, "visible points", true);
+            g.require_fits(ph * 3 * 16, "photons");
+            g.require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
+            // Visible points, pixel statistics, direct light, film.
+            g.gpu_bytes_per_pixel = (point_vec4s + 2 + 2 + 1) * 16;
             g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
             g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr,
                                           "pixel statistics");
@@ -368,6 +370,7 @@ RenderStats Renderer::stats() {
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
     s.gpu_bytes = g.gpu_bytes;
+    s.gpu_bytes_per_pixel = g.gpu_bytes_per_pixel;
     s.eye_seconds = g.stage_seconds[0];
     s.photon_seconds = g.stage_seconds[1];
     s.hash_seconds = g.stage_seconds[2];

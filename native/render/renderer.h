@@ -39,6 +39,9 @@ struct RenderStats {
     double bvh_seconds = 0.0;
     double bvh_bytes_per_triangle = 0.0;
     std::size_t gpu_bytes = 0;          // buffers this renderer allocated
+    std::size_t gpu_bytes_per_pixel = 0;  // of the per-pixel buffers, for one pixel
+    // Image tiles rendered one after another (native/render/tiled_render.h); 1 untiled.
+    int tiles = 1;
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.
     double eye_seconds = 0.0, photon_seconds = 0.0, hash_seconds = 0.0, gather_seconds = 0.0;
     std::vector<std::string> warnings;  // what was approximated (downscaled images, ...)

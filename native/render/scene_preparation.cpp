@@ -162,6 +162,9 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
         half_extent = glm::vec2(tan_x, tan_x * aspect);
         shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
     }
+    // The automatic radius below looks through the whole frame, so that a region or a tile
+    // of it gathers with the radius the whole frame's render would use.
+    const glm::vec2 frame_half_extent = half_extent, frame_shift = shift;
     if (region) {
         // The window's half extent and centre in the frame's film coordinates ([-1, 1],
         // y up, row 0 at the top).
@@ -175,6 +178,12 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
     }
     f.film_half_extent = half_extent;
     f.film_shift = shift;
+    f.frame_first_pixel = region ? static_cast<std::uint32_t>(cam.region_y) *
+                                           static_cast<std::uint32_t>(frame_width) +
+                                       static_cast<std::uint32_t>(cam.region_x)
+                                 : 0u;
+    f.frame_width = static_cast<std::uint32_t>(frame_width);
+    f.frame_pixels = static_cast<std::uint32_t>(frame_width) * static_cast<std::uint32_t>(frame_height);
     f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
     f.aperture_radius = cam.aperture_radius;
     f.focus_distance = cam.focus_distance;
@@ -188,7 +197,7 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
         for (int j = 0; j < 5; ++j) {
             for (int i = 0; i < 5; ++i) {
                 const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
+                const glm::vec2 film = ndc * frame_half_extent + frame_shift;
                 const bool ortho = cam.projection == Projection::Orthographic;
                 const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
                 const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);

@@ -43,6 +43,9 @@ struct RenderSettings {
     // benchmark's baseline); off, programs model only what the scene requires.
     bool full_variant = false;
     int max_texture_size = 0;     // 0: the GPU's GL_MAX_TEXTURE_SIZE; smaller tests downscaling
+    // 0: the GPU's GL_MAX_SHADER_STORAGE_BLOCK_SIZE; smaller caps the per-pixel buffers
+    // below it, so that tests tile small images (native/render/tiled_render.h).
+    std::uint64_t max_block_bytes = 0;
     // Film alpha = coverage: camera rays that leave the scene are transparent and show no
     // world (Blender's Film > Transparent); with transparent_glass, so are those that leave
     // through smooth glass, in proportion to what the glass transmits.

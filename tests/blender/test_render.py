@@ -317,3 +317,45 @@ def test_presets_size_photons_from_the_measured_device_speed():
               f"{target * 1e3:.1f} ms")
         assert target / PASS_TIME_FACTOR < pass_seconds < target * PASS_TIME_FACTOR, \
             (key, pass_seconds, target)
+
+
+def test_tiles_stream_into_the_result_without_seams():
+    """A frame past the largest pixel buffer (capped here to 12 rows of 48 pixels of
+    visible points, 3 x 16 bytes each) renders as three bands of rows, each written into
+    the result as it finishes. Every band traces the whole frame's photons and eye paths
+    with the whole frame's radius, so the tiled image equals the untiled one up to float
+    rounding of the gathered sums (1e-4 relative; a seam would differ by the noise, tens
+    of percent at 4 passes)."""
+    small_lit_scene(passes=4)
+    whole, error = render("untiled")
+    assert error is None, error
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    engine = helpers.recording_engine()
+    tiled, error = render("tiled", engine)
+    assert error is None, error
+    assert not messages(engine, 'ERROR'), engine.reports
+    assert engine.tiles_seen == [(1, 3), (2, 3), (3, 3)], engine.tiles_seen
+    assert tiled.shape == whole.shape == (SIZE[1], SIZE[0], 4)
+    assert whole[..., :3].mean() > 1e-3
+    difference = np.abs(tiled[..., :3] - whole[..., :3])
+    assert (difference <= 1e-4 * np.maximum(whole[..., :3], 1e-2)).all(), difference.max()
+    # Rows on either side of each band's edge (11 | 12 and 23 | 24, from the top).
+    for edge in (12, 24):
+        assert difference[edge - 1:edge + 1].max() <= 1e-4 * max(whole[..., :3].max(), 1.0)
+
+
+def test_cancel_during_a_tile_keeps_it_and_starts_no_other():
+    """Esc in the first of three tiles: that tile's passes so far are written into the
+    result and the other two never start."""
+    small_lit_scene(passes=100000)
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    engine = helpers.recording_engine()
+    engine.break_after_passes = 3
+    began = time.perf_counter()
+    image, error = render("tile_cancelled", engine)
+    assert error is None, error
+    assert time.perf_counter() - began < 60
+    assert engine.tiles_seen == [(1, 3)], engine.tiles_seen
+    assert 3 <= engine.last_passes < 100000, engine.last_passes
+    assert image[:12, :, :3].mean() > 1e-3, "the cancelled tile lost its passes"
+    assert image[12:, :, :3].max() == 0.0, "a tile after the cancel was rendered"
