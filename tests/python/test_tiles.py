@@ -82,7 +82,12 @@ def test_tiled_render_equals_the_untiled_render(glslppm, hash):
         band, band_stats = untiled(g, *g.tile_render_inputs(box, settings, tile), 8)
         assert band_stats["max_radius"] == band_stats["initial_radius"], tile
         x, y, w, h = tile
-        np.testing.assert_array_equal(band, tiled[y:y + h, x:x + w])
+        if hash == "stochastic":
+            np.testing.assert_array_equal(band, tiled[y:y + h, x:x + w])
+        else:
+            # The exact hash sums a cell's photons in the order the GPU's atomics give, so
+            # two runs of one band agree to float rounding only.
+            np.testing.assert_allclose(band, tiled[y:y + h, x:x + w], rtol=1e-6, atol=1e-7)
     assert whole[..., :3].mean() > 0.1
     difference = np.abs(tiled - whole)
     assert (difference <= 2e-5 * np.maximum(np.abs(whole), 1e-2)).all(), difference.max()
