@@ -111,13 +111,13 @@ def test_rough_gold_sphere_matches_cycles():
 def test_frosted_glass_matches_cycles():
     """A Glass BSDF sphere (IOR 1.5, roughness 0.3, GGX) in front of a
     bright two-tone backdrop: the backdrop blurred through it, and its caustic on the
-    floor. Worst region of 3x3 within 2.5%, mean within 1.2%.
+    floor. Worst region of 3x3 within 3%, mean within 1.5%.
 
     GGX: with Multiscatter GGX the sphere's region is 6.7% darker than Cycles 4.3's (as
     the roughness map's Glossy, 4.x's compensation keeps the lobe's shape) and within 2%
     of Cycles 3.4's. Default settings: the eye path follows rough glass by sampling
     (visible points on frosted glass gathered a far noisier estimate and are not made);
-    measured under 3.4 1.8% worst, 0.14% mean.
+    measured 1.8% worst / 0.14% mean under 3.4, 2.2% / 0.96% under 4.3.
     """
     helpers.reset_scene(size=SIZE)
     glass = node_material("Frosted", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.3)
@@ -132,7 +132,7 @@ def test_frosted_glass_matches_cycles():
                lens=45.0)
     ours, reference, warnings = _render_both("frosted", 192, 32768, 1024)
     assert not warnings, warnings
-    _compare("frosted glass", ours, reference, 3, 0.025, 0.012)
+    _compare("frosted glass", ours, reference, 3, 0.03, 0.015)
 
 
 def test_plastic_cube_matches_cycles():
@@ -255,7 +255,7 @@ def test_alpha_cut_out_leaf_matches_cycles():
     holes. Worst region of 4x4 within 2.5%, mean within 1.5%.
 
     Default settings: shadow rays cross the leaf's transparent part where its alpha mix
-    picks the Transparent leaf (measured under 3.4 0.8% worst, 0.4% mean; photons alone,
+    picks the Transparent leaf (measured 0.8% worst, 0.4% mean under 3.4 and 4.3; photons alone,
     which blur the edges by the gather radius, 3.4% and 0.4%)."""
     helpers.reset_scene(size=SIZE)
     n = 64
