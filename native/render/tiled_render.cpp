@@ -6,7 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "gl/egl_context.h"
+#include "gl/gl_thread.h"
 #include "render/scene_preparation.h"
 
 namespace glslppm {
@@ -54,13 +54,15 @@ TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
     // native/render/renderer.cpp allocates them.
     const std::size_t point_bytes = (microfacet ? 4 : 3) * 16;
     const std::size_t pixel_bytes = point_bytes + (2 + 2 + 1) * 16;
-    std::int64_t largest = 0;
-    {
-        gl::EglContext context(settings.device);
+    // Asked on a GL thread of its own, as every renderer's context lives: the calling
+    // thread may hold the host application's context (Blender's UI), which an EGL context
+    // made current there would disturb (EGL_BAD_ACCESS).
+    gl::GlThread thread(settings.device);
+    const std::int64_t largest = thread.call([] {
         GLint64 value = 0;
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
-        largest = value;
-    }
+        return static_cast<std::int64_t>(value);
+    });
     return plan_tiles(settings.width, settings.height, point_bytes, pixel_bytes,
                       capped_block_bytes(largest, settings));
 }
