@@ -234,6 +234,22 @@ py::dict stats_dict(const RenderStats& s) {
     d["renderer"] = s.renderer;
     d["variant"] = s.variant;
     d["direct_light"] = s.direct_light;
+    d["estimator"] = s.estimator;
+    d["radius_floor"] = s.radius_floor;
+    py::list ranges;
+    for (const auto& [first, end] : s.pass_ranges) ranges.append(py::make_tuple(first, end));
+    d["pass_ranges"] = ranges;
+    py::list devices;
+    for (const DeviceStats& ds : s.devices) {
+        py::dict e;
+        e["device"] = ds.device;
+        e["renderer"] = ds.renderer;
+        e["passes"] = ds.passes;
+        e["seconds"] = ds.seconds;
+        e["passes_per_second"] = ds.passes_per_second;
+        devices.append(e);
+    }
+    d["devices"] = devices;
     d["triangles"] = s.triangles;
     d["degenerate_dropped"] = s.degenerate_dropped;
     d["emitters"] = s.emitters;
@@ -419,7 +435,8 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
                          bool transparent, bool transparent_glass,
-                         const std::string& direct_light) {
+                         const std::string& direct_light, const std::string& estimator,
+                         std::vector<int> devices, std::uint64_t first_pass) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -439,6 +456,9 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.max_texture_size = max_texture_size;
                  s.transparent = transparent;
                  s.transparent_glass = transparent_glass;
+                 s.estimator = parse_estimator(estimator);
+                 s.devices = std::move(devices);
+                 s.first_pass = first_pass;
                  validate(s);
                  return s;
              }),
@@ -453,10 +473,15 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("max_texture_size") = defaults.max_texture_size,
              py::arg("transparent") = defaults.transparent,
              py::arg("transparent_glass") = defaults.transparent_glass,
-             py::arg("direct_light") = to_string(defaults.direct_light))
+             py::arg("direct_light") = to_string(defaults.direct_light),
+             py::arg("estimator") = to_string(defaults.estimator),
+             py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height)
-        .def_readonly("radius_scale", &RenderSettings::radius_scale);
+        .def_readonly("radius_scale", &RenderSettings::radius_scale)
+        .def_property_readonly("estimator", [](const RenderSettings& s) { return to_string(s.estimator); })
+        .def_readonly("devices", &RenderSettings::devices)
+        .def_readonly("first_pass", &RenderSettings::first_pass);
 
     // Set from any thread while a Renderer is being constructed with it: the construction
     // (BVH build, GL set-up) stops within milliseconds and raises Cancelled.
@@ -479,6 +504,11 @@ PYBIND11_MODULE(_glslppm, m) {
             return r.get()->run(passes);
         }, py::arg("passes") = 1,
         "Runs that many passes; returns how many ran (fewer after cancel() or close()).")
+        .def("run_passes", [](PyRenderer& r, std::vector<std::uint64_t> indices) {
+            py::gil_scoped_release release;
+            return r.get()->run_passes(indices);
+        }, py::arg("indices"),
+        "PPPM: runs exactly these pass indices over the workers; returns how many ran.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
         .def("_debug_set_photons_emitted", [](PyRenderer& r, std::uint64_t count) {

@@ -46,6 +46,12 @@ struct FrameBlock {
     std::int32_t environment_texture = -1;
     std::int32_t environment_cdf_width = 0;
     std::int32_t environment_cdf_height = 0;
+    // PPPM (ESTIMATOR_PPPM): this pass's radius r_1 s(i), its estimate's factor
+    // 1 / (pi r_i^2 N_emitted), and the photon step within the pass (0 starts every path).
+    float pass_radius = 0.0f;
+    float pass_scale = 0.0f;
+    std::uint32_t photon_step = 0;
+    std::uint32_t unused = 0;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -73,7 +79,10 @@ static_assert(offsetof(FrameBlock, inv_photons_emitted) == 240);
 static_assert(offsetof(FrameBlock, environment_texture) == 244);
 static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
 static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
-static_assert(sizeof(FrameBlock) == 256);
+static_assert(offsetof(FrameBlock, pass_radius) == 256);
+static_assert(offsetof(FrameBlock, pass_scale) == 260);
+static_assert(offsetof(FrameBlock, photon_step) == 264);
+static_assert(sizeof(FrameBlock) == 272);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -19,6 +21,7 @@
 #include "gl/shader_program.h"
 #include "render/emitters.h"
 #include "render/gpu_layout.h"
+#include "render/pppm_schedule.h"
 #include "render/renderer.h"
 #include "render/texture_atlas.h"
 #include "scene/cancel.h"
@@ -52,6 +55,8 @@ struct Renderer::Gpu {
     std::string variant;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     std::uint64_t passes = 0;
+    std::vector<std::uint64_t> pass_indices;  // PPPM: the indices this worker ran
+    int device = -1;
     double seconds = 0.0;
     std::atomic<bool> cancel{false};
     const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
@@ -176,11 +181,12 @@ struct Renderer::Gpu {
         }
     }
 
-    void set_rng_seed(const gl::ComputeProgram& program, std::uint32_t stage) {
+    void set_rng_seed(const gl::ComputeProgram& program, std::uint64_t pass_index,
+                      std::uint32_t stage) {
         const GLint location = program.uniform("u_rng_seed");
         if (location >= 0) {
             program.use();
-            glUniform1ui(location, mix_seed(settings.seed, passes, stage));
+            glUniform1ui(location, mix_seed(settings.seed, pass_index, stage));
         }
     }
 
@@ -193,20 +199,62 @@ struct Renderer::Gpu {
         if (settings.profile) glQueryCounter(queries[stage], GL_TIMESTAMP);
     }
 
-    void run_pass() {
+    // PPPM: pass `pass_index`'s radius r_1 s(i), its estimate's factor and the hash cells
+    // of that radius, from the index alone.
+    void begin_pppm_pass(std::uint64_t pass_index) {
+        const float r = pppm_pass_radius(initial_radius, frame.radius_floor, pass_index,
+                                         settings.alpha);
+        frame.pass_radius = r;
+        // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
+        frame.pass_scale = static_cast<float>(
+            1.0 / (3.14159265358979323846 * double(r) * double(r) * double(photon_threads)));
+        const std::uint32_t bits = std::bit_cast<std::uint32_t>(r);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, offsetof(Counters, cell_size_bits), 4, &bits);
+    }
+
+    // One pass as its stages. SPPM: pass_index is the count of passes run before. PPPM: any
+    // index; the photon paths are traced in max_depth steps, each hashed and gathered.
+    void run_pass(std::uint64_t pass_index) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
-        frame.pass_index = static_cast<std::uint32_t>(passes);
+        const bool pppm = settings.estimator == Estimator::Pppm;
+        frame.pass_index = static_cast<std::uint32_t>(pass_index);
+        frame.photon_step = 0;
+        if (pppm) begin_pppm_pass(pass_index);
         upload_frame();
 
         mark(0);
-        set_rng_seed(*eye, 0);
+        set_rng_seed(*eye, pass_index, 0);
         dispatch(*eye, pixels);
         if (settings.profile) glMemoryBarrier(ssbo);
         mark(1);
-        set_rng_seed(*photon, 1);
-        dispatch(*photon, photon_threads);
-        glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
-        mark(2);
+        const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_depth) : 1u;
+        for (std::uint32_t step = 0; step < steps; ++step) {
+            if (step > 0) {
+                frame.photon_step = step;
+                upload_frame();
+            }
+            set_rng_seed(*photon, pass_index, 1u + (step << 8));
+            dispatch(*photon, photon_threads);
+            glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+            if (step == 0) mark(2);
+            hash_and_gather(step == 0);
+        }
+        end_pass->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(ssbo);
+        mark(4);
+        ++passes;
+        if (settings.profile) {
+            GLuint64 t[5];
+            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
+            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+        }
+    }
+
+    void hash_and_gather(bool mark_stages) {
+        const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
 
         // Empty cells: key "infinite", no photons.
         const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
@@ -231,19 +279,25 @@ struct Renderer::Gpu {
         }
         dispatch(*hash_b, photon_threads);
         glMemoryBarrier(ssbo);
-        mark(3);
+        if (mark_stages) mark(3);
         dispatch(*gather, pixels);
         glMemoryBarrier(ssbo);
-        end_pass->use();
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(ssbo);
-        mark(4);
-        ++passes;
-        if (settings.profile) {
-            GLuint64 t[5];
-            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
-            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
-        }
+    }
+
+    // The film of this worker's passes (their mean), read back.
+    std::vector<float> resolve_film() {
+        std::vector<float> out(std::size_t(pixels) * 4, 0.0f);
+        const Counters c = read_counters();
+        const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+        frame.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+        frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        upload_frame();
+        dispatch(*resolve, pixels);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, film);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
+                           out.data());
+        return out;
     }
 
     Counters read_counters() {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
@@ -25,34 +26,52 @@
 #include "render/scene_preparation.h"
 #include "render/texture_atlas.h"
 #include "render/rng_seed.h"
+#include "render/film_merge.h"
+#include "render/pppm_schedule.h"
 
 namespace glslppm {
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
-    : settings_(settings), gpu_(std::make_unique<Gpu>()) {
-    Gpu& g = *gpu_;
-    g.settings = settings;
-    g.setup_cancel = cancel;
+    : settings_(settings), next_pass_(settings.first_pass) {
+    const PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
+    const std::vector<int> devices =
+        settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
+    try {
+        for (int device : devices) {
+            gpus_.push_back(std::make_unique<Gpu>());
+            set_up(*gpus_.back(), device, scene, settings, prepared, cancel);
+        }
+    } catch (...) {
+        for (auto& g : gpus_)
+            if (g->thread) g->thread->call([&] { g->release(); });
+        throw;
+    }
+}
 
-    PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
-    g.bvh = std::move(prepared.bvh);
+// One worker: its context on `device`, the programs, the buffers.
+void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
+                      const PreparedScene& prepared, const CancelFlag* cancel) {
+    g.setup_cancel = cancel;
+    g.settings = settings;
+    g.device = device;
+    g.bvh = prepared.bvh;
     g.bounds = prepared.bounds;
-    g.emitters = std::move(prepared.emitters);
+    g.emitters = prepared.emitters;
     g.frame = prepared.frame;
-    g.defines = std::move(prepared.defines);
-    g.variant = std::move(prepared.variant);
+    g.defines = prepared.defines;
+    g.variant = prepared.variant;
     g.pixels = prepared.pixels;
     g.photon_threads = prepared.photon_threads;
     g.hash_cells = prepared.hash_cells;
     g.initial_radius = prepared.initial_radius;
-    g.warnings = std::move(prepared.warnings);
+    g.warnings = prepared.warnings;
     const SceneGeometry& geometry = prepared.geometry;
     const TextureUse& use = prepared.textures;
     const EnvironmentMap* environment = prepared.environment.get();
     const float radius = prepared.initial_radius;
 
     throw_if_cancelled(cancel);
-    g.thread = std::make_unique<gl::GlThread>(settings.device);
+    g.thread = std::make_unique<gl::GlThread>(g.device);
     g.thread->call([&] {
         try {
             const auto compile_start = std::chrono::steady_clock::now();
@@ -180,15 +199,27 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
 }
 
 Renderer::~Renderer() {
-    if (!gpu_ || !gpu_->thread) return;
-    gpu_->cancel = true;  // a run in progress stops after its current pass
-    gpu_->thread->call([this] { gpu_->release(); });
+    for (auto& g : gpus_) g->cancel = true;  // runs in progress stop after their current pass
+    for (auto& g : gpus_)
+        if (g->thread) g->thread->call([&] { g->release(); });
 }
 
-void Renderer::cancel() { gpu_->cancel = true; }
+void Renderer::cancel() {
+    for (auto& g : gpus_) g->cancel = true;
+}
 
 int Renderer::run(int passes) {
-    Gpu& g = *gpu_;
+    if (settings_.estimator == Estimator::Pppm) {
+        std::vector<std::uint64_t> indices(static_cast<std::size_t>(std::max(passes, 0)));
+        for (std::size_t k = 0; k < indices.size(); ++k) indices[k] = next_pass_ + k;
+        const int done = run_workers(indices);
+        // A cancelled run leaves the indices it did not reach for the next one.
+        std::vector<std::uint64_t> ran;
+        for (const auto& g : gpus_) ran.insert(ran.end(), g->pass_indices.begin(), g->pass_indices.end());
+        for (std::uint64_t i : ran) next_pass_ = std::max(next_pass_, i + 1);
+        return done;
+    }
+    Gpu& g = *gpus_[0];
     // Runs queue on the GL thread one after another (two callers never interleave); the
     // time counted is this run's own, measured on that thread.
     return g.thread->call([&] {
@@ -196,7 +227,7 @@ int Renderer::run(int passes) {
         g.cancel = false;
         int done = 0;
         for (; done < passes && !g.cancel; ++done) {
-            g.run_pass();
+            g.run_pass(g.passes);
             // Let a cancel or a film read in between interrupt long runs (the GPU queue is
             // flushed every few passes so that a cancel takes effect quickly).
             if ((done & 7) == 7) glFlush();
@@ -207,8 +238,79 @@ int Renderer::run(int passes) {
     });
 }
 
+int Renderer::run_passes(const std::vector<std::uint64_t>& indices) {
+    if (settings_.estimator != Estimator::Pppm)
+        throw std::invalid_argument("run_passes: needs estimator pppm (SPPM's passes run in order)");
+    std::vector<std::uint64_t> sorted = indices;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 1; k < sorted.size(); ++k)
+        if (sorted[k] == sorted[k - 1])
+            throw std::invalid_argument("run_passes: pass " + std::to_string(sorted[k]) +
+                                        " is listed twice");
+    for (const auto& g : gpus_)
+        for (std::uint64_t i : g->pass_indices)
+            if (std::binary_search(sorted.begin(), sorted.end(), i))
+                throw std::invalid_argument("run_passes: pass " + std::to_string(i) +
+                                            " has already been run by this renderer");
+    return run_workers(indices);
+}
+
+// Each worker takes the next index from a shared counter when its GPU has caught up to one
+// pass behind, so a faster device takes more passes. One worker runs on its own thread;
+// several each on theirs, at once.
+int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
+    std::atomic<std::size_t> next{0};
+    auto work = [&](Gpu& g) {
+        return g.thread->call([&] {
+            const auto start = std::chrono::steady_clock::now();
+            g.cancel = false;
+            int done = 0;
+            GLsync in_flight = nullptr;
+            while (!g.cancel) {
+                const std::size_t k = next.fetch_add(1);
+                if (k >= indices.size()) break;
+                g.run_pass(indices[k]);
+                g.pass_indices.push_back(indices[k]);
+                ++done;
+                // At most two passes queued: the counter then deals by the GPUs' own speed.
+                GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+                if (in_flight) {
+                    glClientWaitSync(in_flight, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
+                    glDeleteSync(in_flight);
+                }
+                in_flight = fence;
+                glFlush();
+            }
+            if (in_flight) glDeleteSync(in_flight);
+            glFinish();
+            g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            return done;
+        });
+    };
+    const auto start = std::chrono::steady_clock::now();
+    int done = 0;
+    if (gpus_.size() == 1) {
+        done = work(*gpus_[0]);
+    } else {
+        std::vector<std::future<int>> runs;
+        for (auto& g : gpus_) runs.push_back(std::async(std::launch::async, work, std::ref(*g)));
+        std::exception_ptr failure;
+        for (auto& r : runs) {
+            try {
+                done += r.get();
+            } catch (...) {
+                if (!failure) failure = std::current_exception();
+                cancel();
+            }
+        }
+        if (failure) std::rethrow_exception(failure);
+    }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return done;
+}
+
 void Renderer::debug_set_photons_emitted(std::uint64_t count) {
-    Gpu& g = *gpu_;
+    Gpu& g = *gpus_[0];
     g.thread->call([&] {
         const std::uint32_t words[2] = {static_cast<std::uint32_t>(count),
                                         static_cast<std::uint32_t>(count >> 32)};
@@ -220,25 +322,26 @@ void Renderer::debug_set_photons_emitted(std::uint64_t count) {
 }
 
 std::vector<float> Renderer::film() {
-    Gpu& g = *gpu_;
-    std::vector<float> out(std::size_t(g.pixels) * 4, 0.0f);
-    g.thread->call([&] {
-        const Counters c = g.read_counters();
-        const std::uint64_t emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
-        g.frame.inv_passes = g.passes ? 1.0f / static_cast<float>(g.passes) : 0.0f;
-        g.frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
-        g.upload_frame();
-        g.dispatch(*g.resolve, g.pixels);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.film);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
-                           out.data());
-    });
-    return out;
+    if (gpus_.size() == 1) {
+        Gpu& g = *gpus_[0];
+        return g.thread->call([&] { return g.resolve_film(); });
+    }
+    // Each worker's film is the mean of its passes; merged by their counts.
+    std::vector<std::vector<float>> films;
+    std::vector<std::uint64_t> passes;
+    for (auto& g : gpus_) {
+        g->thread->call([&] {
+            films.push_back(g->resolve_film());
+            passes.push_back(g->passes);
+        });
+    }
+    std::vector<const std::vector<float>*> views;
+    for (const auto& f : films) views.push_back(&f);
+    return merge_films(views, passes);
 }
 
 std::vector<float> Renderer::photons() {
-    Gpu& g = *gpu_;
+    Gpu& g = *gpus_[0];
     std::vector<float> out(std::size_t(g.photon_threads) * 12, 0.0f);
     g.thread->call([&] {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -250,35 +353,64 @@ std::vector<float> Renderer::photons() {
 }
 
 RenderStats Renderer::stats() {
-    Gpu& g = *gpu_;
     RenderStats s;
     std::vector<glm::vec2> radius_stats(kRadiusStatsThreads);
-    Counters c{};
-    g.thread->call([&] {
-        // One consistent snapshot: runs change these on this thread only.
-        s.passes = g.passes;
-        s.seconds = g.seconds;
-        c = g.read_counters();
-        // The radii reduced on the GPU: a few KiB read back, not every pixel's statistics.
-        g.radius_reduce->use();
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.radius_stats);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                           static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
-                           radius_stats.data());
-    });
-    double sum = 0.0, largest = 0.0;
-    for (const glm::vec2& t : radius_stats) {
-        sum += t.x;
-        largest = std::max(largest, static_cast<double>(t.y));
+    std::vector<std::uint64_t> indices;
+    const bool pppm = settings_.estimator == Estimator::Pppm;
+    for (std::size_t k = 0; k < gpus_.size(); ++k) {
+        Gpu& w = *gpus_[k];
+        DeviceStats d;
+        Counters c{};
+        w.thread->call([&] {
+            // One consistent snapshot: runs change these on this thread only.
+            d.passes = w.passes;
+            d.seconds = w.seconds;
+            c = w.read_counters();
+            if (pppm) {
+                indices.insert(indices.end(), w.pass_indices.begin(), w.pass_indices.end());
+            } else {
+                // The radii reduced on the GPU: a few KiB read back, not every pixel's
+                // statistics.
+                w.radius_reduce->use();
+                glDispatchCompute(1, 1, 1);
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                glBindBuffer(GL_SHADER_STORAGE_BUFFER, w.radius_stats);
+                glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                                   static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
+                                   radius_stats.data());
+            }
+        });
+        d.device = w.thread->info().device_index;
+        d.renderer = w.thread->info().renderer;
+        d.passes_per_second = d.seconds > 0 ? static_cast<double>(d.passes) / d.seconds : 0.0;
+        s.passes += d.passes;
+        s.photons_emitted += Gpu::total(c.emitted_lo, c.emitted_hi);
+        s.rays += Gpu::total(c.rays_lo, c.rays_hi);
+        s.devices.push_back(d);
     }
-    s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
-    s.rays = Gpu::total(c.rays_lo, c.rays_hi);
-    s.photons_per_second = g.seconds > 0 ? static_cast<double>(s.photons_emitted) / g.seconds : 0;
-    s.rays_per_second = g.seconds > 0 ? static_cast<double>(s.rays) / g.seconds : 0;
-    s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
-    s.max_radius = largest;
+    Gpu& g = *gpus_[0];
+    s.seconds = gpus_.size() == 1 ? g.seconds : seconds_;
+    s.photons_per_second = s.seconds > 0 ? static_cast<double>(s.photons_emitted) / s.seconds : 0;
+    s.rays_per_second = s.seconds > 0 ? static_cast<double>(s.rays) / s.seconds : 0;
+    s.radius_floor = g.frame.radius_floor;
+    s.estimator = to_string(settings_.estimator);
+    if (pppm) {
+        // Every pixel has the pass's radius: that of the latest pass index run.
+        s.pass_ranges = pass_ranges(indices);
+        const std::uint64_t last = s.pass_ranges.empty() ? settings_.first_pass
+                                                         : s.pass_ranges.back().second - 1;
+        s.mean_radius = s.max_radius = pppm_pass_radius(g.initial_radius, g.frame.radius_floor,
+                                                        last, settings_.alpha);
+    } else {
+        double sum = 0.0, largest = 0.0;
+        for (const glm::vec2& t : radius_stats) {
+            sum += t.x;
+            largest = std::max(largest, static_cast<double>(t.y));
+        }
+        s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
+        s.max_radius = largest;
+        if (s.passes) s.pass_ranges.push_back({0, s.passes});
+    }
     s.initial_radius = g.initial_radius;
     s.renderer = g.thread->info().renderer;
     s.variant = g.variant;
@@ -288,7 +420,7 @@ RenderStats Renderer::stats() {
     s.emitters = g.emitters.count;
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
-    s.gpu_bytes = g.gpu_bytes;
+    for (const auto& w : gpus_) s.gpu_bytes += w->gpu_bytes;
     s.eye_seconds = g.stage_seconds[0];
     s.photon_seconds = g.stage_seconds[1];
     s.hash_seconds = g.stage_seconds[2];
