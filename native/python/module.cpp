@@ -17,6 +17,8 @@
 #include "gl/shader_program.h"
 #include "python/loaders_module.h"
 #include "render/renderer.h"
+#include "render/film_merge.h"
+#include "render/pppm_schedule.h"
 #include "scene/scene.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
@@ -589,6 +591,22 @@ PYBIND11_MODULE(_glslppm, m) {
         write_exr(path, image, attributes);
     }, py::arg("path"), py::arg("rgba"), py::arg("attributes") = std::map<std::string, std::string>{});
 
+    m.def("merge_films", [](const std::vector<py::array_t<float, py::array::c_style | py::array::forcecast>>& films,
+                            const std::vector<std::uint64_t>& passes) {
+        if (films.empty()) throw py::value_error("films: at least one is needed");
+        std::vector<std::vector<float>> copies;
+        for (const auto& f : films) copies.emplace_back(f.data(), f.data() + f.size());
+        std::vector<const std::vector<float>*> views;
+        for (const auto& c : copies) views.push_back(&c);
+        const std::vector<float> merged = merge_films(views, passes);
+        py::array_t<float> out(films[0].request().shape);
+        std::memcpy(out.mutable_data(), merged.data(), merged.size() * sizeof(float));
+        return out;
+    }, py::arg("films"), py::arg("passes"),
+       "PPPM films, each the mean of its own passes, merged: sum passes[k] films[k] / sum passes.");
+    m.def("pppm_pass_radius", &pppm_pass_radius, py::arg("initial_radius"), py::arg("floor"),
+          py::arg("pass_index"), py::arg("alpha"),
+          "PPPM's radius of a pass: initial_radius s(i), never below floor.");
     m.def("gl_object_counts", [] {
         const gl::GlObjectCounts c = gl::gl_object_counts();
         py::dict d;

@@ -1,0 +1,150 @@
+"""Probabilistic progressive photon mapping (Settings(estimator="pppm"), Knaus and Zwicker
+2011): each pass is its own estimate, seeded by (seed, pass index) alone, so pass sets run
+anywhere merge into the image of one run; it converges to what SPPM converges to."""
+import numpy as np
+import pytest
+
+# Merged films against one run: each pass's estimate is bit-identical wherever it runs (same
+# seed, same index, deterministic stages), so only the order of the float sums differs: a
+# compensated (Kahan) sum per pixel, the division by the passes, the merge in double and its
+# cast to float, each within a few 2^-24 of the value. 1e-6 relative is ten times that; one
+# photon more or less in one pass of eight changes pixels by percents.
+MERGE_BOUND = 1e-6
+
+
+def settings(g, **kw):
+    base = dict(width=40, height=32, photons_per_pass=8192, estimator="pppm")
+    base.update(kw)
+    return g.Settings(**base)
+
+
+def relative_difference(a, b):
+    scale = np.maximum(np.abs(a), np.abs(b))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = np.where(scale > 0, np.abs(a - b) / scale, 0.0)
+    return float(d.max())
+
+
+def render_passes(g, scene, indices, **kw):
+    r = g.Renderer(scene, settings(g, **kw))
+    assert r.run_passes(indices) == len(indices)
+    film, stats = r.film(), r.stats()
+    r.close()
+    return film, stats
+
+
+@pytest.fixture(scope="module")
+def scene():
+    import conftest
+    return conftest.native.cornell_box(sphere_rings=12)
+
+
+@pytest.fixture(scope="module")
+def one_run(scene):
+    import conftest
+    g = conftest.native
+    r = g.Renderer(scene, settings(g))
+    assert r.run(8) == 8
+    film, stats = r.film(), r.stats()
+    r.close()
+    return film, stats
+
+
+def test_one_run_equals_two_interleaved_halves_merged(glslppm, scene, one_run):
+    g = glslppm
+    film, stats = one_run
+    assert stats["estimator"] == "pppm" and stats["pass_ranges"] == [(0, 8)]
+    assert stats["photons_emitted"] == 8 * 8192  # every thread starts one path a pass
+    even, even_stats = render_passes(g, scene, [0, 2, 4, 6])
+    odd, odd_stats = render_passes(g, scene, [7, 5, 3, 1])  # any order
+    assert even_stats["pass_ranges"] == [(0, 1), (2, 3), (4, 5), (6, 7)]
+    assert odd_stats["pass_ranges"] == [(1, 2), (3, 4), (5, 6), (7, 8)]
+    merged = g.merge_films([even, odd], [4, 4])
+    assert np.isfinite(film).all() and film[..., :3].mean() > 0.05
+    assert relative_difference(merged, film) <= MERGE_BOUND
+    # The bound is not loose: the halves differ from each other by far more than it.
+    assert relative_difference(even, odd) > 1e3 * MERGE_BOUND
+
+
+def test_a_pass_is_the_same_wherever_it_runs(glslppm, scene):
+    g = glslppm
+    alone, _ = render_passes(g, scene, [5])
+    r = g.Renderer(scene, settings(g))
+    r.run_passes([2])
+    with_other = r.film()
+    r.run_passes([5])
+    both = r.film()
+    r.close()
+    # (film(2) + film(5)) / 2 from the renderer that ran both, against the two alone.
+    assert relative_difference(g.merge_films([with_other, alone], [1, 1]), both) <= MERGE_BOUND
+    other_seed, _ = render_passes(g, scene, [5], seed=1)
+    assert relative_difference(other_seed, alone) > 0.1
+
+
+def test_two_workers_on_one_device_give_the_one_run_image(glslppm, scene, one_run):
+    g = glslppm
+    film, _ = one_run
+    probe = g.Renderer(scene, settings(g, width=8, height=8, photons_per_pass=64))
+    device = probe.stats()["devices"][0]["device"]
+    probe.close()
+    # Two contexts, each with its own thread, on the same llvmpipe device.
+    r = g.Renderer(scene, settings(g, devices=[device, device]))
+    assert r.run(8) == 8
+    merged, stats = r.film(), r.stats()
+    r.close()
+    assert len(stats["devices"]) == 2
+    assert sum(d["passes"] for d in stats["devices"]) == 8
+    assert all(d["passes"] >= 1 and d["passes_per_second"] > 0 for d in stats["devices"]), \
+        stats["devices"]
+    assert stats["pass_ranges"] == [(0, 8)] and stats["passes"] == 8
+    assert stats["photons_emitted"] == 8 * 8192
+    assert relative_difference(merged, film) <= MERGE_BOUND
+
+
+def test_radius_floor_and_64_bit_counts_hold(glslppm, scene):
+    g = glslppm
+    # Far into the schedule (alpha 0.1: s(2^40)^2 = 2^-36 / Gamma(1.1)) the radius is the
+    # floor, and the image stays finite.
+    r = g.Renderer(scene, settings(g, alpha=0.1, first_pass=2 ** 40))
+    r.run(2)
+    stats, film = r.stats(), r.film()
+    r.close()
+    assert stats["pass_ranges"] == [(2 ** 40, 2 ** 40 + 2)]
+    floor = np.float32(stats["radius_floor"])
+    assert np.float32(stats["max_radius"]) == floor
+    assert floor < np.float32(stats["initial_radius"]) * 1e-2
+    assert np.float32(g.pppm_pass_radius(stats["initial_radius"], floor, 2 ** 40, 0.1)) == floor
+    assert np.isfinite(film).all()
+    # Photon totals past 2^32: the count carries, and the image does not depend on it (each
+    # pass divides by its own paths).
+    plain, _ = render_passes(g, scene, [0, 1])
+    r = g.Renderer(scene, settings(g))
+    start = 2 ** 32 - 10000
+    r._debug_set_photons_emitted(start)
+    r.run(2)
+    assert r.stats()["photons_emitted"] == start + 2 * 8192
+    assert np.array_equal(r.film(), plain)
+    r.close()
+
+
+def test_refusals_name_the_setting(glslppm, scene):
+    g = glslppm
+    with pytest.raises(ValueError, match="estimator: pppm needs rng pcg"):
+        g.Settings(estimator="pppm", rng="paper")
+    with pytest.raises(ValueError, match="devices: several devices need estimator pppm"):
+        g.Settings(devices=[0, 0])
+    with pytest.raises(ValueError, match="first_pass: only estimator pppm"):
+        g.Settings(first_pass=4)
+    with pytest.raises(ValueError, match="estimator: 'ppm' is not an estimator"):
+        g.Settings(estimator="ppm")
+    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=256))
+    with pytest.raises(ValueError, match="run_passes: needs estimator pppm"):
+        r.run_passes([0])
+    r.close()
+    r = g.Renderer(scene, settings(g, width=8, height=8, photons_per_pass=256))
+    r.run_passes([3])
+    with pytest.raises(ValueError, match="pass 3 has already been run"):
+        r.run_passes([1, 3])
+    with pytest.raises(ValueError, match="pass 2 is listed twice"):
+        r.run_passes([2, 2])
+    r.close()
