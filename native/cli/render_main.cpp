@@ -6,15 +6,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "gl/device_list.h"
 #include "image/exr.h"
 #include "image/image_file.h"
 #include "loaders/scene_file.h"
+#include "render/farm_merge.h"
 #include "render/renderer.h"
 #include "scenes/cornell_box.h"
 
@@ -60,7 +63,11 @@ std::string usage() {
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
         "                            (default %s; docs/direct_light.md says why)\n"
-        "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
+        "  --device N|N,M,...|all    EGL device index (default $GLSLPPM_DEVICE or the first GPU);\n"
+        "                            several (or every GPU: all) run one worker each (pppm)\n"
+        "  --estimator sppm|pppm     progressive per-pixel radii (SPPM) or a radius per pass\n"
+        "                            index whose passes merge anywhere (PPPM; default %s)\n"
+        "  --first-pass K            pppm: run passes K, K+1, ... (a farm job's share)\n"
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
         "                            camera gets one that frames the whole scene)\n"
@@ -70,7 +77,8 @@ std::string usage() {
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
-        to_string(d.direct_light).c_str(), static_cast<unsigned long long>(d.seed));
+        to_string(d.direct_light).c_str(), to_string(d.estimator).c_str(),
+        static_cast<unsigned long long>(d.seed));
     return text;
 }
 
@@ -119,7 +127,13 @@ Options parse(int argc, char** argv) {
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
-        else if (a == "--device") o.settings.device = static_cast<int>(number());
+        else if (a == "--device") {
+            const std::vector<int> devices = gl::parse_device_list(value());
+            o.settings.devices = devices.size() > 1 ? devices : std::vector<int>{};
+            o.settings.device = devices[0];
+        }
+        else if (a == "--estimator") o.settings.estimator = parse_estimator(value());
+        else if (a == "--first-pass") o.settings.first_pass = static_cast<std::uint64_t>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
         else if (a == "--json") o.json = true;
@@ -158,6 +172,15 @@ Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
     if (o.has_environment_color) scene.environment = o.environment_color;
     for (const std::string& w : warnings) std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
     return scene;
+}
+
+// Each worker's device and passes per second.
+nlohmann::json devices_json(const RenderStats& s) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const DeviceStats& d : s.devices)
+        out.push_back({{"device", d.device}, {"renderer", d.renderer}, {"passes", d.passes},
+                       {"seconds", d.seconds}, {"passes_per_second", d.passes_per_second}});
+    return out;
 }
 
 void progress(double fraction, const RenderStats& s) {
@@ -208,7 +231,8 @@ int main(int argc, char** argv) {
         }
         if (!o.out.empty()) {
             FloatImage image{o.settings.width, o.settings.height, renderer.film()};
-            write_exr(o.out, image,
+            std::map<std::string, std::string> attributes = farm_attributes(o.settings, s);
+            attributes.insert(
                       {{"passes", std::to_string(s.passes)},
                        {"photons_emitted", std::to_string(s.photons_emitted)},
                        {"seconds", std::to_string(s.seconds)},
@@ -221,6 +245,7 @@ int main(int argc, char** argv) {
                        {"max_depth", std::to_string(o.settings.max_depth)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
+            write_exr(o.out, image, attributes);
         }
         if (o.json) {
             const nlohmann::json out = {
@@ -237,6 +262,10 @@ int main(int argc, char** argv) {
                 {"renderer", s.renderer},
                 {"variant", s.variant},
                 {"direct_light", s.direct_light},
+                {"estimator", s.estimator},
+                {"pass_ranges", format_pass_ranges(s.pass_ranges)},
+                {"scene_hash", s.scene_hash},
+                {"devices", devices_json(s)},
                 {"warnings", warnings},
             };
             std::printf("%s\n", out.dump().c_str());

@@ -28,12 +28,14 @@
 #include "render/rng_seed.h"
 #include "render/film_merge.h"
 #include "render/pppm_schedule.h"
+#include "scene/scene_hash.h"
 
 namespace glslppm {
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
     const PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
+    scene_hash_ = scene_hash_hex(scene);
     const std::vector<int> devices =
         settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     try {
@@ -394,6 +396,7 @@ RenderStats Renderer::stats() {
     s.rays_per_second = s.seconds > 0 ? static_cast<double>(s.rays) / s.seconds : 0;
     s.radius_floor = g.frame.radius_floor;
     s.estimator = to_string(settings_.estimator);
+    s.scene_hash = scene_hash_;
     if (pppm) {
         // Every pixel has the pass's radius: that of the latest pass index run.
         s.pass_ranges = pass_ranges(indices);

@@ -44,6 +44,7 @@ struct RenderStats {
     // The pass indices run, as sorted half-open ranges [first, end) (pppm: any set).
     std::vector<std::pair<std::uint64_t, std::uint64_t>> pass_ranges;
     std::vector<DeviceStats> devices;   // one per worker
+    std::string scene_hash;             // scene/scene_hash.h, 16 hex digits
     std::size_t triangles = 0;
     std::size_t degenerate_dropped = 0;
     std::size_t emitters = 0;
@@ -103,6 +104,7 @@ private:
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
     std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
     double seconds_ = 0.0;                    // wall time of runs with several workers
+    std::string scene_hash_;
 };
 
 }  // namespace glslppm

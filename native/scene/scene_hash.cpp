@@ -1,0 +1,108 @@
+#include "scene/scene_hash.h"
+
+#include <cstdio>
+#include <cstring>
+#include <span>
+
+namespace glslppm {
+namespace {
+
+// FNV-1a over 8-byte words with a final avalanche (splitmix64's): not cryptographic, only
+// sure to differ when any value differs.
+class Hasher {
+public:
+    void bytes(const void* data, std::size_t size) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        std::size_t k = 0;
+        for (; k + 8 <= size; k += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, p + k, 8);
+            word(w);
+        }
+        std::uint64_t tail = 0;
+        if (size > k) std::memcpy(&tail, p + k, size - k);
+        word(tail ^ (static_cast<std::uint64_t>(size - k) << 56));
+    }
+    template <class T>
+    void value(const T& v) { bytes(&v, sizeof v); }
+    template <class T>
+    void array(std::span<const T> a) {
+        value(static_cast<std::uint64_t>(a.size()));
+        bytes(a.data(), a.size_bytes());
+    }
+    std::uint64_t result() const {
+        std::uint64_t z = h_;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+
+private:
+    void word(std::uint64_t w) { h_ = (h_ ^ w) * 0x100000001B3ull; }
+    std::uint64_t h_ = 0xCBF29CE484222325ull;
+};
+
+}  // namespace
+
+std::uint64_t scene_hash(const Scene& s) {
+    Hasher h;
+    h.array(s.mesh.positions);
+    h.array(s.mesh.triangles);
+    h.array(s.mesh.normals);
+    h.array(s.mesh.uvs);
+    h.array(s.mesh.material_ids);
+    h.value(static_cast<std::uint64_t>(s.materials.size()));
+    for (const Material& m : s.materials) {
+        h.value(m.kind);
+        h.value(m.color);
+        h.value(m.ior);
+        h.value(m.emission);
+        h.value(m.color_texture);
+        h.value(static_cast<std::uint32_t>(m.emission_two_sided | m.visible_to_camera << 1 |
+                                           m.casts_shadow << 2));
+    }
+    h.value(static_cast<std::uint64_t>(s.lights.size()));
+    for (const Light& l : s.lights) {
+        h.value(l.kind);
+        h.value(l.color);
+        h.value(l.power);
+        h.value(l.position);
+        h.value(l.direction);
+        h.value(l.spot_size);
+        h.value(l.spot_blend);
+        h.value(l.radius);
+        h.value(l.angle);
+        h.value(l.to_world);
+        h.value(l.shape);
+        h.value(l.size_x);
+        h.value(l.size_y);
+        h.value(static_cast<std::uint32_t>(l.spot_cosine | l.visible_to_camera << 1));
+    }
+    const Camera& c = s.camera;
+    h.value(c.to_world);
+    for (float v : {c.fov_x, c.shift_x, c.shift_y, c.ortho_scale, c.aperture_radius,
+                    c.focus_distance, c.pixel_aspect})
+        h.value(v);
+    h.value(c.projection);
+    for (int v : {c.full_width, c.full_height, c.region_x, c.region_y}) h.value(v);
+    h.value(static_cast<std::uint64_t>(s.textures.size()));
+    for (const Texture& t : s.textures) {
+        h.value(t.width);
+        h.value(t.height);
+        h.value(t.wrap);
+        h.array(std::span<const std::uint8_t>(t.srgb8));
+        h.array(std::span<const float>(t.linear));
+    }
+    h.value(s.environment);
+    h.value(s.environment_texture);
+    h.value(s.environment_to_world);
+    return h.result();
+}
+
+std::string scene_hash_hex(const Scene& scene) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(scene_hash(scene)));
+    return text;
+}
+
+}  // namespace glslppm
