@@ -17,6 +17,7 @@
 #include "gl/shader_program.h"
 #include "python/loaders_module.h"
 #include "render/renderer.h"
+#include "render/farm_merge.h"
 #include "render/film_merge.h"
 #include "render/pppm_schedule.h"
 #include "scene/scene.h"
@@ -237,6 +238,7 @@ py::dict stats_dict(const RenderStats& s) {
     d["variant"] = s.variant;
     d["direct_light"] = s.direct_light;
     d["estimator"] = s.estimator;
+    d["scene_hash"] = s.scene_hash;
     d["radius_floor"] = s.radius_floor;
     py::list ranges;
     for (const auto& [first, end] : s.pass_ranges) ranges.append(py::make_tuple(first, end));
@@ -511,6 +513,16 @@ PYBIND11_MODULE(_glslppm, m) {
             return r.get()->run_passes(indices);
         }, py::arg("indices"),
         "PPPM: runs exactly these pass indices over the workers; returns how many ran.")
+        .def("farm_attributes", [](PyRenderer& r) {
+            const std::shared_ptr<Renderer> renderer = r.get();
+            RenderStats s;
+            {
+                py::gil_scoped_release release;
+                s = renderer->stats();
+            }
+            return farm_attributes(renderer->settings(), s);
+        }, "The EXR header attributes glslppm-merge reads: estimator, seed, settings, scene "
+           "hash, pass ranges and passes.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
         .def("_debug_set_photons_emitted", [](PyRenderer& r, std::uint64_t count) {
