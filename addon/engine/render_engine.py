@@ -18,7 +18,7 @@ from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera
 from ..export.frame import FrameError, render_frame
-from ..properties.preferences import render_device
+from ..properties.preferences import render_devices
 from . import memory
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_renderer, native_scene
@@ -74,7 +74,8 @@ class GlslppmEngineMixin:
             return
         settings = scene.glslppm
         views = view_names(scene.render)
-        device = render_device(settings)
+        devices = render_devices(settings)
+        device = devices[0]
         problem = memory.refusal(
             memory.estimate(width, height, settings.photons_per_pass, len(views)),
             _device_limits(native, device), memory.host_available())
@@ -129,7 +130,7 @@ class GlslppmEngineMixin:
             self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
             self.stage_clock.enter("build")
             renderer = self._build_renderer(native, data, settings, width, height,
-                                            scene.frame_current, film, device)
+                                            scene.frame_current, film, devices)
             if renderer is None:
                 if self.should_stop():
                     self._cancelled(width, height)
@@ -202,6 +203,10 @@ class GlslppmEngineMixin:
                     self.update_result(result)
             if not abandoned:
                 film_ok = self._write_film(renderer, combined)
+                # Written into the EXR's header by Blender: the pass indices, seed,
+                # estimator, settings and scene hash glslppm-merge checks.
+                for key, value in renderer.farm_attributes().items():
+                    result.stamp_data_add_field(key, value)
         except native.GlslppmError as error:
             self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "
                                 f"{error}")

@@ -46,6 +46,17 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/direct_light.md)"),
                    ('PHOTONS', "Photons", "All light from photons, as in the paper: shadows "
                     "blurred by the gather radius"))),
+        "estimator": EnumProperty(
+            name="Estimator", default='SPPM',
+            items=(('SPPM', "SPPM", "Stochastic progressive photon mapping: each pixel's "
+                    "radius shrinks with its own photons (passes run in order)"),
+                   ('PPPM', "PPPM", "Probabilistic progressive photon mapping: a radius per "
+                    "pass index, so passes run on several GPUs and farm machines and merge "
+                    "exactly (glslppm-merge)"))),
+        "pass_offset": IntProperty(
+            name="Pass Offset", default=0, min=0, max=INT_MAX,
+            description="PPPM: the index of the first pass this render runs; farm job k of "
+                        "n passes each sets k * n (glslppm-merge joins the files)"),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "

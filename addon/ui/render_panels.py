@@ -28,6 +28,9 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "passes")
         column.prop(settings, "time_limit", text="Time Limit (s)")
         column.prop(settings, "direct_light")
+        column.prop(settings, "estimator")
+        if settings.estimator == 'PPPM':
+            column.prop(settings, "pass_offset")
         column.prop(settings, "seed")
 
 

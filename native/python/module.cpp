@@ -635,10 +635,11 @@ PYBIND11_MODULE(_glslppm, m) {
         // (GL_NVX_gpu_memory_info; 0 where unknown; software renderers use host memory).
         std::int64_t largest = 0, memory = 0;
         bool software = false;
-        std::string renderer;
+        std::string renderer, vendor;
         {
             py::gil_scoped_release release;
             gl::EglContext context(device);
+            vendor = context.info().vendor;
             GLint64 value = 0;
             glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
             largest = value;
@@ -656,15 +657,28 @@ PYBIND11_MODULE(_glslppm, m) {
         d["memory_bytes"] = memory;
         d["software"] = software;
         d["renderer"] = renderer;
+        d["vendor"] = vendor;
         return d;
     }, py::arg("device") = -1,
        "Limits of an EGL device: max_storage_buffer_bytes, memory_bytes (0: unknown), "
-       "software, renderer.");
+       "software, renderer, vendor.");
     m.def("list_devices", [] {
         py::list out;
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));
         return out;
     });
+    m.def("describe_devices", [] {
+        py::list out;
+        for (const auto& d : gl::list_devices()) {
+            py::dict e;
+            e["index"] = d.index;
+            e["name"] = d.name;
+            e["software"] = d.software;
+            out.append(e);
+        }
+        return out;
+    }, "The EGL devices without opening them: index, name (DRM node, CUDA device or "
+       "software) and whether it is a software renderer.");
 
     bind_loaders(m);  // load_scene, load_texture, scene_contents (python/loaders_module.cpp)
 }
