@@ -203,10 +203,12 @@ class GlslppmEngineMixin:
                     self.update_result(result)
             if not abandoned:
                 film_ok = self._write_film(renderer, combined)
-                # Written into the EXR's header by Blender: the pass indices, seed,
+                # Written into the EXR's header by Blender (the whole render's result,
+                # not this partial one, keeps stamp data): the pass indices, seed,
                 # estimator, settings and scene hash glslppm-merge checks.
+                final = self.get_result()
                 for key, value in renderer.farm_attributes().items():
-                    result.stamp_data_add_field(key, value)
+                    final.stamp_data_add_field(key, value)
         except native.GlslppmError as error:
             self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "
                                 f"{error}")

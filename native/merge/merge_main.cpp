@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "image/exr.h"
 #include "render/farm_merge.h"
 
 using namespace glslppm;
@@ -45,16 +44,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        std::vector<FarmInput> inputs;
-        for (const std::string& path : paths) {
-            FarmInput in;
-            in.path = path;
-            in.image = read_exr(path, &in.attributes);
-            inputs.push_back(std::move(in));
-        }
-        std::map<std::string, std::string> attributes;
-        const FloatImage merged = merge_farm_renders(inputs, &attributes);
-        write_exr(out, merged, attributes);
+        std::map<std::string, std::string> attributes = merge_farm_files(paths, out);
         std::printf("%s: %s passes (%s) from %zu files\n", out.c_str(),
                     attributes["glslppm.passes"].c_str(), attributes["glslppm.pass_ranges"].c_str(),
                     paths.size());

@@ -616,6 +616,16 @@ PYBIND11_MODULE(_glslppm, m) {
         return out;
     }, py::arg("films"), py::arg("passes"),
        "PPPM films, each the mean of its own passes, merged: sum passes[k] films[k] / sum passes.");
+    m.def("merge_farm_files", [](const std::vector<std::string>& paths, const std::string& out) {
+        try {
+            py::gil_scoped_release release;
+            return merge_farm_files(paths, out);
+        } catch (const FarmMergeError& e) {
+            throw py::value_error(e.what());
+        }
+    }, py::arg("paths"), py::arg("out"),
+       "glslppm-merge: merges PPPM renders of disjoint pass sets into out; ValueError naming "
+       "the file and field when they do not belong together. Returns out's attributes.");
     m.def("pppm_pass_radius", &pppm_pass_radius, py::arg("initial_radius"), py::arg("floor"),
           py::arg("pass_index"), py::arg("alpha"),
           "PPPM's radius of a pass: initial_radius s(i), never below floor.");

@@ -158,4 +158,19 @@ FloatImage merge_farm_renders(const std::vector<FarmInput>& inputs,
     return out;
 }
 
+std::map<std::string, std::string> merge_farm_files(const std::vector<std::string>& paths,
+                                                    const std::string& out) {
+    std::vector<FarmInput> inputs;
+    for (const std::string& path : paths) {
+        FarmInput in;
+        in.path = path;
+        in.image = read_exr(path, &in.attributes);
+        inputs.push_back(std::move(in));
+    }
+    std::map<std::string, std::string> attributes;
+    const FloatImage merged = merge_farm_renders(inputs, &attributes);
+    write_exr(out, merged, attributes);
+    return attributes;
+}
+
 }  // namespace glslppm

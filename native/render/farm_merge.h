@@ -51,4 +51,9 @@ struct FarmInput {
 FloatImage merge_farm_renders(const std::vector<FarmInput>& inputs,
                               std::map<std::string, std::string>* attributes);
 
+// glslppm-merge: reads the files, merges them and writes `out` with the whole's attributes,
+// which it returns.
+std::map<std::string, std::string> merge_farm_files(const std::vector<std::string>& paths,
+                                                    const std::string& out);
+
 }  // namespace glslppm
