@@ -212,8 +212,14 @@ void Renderer::cancel() {
 
 int Renderer::run(int passes) {
     if (settings_.estimator == Estimator::Pppm) {
-        std::vector<std::uint64_t> indices(static_cast<std::size_t>(std::max(passes, 0)));
-        for (std::size_t k = 0; k < indices.size(); ++k) indices[k] = next_pass_ + k;
+        // The next indices, past any that run_passes() already ran.
+        std::vector<std::uint64_t> ran_before;
+        for (const auto& g : gpus_)
+            ran_before.insert(ran_before.end(), g->pass_indices.begin(), g->pass_indices.end());
+        std::sort(ran_before.begin(), ran_before.end());
+        std::vector<std::uint64_t> indices;
+        for (std::uint64_t i = next_pass_; indices.size() < static_cast<std::size_t>(std::max(passes, 0)); ++i)
+            if (!std::binary_search(ran_before.begin(), ran_before.end(), i)) indices.push_back(i);
         const int done = run_workers(indices);
         // A cancelled run leaves the indices it did not reach for the next one.
         std::vector<std::uint64_t> ran;

@@ -75,7 +75,8 @@ public:
 
     // Runs `passes` passes and waits for the GPU to finish them; returns how many ran
     // (fewer when cancel() was called meanwhile). PPPM: the next pass indices from
-    // settings.first_pass on, dealt to the workers as they become free.
+    // settings.first_pass on (skipping any run_passes() ran), dealt to the workers as they
+    // become free.
     int run(int passes);
     // PPPM only: runs exactly these pass indices (none run before by this renderer:
     // std::invalid_argument), dealt to the workers as they become free.

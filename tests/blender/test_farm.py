@@ -4,6 +4,7 @@ merge_farm_files, glslppm-merge's code) into the image of one job running every 
 
 import os
 
+import bpy
 import numpy as np
 
 import helpers
@@ -53,3 +54,36 @@ def test_farm_jobs_merge_into_the_whole_frame():
         assert "glslppm.pass_ranges overlaps" in str(error) and first in str(error), error
     else:
         raise AssertionError("overlapping farm jobs were merged")
+
+
+def test_device_list_in_preferences():
+    """Detect Devices lists every EGL device with its vendor and a checkbox; the software
+    renderer starts checked only where there is no GPU; several checked devices are used
+    by PPPM scenes, the first alone by SPPM ones."""
+    preferences_module = helpers.ADDON.properties.preferences
+    assert preferences_module.default_use(
+        [{"software": False}, {"software": True}, {"software": False}]) == [True, False, True]
+    assert preferences_module.default_use([{"software": True}]) == [True]
+    if helpers.SOURCE_MODE:
+        raise helpers.Skip("the preferences exist for the installed add-on only")
+    native = helpers.load_native()
+    assert bpy.ops.glslppm.detect_devices() == {'FINISHED'}
+    preferences = bpy.context.preferences.addons[helpers.ADDON_NAME].preferences
+    listed = native.describe_devices()
+    assert [entry.index for entry in preferences.devices] == [d["index"] for d in listed]
+    for entry, device in zip(preferences.devices, listed):
+        assert entry.software == device["software"]
+        assert entry.vendor, f"no vendor for {entry.name}"
+        assert entry.use == preferences_module.default_use(listed)[device["index"]]
+    scene = small_lit_scene()
+    first = preferences.devices[0]
+    extra = preferences.devices.add()  # a second worker on the same device
+    extra.name, extra.index, extra.use = first.name, first.index, True
+    first.use = True
+    try:
+        assert preferences_module.render_devices(scene.glslppm) == [first.index]  # SPPM
+        scene.glslppm.estimator = 'PPPM'
+        assert preferences_module.render_devices(scene.glslppm) == [first.index] * 2
+        helpers.render_image("two_workers")
+    finally:
+        preferences.devices.remove(len(preferences.devices) - 1)

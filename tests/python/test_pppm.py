@@ -147,6 +147,9 @@ def test_refusals_name_the_setting(glslppm, scene):
         r.run_passes([1, 3])
     with pytest.raises(ValueError, match="pass 2 is listed twice"):
         r.run_passes([2, 2])
+    # run() continues past the indices run_passes() took: 0, 1, 2, 4.
+    assert r.run(4) == 4
+    assert r.stats()["pass_ranges"] == [(0, 5)]
     r.close()
 
 
