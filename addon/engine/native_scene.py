@@ -38,7 +38,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         devices = list(devices) if len(devices) > 1 else []
     return native.Settings(
         estimator=settings.estimator.lower(),
-        first_pass=settings.pass_offset,
+        first_pass=settings.first_pass,
         devices=devices or [],
         **(film or {}),
         width=width, height=height,

@@ -53,10 +53,11 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                    ('PPPM', "PPPM", "Probabilistic progressive photon mapping: a radius per "
                     "pass index, so passes run on several GPUs and farm machines and merge "
                     "exactly (glslppm-merge)"))),
-        "pass_offset": IntProperty(
-            name="Pass Offset", default=0, min=0, max=INT_MAX,
-            description="PPPM: the index of the first pass this render runs; farm job k of "
-                        "n passes each sets k * n (glslppm-merge joins the files)"),
+        "first_pass": IntProperty(
+            name="First Pass", default=0, min=0, max=INT_MAX,
+            description="PPPM: the pass offset, the index of the first pass this render "
+                        "runs; farm job k of n passes each sets k * n (glslppm-merge joins "
+                        "the files)"),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "

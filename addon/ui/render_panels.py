@@ -30,7 +30,7 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "direct_light")
         column.prop(settings, "estimator")
         if settings.estimator == 'PPPM':
-            column.prop(settings, "pass_offset")
+            column.prop(settings, "first_pass")
         column.prop(settings, "seed")
 
 

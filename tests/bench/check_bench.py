@@ -5,7 +5,7 @@ the CPU's on every checked ray, in its answers and in the nodes it visits, the M
 visiting fewer nodes than the TBVH, error falling with passes, the furnace converging to its
 exact radiance, the SPPM reference of the diffuse Cornell box matching a Cycles render of
 it). The Cycles cross-check needs `blender` (3.4 or later) on PATH: without it this FAILS,
-naming what is missing. `make test-bench` runs it in about 55 s on llvmpipe.
+naming what is missing. `make test-bench` runs it in about 65 s on llvmpipe.
 
 usage: check_bench.py BUILD/glslppm-bench [WORK_DIR]
 """

@@ -18,7 +18,7 @@ MERGE_BOUND = 1e-6
 def render_job(name, passes, offset):
     scene = small_lit_scene(passes=passes)
     scene.glslppm.estimator = 'PPPM'
-    scene.glslppm.pass_offset = offset
+    scene.glslppm.first_pass = offset
     helpers.render_image(name)
     return os.path.join(helpers.OUT, f"{name}.exr")
 
