@@ -54,6 +54,9 @@ struct Renderer::Gpu {
     gl::Defines defines;
     std::string variant;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
+    // PPPM: photon steps stored side by side before one hash and gather, and each step's
+    // slot in the photon buffer (photon_threads rounded up to 16); SPPM: 1 and photon_threads.
+    std::uint32_t steps_per_gather = 1, photon_slot = 0;
     std::uint64_t passes = 0;
     std::vector<std::uint64_t> pass_indices;  // PPPM: the indices this worker ran
     int device = -1;
@@ -215,7 +218,8 @@ struct Renderer::Gpu {
     }
 
     // One pass as its stages. SPPM: pass_index is the count of passes run before. PPPM: any
-    // index; the photon paths are traced in max_depth steps, each hashed and gathered.
+    // index; the photon paths are traced in max_depth steps, stored side by side and hashed
+    // and gathered steps_per_gather at a time.
     void run_pass(std::uint64_t pass_index) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
         const bool pppm = settings.estimator == Estimator::Pppm;
@@ -230,16 +234,33 @@ struct Renderer::Gpu {
         if (settings.profile) glMemoryBarrier(ssbo);
         mark(1);
         const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_depth) : 1u;
+        const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot) * 3 * 16;
         for (std::uint32_t step = 0; step < steps; ++step) {
+            const std::uint32_t slot = step % steps_per_gather;
             if (step > 0) {
                 frame.photon_step = step;
                 upload_frame();
             }
+            if (pppm)
+                glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, photons,
+                                  slot * slot_bytes, slot_bytes);
             set_rng_seed(*photon, pass_index, 1u + (step << 8));
             dispatch(*photon, photon_threads);
             glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
             if (step == 0) mark(2);
-            hash_and_gather(step == 0);
+            if (slot + 1 < steps_per_gather && step + 1 < steps) continue;
+            if (!pppm) {
+                hash_and_gather(true, photon_threads);
+                continue;
+            }
+            // The steps stored so far, hashed and gathered as one set of photons.
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, photons);
+            const std::uint32_t stored = (slot + 1) * photon_slot;
+            frame.photon_threads = stored;
+            upload_frame();
+            hash_and_gather(step + 1 == steps_per_gather || step + 1 == steps, stored);
+            frame.photon_threads = photon_threads;
+            upload_frame();
         }
         end_pass->use();
         glDispatchCompute(1, 1, 1);
@@ -253,7 +274,7 @@ struct Renderer::Gpu {
         }
     }
 
-    void hash_and_gather(bool mark_stages) {
+    void hash_and_gather(bool mark_stages, std::uint32_t stored) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
 
         // Empty cells: key "infinite", no photons.
@@ -263,7 +284,7 @@ struct Renderer::Gpu {
         glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                           settings.hash == HashMode::Exact ? empty_exact : empty_stochastic);
         glMemoryBarrier(ssbo);
-        dispatch(*hash_a, photon_threads);
+        dispatch(*hash_a, stored);
         glMemoryBarrier(ssbo);
         if (settings.hash == HashMode::Exact) {
             const std::uint32_t blocks = hash_cells / 1024u;
@@ -277,7 +298,7 @@ struct Renderer::Gpu {
             glDispatchCompute(blocks, 1, 1);
             glMemoryBarrier(ssbo);
         }
-        dispatch(*hash_b, photon_threads);
+        dispatch(*hash_b, stored);
         glMemoryBarrier(ssbo);
         if (mark_stages) mark(3);
         dispatch(*gather, pixels);

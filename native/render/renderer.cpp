@@ -179,14 +179,32 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
             for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
             g.make_buffer(BINDING_PHOTON_PATHS, bytes(paths), paths.data(), "photon paths");
-            paths.assign(ph * 3, glm::vec4(0.0f));
-            g.photons = g.make_buffer(BINDING_PHOTONS, bytes(paths), paths.data(), "photons");
+            // PPPM: the photon steps of a pass are stored side by side and hashed and
+            // gathered together, as many as fit in a storage buffer of at most 1 GiB; SPPM
+            // stores one step. Each step's slot is rounded up to 16 photons (offset
+            // alignment); the padding stays zero, "not stored".
+            g.photon_slot = settings.estimator == Estimator::Pppm ? (ph + 15) / 16 * 16 : ph;
+            if (settings.estimator == Estimator::Pppm) {
+                GLint64 largest = 0;
+                glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
+                const std::size_t cap = std::min<std::size_t>(
+                    largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30,
+                    std::size_t(1) << 30);
+                g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
+                    cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(settings.max_depth)));
+            }
+            const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
+            Gpu::require_fits(stored * 3 * 16, "photons");
+            g.photons = g.make_buffer(BINDING_PHOTONS, stored * 3 * 16, nullptr, "photons");
+            const GLuint zero[4] = {0, 0, 0, 0};
+            glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
+                              GL_UNSIGNED_INT, zero);
             if (settings.rng == RngKind::Paper) {
                 const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
                 g.make_buffer(BINDING_RNG_STATES, bytes(seeds), seeds.data(), "generator states");
             }
             g.hash = g.make_buffer(BINDING_HASH_CELLS, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
-            const std::size_t sorted = exact ? ph + g.hash_cells / 1024 : 1;
+            const std::size_t sorted = exact ? stored + g.hash_cells / 1024 : 1;
             g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
