@@ -34,14 +34,17 @@ namespace glslppm {
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
-    const PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
-    scene_hash_ = scene_hash_hex(scene);
+    PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
+    scene_hash_ = scene_hash_hex(scene, cancel);
     const std::vector<int> devices =
         settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     try {
-        for (int device : devices) {
+        for (std::size_t k = 0; k < devices.size(); ++k) {
             gpus_.push_back(std::make_unique<Gpu>());
-            set_up(*gpus_.back(), device, scene, settings, prepared, cancel);
+            // The last worker takes the BVH; the others copy it.
+            if (k + 1 == devices.size()) gpus_.back()->bvh = std::move(prepared.bvh);
+            else gpus_.back()->bvh = prepared.bvh;
+            set_up(*gpus_.back(), devices[k], scene, settings, prepared, cancel);
         }
     } catch (...) {
         for (auto& g : gpus_)
@@ -50,13 +53,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
     }
 }
 
-// One worker: its context on `device`, the programs, the buffers.
+// One worker: its context on `device`, the programs, the buffers (g.bvh already set).
 void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
                       const PreparedScene& prepared, const CancelFlag* cancel) {
     g.setup_cancel = cancel;
     g.settings = settings;
     g.device = device;
-    g.bvh = prepared.bvh;
     g.bounds = prepared.bounds;
     g.emitters = prepared.emitters;
     g.frame = prepared.frame;

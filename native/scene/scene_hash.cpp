@@ -11,10 +11,13 @@ namespace {
 // sure to differ when any value differs.
 class Hasher {
 public:
+    explicit Hasher(const CancelFlag* cancel) : cancel_(cancel) {}
+
     void bytes(const void* data, std::size_t size) {
         const auto* p = static_cast<const unsigned char*>(data);
         std::size_t k = 0;
         for (; k + 8 <= size; k += 8) {
+            if ((k & ((std::size_t(1) << 20) - 1)) == 0) throw_if_cancelled(cancel_);  // per MiB
             std::uint64_t w;
             std::memcpy(&w, p + k, 8);
             word(w);
@@ -40,12 +43,13 @@ public:
 private:
     void word(std::uint64_t w) { h_ = (h_ ^ w) * 0x100000001B3ull; }
     std::uint64_t h_ = 0xCBF29CE484222325ull;
+    const CancelFlag* cancel_;
 };
 
 }  // namespace
 
-std::uint64_t scene_hash(const Scene& s) {
-    Hasher h;
+std::uint64_t scene_hash(const Scene& s, const CancelFlag* cancel) {
+    Hasher h(cancel);
     h.array(s.mesh.positions);
     h.array(s.mesh.triangles);
     h.array(s.mesh.normals);
@@ -99,9 +103,10 @@ std::uint64_t scene_hash(const Scene& s) {
     return h.result();
 }
 
-std::string scene_hash_hex(const Scene& scene) {
+std::string scene_hash_hex(const Scene& scene, const CancelFlag* cancel) {
     char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(scene_hash(scene)));
+    std::snprintf(text, sizeof text, "%016llx",
+                  static_cast<unsigned long long>(scene_hash(scene, cancel)));
     return text;
 }
 

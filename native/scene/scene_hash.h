@@ -6,11 +6,13 @@
 #include <cstdint>
 #include <string>
 
+#include "scene/cancel.h"
 #include "scene/scene.h"
 
 namespace glslppm {
 
-std::uint64_t scene_hash(const Scene& scene);
-std::string scene_hash_hex(const Scene& scene);  // 16 lower-case hex digits
+// Setting `cancel` meanwhile stops it within a MiB of hashing: Cancelled.
+std::uint64_t scene_hash(const Scene& scene, const CancelFlag* cancel = nullptr);
+std::string scene_hash_hex(const Scene& scene, const CancelFlag* cancel = nullptr);  // 16 hex digits
 
 }  // namespace glslppm
