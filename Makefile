@@ -40,6 +40,11 @@ test-mutations: build
 test-blender:
 	@scripts/test-blender.sh
 
+# The rendered viewport and material previews in Blender's UI under Xvfb (3.4 and 4.3).
+.PHONY: test-viewport
+test-viewport:
+	@scripts/test-viewport.sh
+
 # The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer, in a second
 # build without the Python module. Mesa's DRI driver is preloaded
 # (after libasan, which must come first) so that its globals stay mapped until

@@ -10,7 +10,8 @@ pkgs=(cmake ninja-build g++ pkg-config python3-dev python3-numpy pybind11-dev
       libtinygltf-dev nlohmann-json3-dev libtinyobjloader-dev libstb-dev)
 case "$what" in
   # clang + libclang-rt-14-dev (libFuzzer, clang's ASan/UBSan runtimes): make test-fuzz-replay
-  test) pkgs+=(python3-pytest dieharder blender debootstrap clang libclang-rt-14-dev) ;;
+  # xvfb + xauth: the rendered viewport tests run Blender's UI on a virtual display
+  test) pkgs+=(python3-pytest dieharder blender debootstrap clang libclang-rt-14-dev xvfb xauth) ;;
   demo) pkgs+=(blender) ;;
   bench) pkgs+=(python3-matplotlib) ;;  # scripts/plot_performance.py
 esac

@@ -60,8 +60,10 @@ def bench(text):
 
 
 def blender(text):
-    results = re.findall(r"^RESULT Blender ([\d.]+): (\d+) passed, (\d+) failed, (\d+) skipped",
-                         text, re.M)
+    # tests/blender/run.py's "RESULT Blender 3.4.1: ..." and the viewport suite's
+    # "RESULT Blender 3.4.1 (viewport): ...".
+    results = re.findall(r"^RESULT Blender ([\d.]+)(?: \(viewport\))?: (\d+) passed, "
+                         r"(\d+) failed, (\d+) skipped", text, re.M)
     if not results:
         return None
     skipped = re.findall(r"^SKIP (\S+): (.*)$", text, re.M)
@@ -85,7 +87,7 @@ def fuzz(text):
 
 
 PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,
-           "sanitize": ctest, "fuzz-replay": fuzz}
+           "viewport": blender, "sanitize": ctest, "fuzz-replay": fuzz}
 
 
 def main():
@@ -107,7 +109,7 @@ def main():
         ok &= state == "ok"
         total += result["ran"]
         skipped += [(suite, name, reason) for name, reason in result["skipped"]]
-        versions += result.get("versions", [])
+        versions += [v for v in result.get("versions", []) if v not in versions]
         print(f"{suite:12s} {state:6s} {result['what']} ({seconds} s)")
     for suite, name, reason in skipped:
         print(f"skipped in {suite}: {name}: {reason}")

@@ -18,6 +18,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sampling.glsl"
 #include "common/surface.glsl"
 #include "common/bsdf.glsl"
+#include "common/lobes.glsl"
 #include "common/environment.glsl"
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
@@ -65,6 +66,11 @@ void main() {
     vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
     vec3 normal = vec3(0.0);
     vec3 weight = vec3(0.0);
+#ifdef HAS_MICROFACET
+    vec4 view = vec4(0.0);
+    vec2 uv = vec2(0.0);
+    uint point_flags = 0u;
+#endif
     uint rays = 0u;
     bool seen_by_camera = true;  // until the first specular bounce
 #ifdef FILM_TRANSPARENT
@@ -107,6 +113,44 @@ void main() {
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
+#ifdef HAS_MICROFACET
+        // The material as this ray sees it (mixes resolved to one leaf).
+        vec3 wo = -ray.dir;
+        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, wo, rng_next(rng));
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
+            direct += throughput * material_emission(sh.material);
+        // Smooth lobes are followed by sampling; the rest hold the visible point, which
+        // stands for them with the probability of not following.
+        float p_smooth = bsdf_smooth_probability(sh, wo);
+        float u_lobe = rng_next(rng);
+        vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+        if (u_lobe >= p_smooth) {
+            throughput /= 1.0 - p_smooth;
+            point = vec4(s.position, float(sh.material));
+            normal = sh.n;
+            view = vec4(wo, 0.0);
+            uv = s.uv;
+            weight = throughput;
+            point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
+                          (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
+#ifdef DIRECT_LIGHT_SAMPLED
+            direct += throughput * direct_light_sampled_lobes(s.position, s.geometric_normal, sh,
+                                                              wo, p_smooth > 0.0, light_pick,
+                                                              light_u, rays);
+#endif
+            break;
+        }
+        vec3 dir, sampled;
+        if (!bsdf_sample_smooth(sh, wo, u_dir, dir, sampled)) break;
+        throughput *= sampled / p_smooth;
+        // About a smooth shading normal the sample may cross the true surface to the other
+        // side than its lobe meant: mirror it back across the surface (as photons do).
+        vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
+        float meant = dot(dir, sh.n), got = dot(dir, ng_wo);
+        if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
+            dir = normalize(dir - 2.0 * got * ng_wo);
+        int kind = sh.kind;
+#else
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
@@ -131,18 +175,30 @@ void main() {
             break;
         }
         vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
-                                    rng_next(rng), throughput);
+                                    rng_next(rng), true, throughput);
+#endif
 #ifdef FILM_TRANSPARENT
         through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&
                         dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
 #endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
+#ifdef HAS_MICROFACET
+        // Through a cut-out (transparent) the camera still sees what lies behind.
+        if (kind == MATERIAL_TRANSPARENT) continue;
+#endif
         seen_by_camera = false;
     }
 
+#ifdef HAS_MICROFACET
+    visible_points[4 * i + 0] = point;
+    visible_points[4 * i + 1] = vec4(normal, uv.x);
+    visible_points[4 * i + 2] = vec4(view.xyz, uv.y);
+    visible_points[4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
+#else
     visible_points[3 * i + 0] = point;
     visible_points[3 * i + 1] = vec4(normal, 0.0);
     visible_points[3 * i + 2] = vec4(weight, 0.0);
+#endif
     // Kahan summation: after 1e5 passes a plain float sum stops absorbing increments.
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];

@@ -13,6 +13,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"
+#include "common/lobes.glsl"
 
 shared float group_max_radius[LOCAL_SIZE];
 
@@ -27,10 +28,27 @@ void main() {
         float r = pixel_stats[2 * i + 1].x;
 #endif
         radius_after = r;
+#ifdef HAS_MICROFACET
+        vec4 point = visible_points[4 * i + 0];
+#else
         vec4 point = visible_points[3 * i + 0];
+#endif
         if (point.w >= 0.0) {
+#ifdef HAS_MICROFACET
+            // The visible point's material, to weigh each photon by f(wo, wi).
+            vec4 n_u = visible_points[4 * i + 1];
+            vec4 wo_v = visible_points[4 * i + 2];
+            vec4 w_flags = visible_points[4 * i + 3];
+            uint point_flags = floatBitsToUint(w_flags.w);
+            Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w),
+                                         (point_flags & VISIBLE_POINT_ENTERING) != 0u);
+            bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
+            vec3 wo = wo_v.xyz;
+            vec3 weight = w_flags.xyz;
+#else
             vec3 n = visible_points[3 * i + 1].xyz;
             vec3 weight = visible_points[3 * i + 2].xyz;
+#endif
             float cell_size = uintBitsToFloat(cell_size_bits);
             ivec3 center = grid_cell(point.xyz, cell_size);
             float r2 = r * r;
@@ -56,22 +74,39 @@ void main() {
                 vec3 d = x - point.xyz;
                 // Only from the cell it belongs to: cells sharing a table entry must not
                 // count their survivor twice.
+#ifdef HAS_MICROFACET
+                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                    vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
+                    float count = float(entry.y);
+                    m += count;
+                    phi += count * f * photons[3 * p + 2].xyz;
+                }
+#else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                     dot(photons[3 * p + 1].xyz, n) > 0.0) {
                     float count = float(entry.y);
                     m += count;
                     phi += count * photons[3 * p + 2].xyz;
                 }
+#endif
 #else
                 for (uint k = entry.y; k < entry.y + entry.x; ++k) {
                     uint p = hash_sorted[k];
                     vec3 x = photons[3 * p + 0].xyz;
                     vec3 d = x - point.xyz;
+#ifdef HAS_MICROFACET
+                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                        m += 1.0;
+                        phi += bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
+                               photons[3 * p + 2].xyz;
+                    }
+#else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         dot(photons[3 * p + 1].xyz, n) > 0.0) {
                         m += 1.0;
                         phi += photons[3 * p + 2].xyz;
                     }
+#endif
                 }
 #endif
             }

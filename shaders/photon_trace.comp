@@ -14,6 +14,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sampling.glsl"
 #include "common/surface.glsl"
 #include "common/bsdf.glsl"
+#include "common/lobes.glsl"
 #include "common/emitters.glsl"
 
 void main() {
@@ -68,6 +69,54 @@ void main() {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces >= float(max_depth)) bounces = -1.0;
+#ifdef HAS_MICROFACET
+        } else {
+            // Stored wherever a visible point can gather it (a lobe rougher than the
+            // threshold), then on by sampling the whole material, Russian roulette on the
+            // sample's weight.
+            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, -dir,
+                                    rng_next(rng));
+            bool store = bsdf_has_rough_lobe(sh);
+#ifdef DIRECT_LIGHT_SAMPLED
+            store = store && scattered > 0.5;
+#endif
+            if (store) {
+                uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
+                position_key = vec4(s.position, uintBitsToFloat(key));
+                incoming = -dir;
+                stored = vec4(flux, 1.0);
+            }
+            vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+            vec3 wi, w;
+            if (shadowless) {
+                // Casting no shadow: lit where the photon lands, which then goes on unchanged.
+                origin = offset_origin(s.position, s.geometric_normal, dir);
+                if (bounces >= float(max_depth)) bounces = -1.0;
+            } else if (bounces >= float(max_depth) ||
+                       !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
+                bounces = -1.0;
+            } else {
+                float q = min(1.0, max_component(w));
+                if (rng_next(rng) >= q) {
+                    bounces = -1.0;
+                } else {
+                    flux *= w / q;
+                    // About a smooth shading normal the sample may cross the true surface to
+                    // the other side than its lobe meant: mirror it back across the surface.
+                    vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
+                    float meant = dot(wi, sh.n), got = dot(wi, ng_wo);
+                    if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
+                        wi = normalize(wi - 2.0 * got * ng_wo);
+#ifdef DIRECT_LIGHT_SAMPLED
+                    // Through a cut-out the photon has not scattered: still direct light.
+                    if (sh.kind != MATERIAL_TRANSPARENT) scattered = 1.0;
+#endif
+                    dir = wi;
+                    origin = offset_origin(s.position, s.geometric_normal, dir);
+                }
+            }
+        }
+#else
         } else if (kind == MATERIAL_DIFFUSE) {
             // Store, then continue by Russian roulette on the albedo.
 #ifdef DIRECT_LIGHT_SAMPLED
@@ -110,12 +159,13 @@ void main() {
             bounces = -1.0;
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
-                                   s.geometric_normal, rng_next(rng), flux);
+                                   s.geometric_normal, rng_next(rng), false, flux);
 #ifdef DIRECT_LIGHT_SAMPLED
             scattered = 1.0;
 #endif
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
+#endif
     }
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);

@@ -16,13 +16,14 @@ import numpy as np
 from .. import native_module
 from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
-from ..export.camera import convert_camera, view_camera
+from ..export.camera import convert_camera, view_camera, viewport_camera
 from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_devices
 from . import memory
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_renderer, native_scene
 from .progressive import DisplayClock, PassSchedule, stats_line
+from . import viewport
 
 
 def render_size(render):
@@ -73,6 +74,10 @@ class GlslppmEngineMixin:
             self._fail(problem, width, height)
             return
         settings = scene.glslppm
+        if self.is_preview:
+            # Material and light previews: small, within the preview's pass budget.
+            viewport.count("previews")
+            settings = viewport.preview_settings(settings)
         views = view_names(scene.render)
         devices = render_devices(settings)
         device = devices[0]
@@ -219,6 +224,101 @@ class GlslppmEngineMixin:
         print(f"GLSLPPM: {schedule.done} passes in {time.perf_counter() - start:.2f} s "
               f"on {self.last_stats.get('renderer', '?')}")
 
+    # --- the rendered viewport (engine/viewport.py holds its session) ---
+
+    viewport_session = None
+    viewport_texture = None
+
+    def view_update(self, context, depsgraph):
+        try:
+            self._view_update(context, depsgraph)
+        except Exception as error:  # noqa: BLE001 - never a traceback into the UI
+            traceback.print_exc()
+            if self.viewport_session is not None:
+                self.viewport_session.fail(f"unexpected error: {error!r}")
+
+    def view_draw(self, context, depsgraph):
+        try:
+            self._view_draw(context, depsgraph)
+        except Exception as error:  # noqa: BLE001 - never a traceback into the UI
+            traceback.print_exc()
+            if self.viewport_session is not None:
+                self.viewport_session.fail(f"unexpected error: {error!r}")
+            self.update_stats("", f"GLSLPPM | error: {error!r}")
+
+    def __del__(self):
+        # Blender has invalidated the engine by now: its attributes cannot be read.
+        viewport.close_session_of(self)
+
+    def _view_update(self, context, depsgraph):
+        settings = depsgraph.scene.glslppm
+        session = self.viewport_session
+        if session is None:
+            native, problem = native_module.load()
+            if native is None:
+                self.update_stats("", f"GLSLPPM | error: {problem}")
+                return
+            session = self.viewport_session = viewport.Session(native,
+                                                               render_device(settings))
+            viewport.watch(self, session)
+            viewport.ENGINE_SESSIONS[id(self)] = session
+        session.set_limits(settings.viewport_passes, settings.viewport_time_limit)
+        width, height = viewport.viewport_size(context.region, settings.viewport_pixel_size)
+        film = film_options(depsgraph.scene)
+        signature = viewport.settings_signature(settings, film)
+        if session.data is None:
+            camera = viewport_camera(context.region_data, width, height,
+                                     0.5 * context.space_data.clip_end)
+            data = session.export(depsgraph, camera, width, height)
+            if data is not None:
+                session.rebuild(data, settings, film, width, height, signature,
+                                depsgraph.scene.frame_current)
+                session.camera_key = viewport.view_key(context.region_data, width, height)
+            return
+        kind, reason = viewport.change_kind(depsgraph, session.data, session.objects)
+        if kind is None and signature == session.signature:
+            return
+        print(f"GLSLPPM viewport: {kind or 'settings'} changed"
+              + (f" ({reason})" if reason else ""))
+        data = session.data
+        if kind is not None:
+            data = session.export(depsgraph, session.data.camera, *session.size)
+            if data is None:
+                return
+        if kind == "tables" and signature == session.signature and session.update_tables(data):
+            return
+        session.rebuild(data, settings, film, *session.size, signature,
+                        depsgraph.scene.frame_current)
+
+    def _view_draw(self, context, depsgraph):
+        scene = depsgraph.scene
+        session = self.viewport_session
+        if session is None:
+            return
+        settings = scene.glslppm
+        region, region_data = context.region, context.region_data
+        width, height = viewport.viewport_size(region, settings.viewport_pixel_size)
+        key = viewport.view_key(region_data, width, height)
+        if session.data is not None and session.error is None and key != session.camera_key:
+            camera = viewport_camera(region_data, width, height,
+                                     0.5 * context.space_data.clip_end)
+            session.camera_key = key
+            if session.size != (width, height) or not session.set_camera(camera):
+                session.data.camera = camera
+                session.rebuild(session.data, settings, film_options(scene), width, height,
+                                session.signature, scene.frame_current)
+        film = session.film()
+        if film is not None:
+            self.viewport_texture = viewport.film_texture(film)
+        if session.error is not None:
+            self.update_stats("", f"GLSLPPM | error: {session.error}")
+            session.error_shown = True
+            return
+        if self.viewport_texture is not None:
+            viewport.draw_texture(self, scene, self.viewport_texture, region.width,
+                                  region.height)
+        self.update_stats("", "GLSLPPM | " + session.status_line())
+
     def _write_film(self, renderer, combined):
         _set_rect(combined, renderer.film())
         return True
@@ -285,7 +385,7 @@ PASS_GRACE_SECONDS = 0.25
 class GlslppmRenderEngine(GlslppmEngineMixin, bpy.types.RenderEngine):
     bl_idname = "GLSLPPM"
     bl_label = "GLSLPPM"
-    bl_use_preview = False
+    bl_use_preview = True                # material and light previews render with SPPM
     bl_use_postprocess = True
-    bl_use_eevee_viewport = True         # material preview and rendered viewport via EEVEE
+    bl_use_eevee_viewport = True         # Material Preview shading via EEVEE; Rendered: ours
     bl_use_shading_nodes_custom = False  # the standard shader nodes in the node editor

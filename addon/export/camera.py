@@ -72,6 +72,37 @@ def convert_camera(camera_object, width, height, warn, frame=None, view=None):
     return data
 
 
+def viewport_camera(region_data, width, height, behind=0.0):
+    """CameraData of a 3D view (its RegionView3D) for an image of width x height covering
+    the region: the view matrix's inverse, and the angle of view, shift and orthographic
+    scale read from the window (projection) matrix, so that a camera view with its zoom and
+    offset, lens and region border all come out as Blender draws them. An OpenGL projection
+    has P[0][0] = 1 / tan(half angle) and P[0][2] = the window centre's x over its half
+    width (perspective); P[0][0] = 1 / half width and P[0][3] = -centre x / half width
+    (orthographic). An orthographic view also shows what lies up to `behind` units
+    behind its origin (Blender clips it at half the clip end): its rays start there."""
+    view = np.array(region_data.view_matrix, dtype=np.float64)
+    to_world = _without_scale(np.linalg.inv(view))
+    if not region_data.is_perspective:
+        to_world[:3, 3] += to_world[:3, 2] * behind
+    to_world = to_world.astype(np.float32)
+    p = np.array(region_data.window_matrix, dtype=np.float64)
+    larger_is_width = width >= height
+    if region_data.is_perspective:
+        tan_x, tan_y = 1.0 / p[0, 0], 1.0 / p[1, 1]
+        tan_larger = tan_x if larger_is_width else tan_y
+        return CameraData(to_world=np.ascontiguousarray(to_world),
+                          fov_x=2.0 * math.atan(tan_x),
+                          shift_x=p[0, 2] * tan_x / (2.0 * tan_larger),
+                          shift_y=p[1, 2] * tan_y / (2.0 * tan_larger))
+    half_x, half_y = 1.0 / p[0, 0], 1.0 / p[1, 1]
+    half_larger = half_x if larger_is_width else half_y
+    return CameraData(to_world=np.ascontiguousarray(to_world), fov_x=1.0,
+                      projection="orthographic", ortho_scale=2.0 * half_larger,
+                      shift_x=-p[0, 3] * half_x / (2.0 * half_larger),
+                      shift_y=-p[1, 3] * half_y / (2.0 * half_larger))
+
+
 def view_camera(scene, camera_object, view):
     """The camera object a multi-view view renders through: with Output > Views set to
     Multi-View, the object named as camera_object with its view suffix swapped for this

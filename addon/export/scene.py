@@ -145,24 +145,27 @@ def _concatenate(arrays, dtype):
     return np.ascontiguousarray(np.concatenate(arrays), dtype=dtype)
 
 
-def export_scene(depsgraph, camera_object, width, height, test_break=None, frame=None):
+def export_scene(depsgraph, camera_object, width, height, test_break=None, frame=None,
+                 camera=None):
     """SceneData for an evaluated depsgraph; raises ExportError for a scene that
     cannot render (no camera). test_break() returning True stops early (None).
-    frame (a RenderFrame) gives the pixels' shape and the render region."""
+    frame (a RenderFrame) gives the pixels' shape and the render region. camera (a
+    CameraData: the 3D view's, for the rendered viewport) replaces camera_object's."""
     start = time.perf_counter()
     scene = depsgraph.scene
-    if camera_object is None:
+    if camera_object is None and camera is None:
         raise ExportError("the scene has no camera: add one, or set the scene's "
                           "active camera")
     builder = SceneBuilder()
     builder.check_cancel = CancelPoll(test_break)
     try:
-        return _export(depsgraph, scene, camera_object, width, height, frame, builder, start)
+        return _export(depsgraph, scene, camera_object, width, height, frame, builder, start,
+                       camera)
     except _Cancelled:
         return None
 
 
-def _export(depsgraph, scene, camera_object, width, height, frame, builder, start):
+def _export(depsgraph, scene, camera_object, width, height, frame, builder, start, camera):
     geometry_cache = {}
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
@@ -190,8 +193,9 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     builder.check_cancel()
     positions, indices, normals, uvs, material_ids = builder.geometry()
     builder.check_cancel()
-    camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
-                            builder.warn, frame)
+    if camera is None:
+        camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
+                                builder.warn, frame)
     world_lights = []
     environment, environment_texture, environment_to_world = convert_world(
         scene.world, builder.warn, builder.textures, world_lights.append)

@@ -17,6 +17,23 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         "time_limit": FloatProperty(
             name="Time Limit", default=0.0, min=0.0, soft_max=3600.0, precision=1,
             description="Stop after this many seconds even if passes remain (0 = no limit)"),
+        "viewport_passes": IntProperty(
+            name="Viewport Passes", default=1024, min=1, max=INT_MAX, soft_max=100000,
+            description="Passes the rendered viewport refines the image for, then stops"),
+        "viewport_time_limit": FloatProperty(
+            name="Viewport Time Limit", default=0.0, min=0.0, soft_max=3600.0, precision=1,
+            description="Stop refining the viewport after this many seconds (0 = no limit)"),
+        "viewport_pixel_size": IntProperty(
+            name="Viewport Pixel Size", default=1, min=1, max=16,
+            description="Render the viewport at 1/N of the region's width and height "
+                        "(faster restarts on slow devices)"),
+        "viewport_photons_per_pass": IntProperty(
+            name="Viewport Photons", default=16384, min=1, max=INT_MAX, soft_max=1 << 22,
+            description="Photon paths per pass in the viewport and in material previews "
+                        "(fewer: faster passes while editing)"),
+        "preview_passes": IntProperty(
+            name="Preview Passes", default=32, min=1, max=100000,
+            description="Passes a material or light preview renders"),
         "photons_per_pass": IntProperty(
             name="Photons per Pass", default=65536, min=1, max=INT_MAX, soft_max=1 << 24,
             description="Photon paths advanced by one bounce in each pass"),

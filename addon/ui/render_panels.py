@@ -32,6 +32,12 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         if settings.estimator == 'PPPM':
             column.prop(settings, "first_pass")
         column.prop(settings, "seed")
+        column = layout.column(heading="Viewport")
+        column.prop(settings, "viewport_passes", text="Passes")
+        column.prop(settings, "viewport_time_limit", text="Time Limit (s)")
+        column.prop(settings, "viewport_pixel_size", text="Pixel Size")
+        column.prop(settings, "viewport_photons_per_pass", text="Photons per Pass")
+        column.prop(settings, "preview_passes", text="Preview Passes")
 
 
 class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):

@@ -48,6 +48,7 @@ struct ConvergeOptions {
     std::vector<RngKind> rngs = {RngKind::Pcg};
     std::vector<DirectLight> directs = {RenderSettings{}.direct_light};
     std::vector<Estimator> estimators = {RenderSettings{}.estimator};
+    std::vector<float> glossy_thresholds = {RenderSettings{}.glossy_threshold};
     std::string reference;  // default: references/ beside the binary
     int reference_passes = 1024;
     std::uint32_t reference_photons = 65536;
@@ -292,6 +293,7 @@ int usage() {
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
         "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,photons]\n"
         "       [--estimator sppm,pppm]\n"
+        "       [--glossy-threshold 0,0.2,0.5] (roughness below which lobes are followed)\n"
         "       [--fit-from P]\n"
         "       [--reference X.exr] [--reference-passes R] [--reference-photons N]\n"
         "       [--reference-radius-scale s]\n"
@@ -335,6 +337,8 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
             o.directs = parse_list<DirectLight>(v, parse_direct_light);
         else if (a == "--estimator")
             o.estimators = parse_list<Estimator>(v, parse_estimator);
+        else if (a == "--glossy-threshold")
+            o.glossy_thresholds = parse_list<float>(v, parse_float);
         else if (a == "--reference")
             o.reference = v;
         else if (a == "--reference-passes")
@@ -399,6 +403,7 @@ void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError
                              {"rng", to_string(s.rng)},
                              {"direct_light", to_string(s.direct_light)},
                              {"estimator", to_string(s.estimator)},
+                             {"glossy_threshold", s.glossy_threshold},
                              {"slope", run.slope},
                              {"theoretical_slope", theoretical_slope(s.alpha)},
                              {"points", points}});
@@ -483,21 +488,23 @@ int bench_converge(int argc, char** argv) {
                     for (HashMode hash : o.hashes)
                         for (RngKind rng : o.rngs)
                             for (DirectLight direct : o.directs)
-                                for (Estimator estimator : o.estimators) {
-                                    RenderSettings s = probe;
-                                    s.photons_per_pass = photons;
-                                    s.alpha = alpha;
-                                    s.initial_radius = static_cast<float>(scale * automatic);
-                                    s.hash = hash;
-                                    s.rng = rng;
-                                    s.direct_light = direct;
-                                    s.estimator = estimator;
-                                    s.seed = seed++;
-                                    validate(s);  // pppm with the paper's generator: an error
-                                    runs.push_back(converge_run(scene, s, scale, o, ref.image));
-                                    if (!o.json)
-                                        std::fprintf(stderr, "  run %zu done\n", runs.size());
-                                }
+                                for (Estimator estimator : o.estimators)
+                                    for (float glossy : o.glossy_thresholds) {
+                                        RenderSettings s = probe;
+                                        s.glossy_threshold = glossy;
+                                        s.photons_per_pass = photons;
+                                        s.alpha = alpha;
+                                        s.initial_radius = static_cast<float>(scale * automatic);
+                                        s.hash = hash;
+                                        s.rng = rng;
+                                        s.direct_light = direct;
+                                        s.estimator = estimator;
+                                        s.seed = seed++;
+                                        validate(s);  // pppm with the paper's generator: an error
+                                        runs.push_back(converge_run(scene, s, scale, o, ref.image));
+                                        if (!o.json)
+                                            std::fprintf(stderr, "  run %zu done\n", runs.size());
+                                    }
         if (o.json)
             print_json(o, ref, cross, cross_regions, automatic, runs, probe_stats.renderer);
         else

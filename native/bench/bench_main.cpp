@@ -10,6 +10,7 @@ int bench_rays(int argc, char** argv);
 int bench_converge(int argc, char** argv);
 int bench_specialization(int argc, char** argv);
 int bench_long_run(int argc, char** argv);
+int bench_restart(int argc, char** argv);
 
 namespace {
 
@@ -30,6 +31,7 @@ int dispatch(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "specialize") == 0)
         return bench_specialization(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "longrun") == 0) return bench_long_run(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "restart") == 0) return bench_restart(argc - 2, argv + 2);
     usage(stderr);
     return 2;
 }
@@ -49,7 +51,9 @@ void usage(std::FILE* out) {
                          "       glslppm-bench specialize [--scene S --width W --height H "
                          "--photons N --passes K --rounds R] [--json]\n"
                          "       glslppm-bench longrun [--passes K --photons N --width W]\n"
-                         "  scenes: cornell, cornell-diffuse, caustic, million[:N] (e.g. million:100k), "
+                         "       glslppm-bench restart [--scene S --width W --height H --photons N "
+                         "--moves K] [--json]\n"
+                         "  scenes: cornell, cornell-diffuse, cornell-glossy, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
                          "file\n");
 }

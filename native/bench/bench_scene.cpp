@@ -89,6 +89,11 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
         options.mirror_sphere = options.glass_sphere = false;
         return make_cornell_box(options);
     }
+    if (spec == "cornell-glossy") {
+        CornellBoxOptions options;
+        options.glossy = true;
+        return make_cornell_box(options);
+    }
     if (spec == "caustic") return make_caustic_scene();
     if (spec == "furnace") return make_box_furnace();
     if (spec == "million") return make_million_scene();
@@ -110,7 +115,8 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
 #endif
     }
     throw std::invalid_argument("--scene '" + spec +
-                                "' is not cornell, cornell-diffuse, caustic, furnace, million[:N] "
+                                "' is not cornell, cornell-diffuse, cornell-glossy, caustic, furnace, "
+                                "million[:N] "
                                 "or a .gltf/.glb/.obj file");
 }
 

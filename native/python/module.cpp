@@ -89,14 +89,31 @@ py::array_t<T> take_array(const py::object& object, const char* name, py::ssize_
     return py::array_t<T, py::array::c_style>::ensure(a);
 }
 
+const char* const kMaterialKinds[] = {"diffuse",     "conductor",   "dielectric", "plastic",
+                                      "translucent", "transparent", "mix"};
+
+template <typename Enum, std::size_t N>
+Enum parse_name(const std::string& value, const char* const (&names)[N], const char* what) {
+    for (std::size_t k = 0; k < N; ++k)
+        if (value == names[k]) return static_cast<Enum>(k);
+    std::string list;
+    for (const char* n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+    throw py::value_error(std::string(what) + ": '" + value + "' is not one of " + list);
+}
+
+const char* const kTextureChannels[] = {"red", "green", "blue", "alpha", "luminance"};
+const char* const kMixModes[] = {"constant", "fresnel", "facing"};
+
 Material make_material(const std::string& kind, std::array<float, 3> color, float ior,
                        std::array<float, 3> emission, int color_texture,
-                       bool emission_two_sided, bool visible_to_camera, bool casts_shadow) {
+                       bool emission_two_sided, bool visible_to_camera, bool casts_shadow,
+                       float roughness, int roughness_texture,
+                       const std::string& roughness_channel, bool multiscatter, bool schlick,
+                       bool tint_reflection, int mix_a, int mix_b, float mix_factor,
+                       int mix_texture, const std::string& mix_channel,
+                       const std::string& mix_mode, float mix_ior) {
     Material m;
-    if (kind == "diffuse") m.kind = MaterialKind::Diffuse;
-    else if (kind == "conductor") m.kind = MaterialKind::Conductor;
-    else if (kind == "dielectric") m.kind = MaterialKind::Dielectric;
-    else throw py::value_error("Material kind: '" + kind + "' is not one of diffuse, conductor, dielectric");
+    m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
     m.ior = ior;
     m.emission = {emission[0], emission[1], emission[2]};
@@ -104,6 +121,21 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.emission_two_sided = emission_two_sided;
     m.visible_to_camera = visible_to_camera;
     m.casts_shadow = casts_shadow;
+    m.roughness = roughness;
+    m.roughness_texture = roughness_texture;
+    m.roughness_channel = parse_name<TextureChannel>(roughness_channel, kTextureChannels,
+                                                     "Material roughness_channel");
+    m.multiscatter = multiscatter;
+    m.schlick = schlick;
+    m.tint_reflection = tint_reflection;
+    m.mix_a = mix_a;
+    m.mix_b = mix_b;
+    m.mix_factor = mix_factor;
+    m.mix_texture = mix_texture;
+    m.mix_channel = parse_name<TextureChannel>(mix_channel, kTextureChannels,
+                                               "Material mix_channel");
+    m.mix_mode = parse_name<MixFactor>(mix_mode, kMixModes, "Material mix_mode");
+    m.mix_ior = mix_ior;
     return m;
 }
 
@@ -264,6 +296,9 @@ py::dict stats_dict(const RenderStats& s) {
     d["programs_compiled"] = s.programs_compiled;
     d["programs_reused"] = s.programs_reused;
     d["compile_seconds"] = s.compile_seconds;
+    d["camera_updates"] = s.camera_updates;
+    d["table_updates"] = s.table_updates;
+    d["film_resets"] = s.film_resets;
     d["eye_seconds"] = s.eye_seconds;
     d["photon_seconds"] = s.photon_seconds;
     d["hash_seconds"] = s.hash_seconds;
@@ -295,7 +330,13 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("color") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ior") = 1.5f,
              py::arg("emission") = std::array<float, 3>{0.0f, 0.0f, 0.0f},
              py::arg("color_texture") = -1, py::arg("emission_two_sided") = true,
-             py::arg("visible_to_camera") = true, py::arg("casts_shadow") = true);
+             py::arg("visible_to_camera") = true, py::arg("casts_shadow") = true,
+             py::arg("roughness") = 0.0f, py::arg("roughness_texture") = -1,
+             py::arg("roughness_channel") = "luminance", py::arg("multiscatter") = true,
+             py::arg("schlick") = false, py::arg("tint_reflection") = false,
+             py::arg("mix_a") = -1, py::arg("mix_b") = -1, py::arg("mix_factor") = 0.5f,
+             py::arg("mix_texture") = -1, py::arg("mix_channel") = "luminance",
+             py::arg("mix_mode") = "constant", py::arg("mix_ior") = 1.5f);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
@@ -404,10 +445,11 @@ PYBIND11_MODULE(_glslppm, m) {
                 return a;
             };
             py::list materials;
-            const char* kinds[] = {"diffuse", "conductor", "dielectric"};
             for (const Material& mat : s.materials)
                 materials.append(py::dict(
-                    "kind"_a = kinds[static_cast<int>(mat.kind)],
+                    "kind"_a = kMaterialKinds[static_cast<int>(mat.kind)],
+                    "roughness"_a = mat.roughness, "mix_a"_a = mat.mix_a, "mix_b"_a = mat.mix_b,
+                    "mix_factor"_a = mat.mix_factor,
                     "color"_a = std::array<float, 3>{mat.color.x, mat.color.y, mat.color.z},
                     "ior"_a = mat.ior,
                     "emission"_a = std::array<float, 3>{mat.emission.x, mat.emission.y, mat.emission.z}));
@@ -439,8 +481,9 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
                          bool transparent, bool transparent_glass,
-                         const std::string& direct_light, const std::string& estimator,
-                         std::vector<int> devices, std::uint64_t first_pass) {
+                         const std::string& direct_light, float glossy_threshold,
+                         const std::string& estimator, std::vector<int> devices,
+                         std::uint64_t first_pass) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -460,6 +503,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.max_texture_size = max_texture_size;
                  s.transparent = transparent;
                  s.transparent_glass = transparent_glass;
+                 s.glossy_threshold = glossy_threshold;
                  s.estimator = parse_estimator(estimator);
                  s.devices = std::move(devices);
                  s.first_pass = first_pass;
@@ -478,6 +522,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("transparent") = defaults.transparent,
              py::arg("transparent_glass") = defaults.transparent_glass,
              py::arg("direct_light") = to_string(defaults.direct_light),
+             py::arg("glossy_threshold") = defaults.glossy_threshold,
              py::arg("estimator") = to_string(defaults.estimator),
              py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass)
         .def_readonly("width", &RenderSettings::width)
@@ -525,6 +570,23 @@ PYBIND11_MODULE(_glslppm, m) {
            "hash, pass ranges and passes.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
+        .def("reset_film", [](PyRenderer& r) {
+            py::gil_scoped_release release;
+            r.get()->reset_film();
+        }, "Starts the image again from no passes; scene, BVH and programs stay.")
+        .def("set_camera", [](PyRenderer& r, const Camera& camera) {
+            py::gil_scoped_release release;
+            return r.get()->set_camera(camera);
+        }, py::arg("camera"),
+        "Looks through another camera and starts the image again, without a BVH build. "
+        "False (nothing changed) when the camera needs other programs: make a new Renderer.")
+        .def("update_tables", [](PyRenderer& r, const Scene& scene) {
+            py::gil_scoped_release release;
+            return r.get()->update_tables(scene);
+        }, py::arg("scene"),
+        "Takes the materials, lights, world and camera of a scene with the same geometry and "
+        "starts the image again, without a BVH build. False (nothing changed) when they need "
+        "other programs, images or geometry: make a new Renderer.")
         .def("_debug_set_photons_emitted", [](PyRenderer& r, std::uint64_t count) {
             py::gil_scoped_release release;
             r.get()->debug_set_photons_emitted(count);

@@ -37,6 +37,15 @@ void check(const Light& light, std::size_t index) {
                 throw SceneError(name + ": the area light's matrix holds NaN or Inf");
 }
 
+// Whether a material's mix tree reaches a Transparent leaf (alpha cut-outs): shadow rays
+// then resolve it where they cross it. The mix graph was checked to be acyclic.
+bool may_be_transparent(const std::vector<Material>& materials, const Material& m) {
+    if (m.kind == MaterialKind::Transparent) return true;
+    if (m.kind != MaterialKind::Mix) return false;
+    return may_be_transparent(materials, materials[static_cast<std::size_t>(m.mix_a)]) ||
+           may_be_transparent(materials, materials[static_cast<std::size_t>(m.mix_b)]);
+}
+
 }  // namespace
 
 SceneGeometry with_area_lights(const Scene& scene) {
@@ -47,7 +56,8 @@ SceneGeometry with_area_lights(const Scene& scene) {
     for (const Material& m : g.materials)
         g.flags.push_back((m.visible_to_camera ? 0u : kMaterialHiddenFromCamera) |
                           (m.emission_two_sided ? 0u : kMaterialOneSidedEmission) |
-                          (m.casts_shadow ? 0u : kMaterialCastsNoShadow));
+                          (m.casts_shadow ? 0u : kMaterialCastsNoShadow) |
+                          (may_be_transparent(scene.materials, m) ? kMaterialMayBeTransparent : 0u));
     bool any = false;
     for (const Light& light : scene.lights) any |= light.kind == LightKind::Area;
     if (!any) return g;

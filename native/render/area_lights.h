@@ -18,6 +18,7 @@ enum MaterialFlag : std::uint32_t {
     kMaterialHiddenFromCamera = 2u,  // camera rays pass it without adding emission
     kMaterialOneSidedEmission = 4u,  // emits from its front face only
     kMaterialCastsNoShadow = 8u,     // photons pass through (stored on diffuse ones)
+    kMaterialMayBeTransparent = 16u, // a Mix with a Transparent leaf: shadow rays may pass
 };
 
 // The mesh and material table the renderer builds its BVH from: the scene's own when it has

@@ -39,11 +39,12 @@ std::string image_settings(const RenderSettings& s) {
     std::snprintf(text, sizeof text,
                   "width=%d;height=%d;photons_per_pass=%u;alpha=%.9g;initial_radius=%.9g;"
                   "radius_scale=%.9g;max_depth=%d;hash=%s;rng=%s;direct_light=%s;leaf_size=%d;"
-                  "max_texture_size=%d;transparent=%d;transparent_glass=%d",
+                  "max_texture_size=%d;transparent=%d;transparent_glass=%d;glossy_threshold=%.9g",
                   s.width, s.height, s.photons_per_pass, s.alpha, s.initial_radius,
                   s.radius_scale, s.max_depth, to_string(s.hash).c_str(),
                   to_string(s.rng).c_str(), to_string(s.direct_light).c_str(), s.leaf_size,
-                  s.max_texture_size, s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0);
+                  s.max_texture_size, s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0,
+                  s.glossy_threshold);
     return text;
 }
 

@@ -46,12 +46,12 @@ struct FrameBlock {
     std::int32_t environment_texture = -1;
     std::int32_t environment_cdf_width = 0;
     std::int32_t environment_cdf_height = 0;
+    float glossy_threshold = 0.0f;  // lobes below this roughness are followed, not gathered
     // PPPM (ESTIMATOR_PPPM): this pass's radius r_1 s(i), its estimate's factor
     // 1 / (pi r_i^2 N_emitted), and the photon step within the pass (0 starts every path).
     float pass_radius = 0.0f;
     float pass_scale = 0.0f;
     std::uint32_t photon_step = 0;
-    std::uint32_t unused = 0;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -79,9 +79,10 @@ static_assert(offsetof(FrameBlock, inv_photons_emitted) == 240);
 static_assert(offsetof(FrameBlock, environment_texture) == 244);
 static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
 static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
-static_assert(offsetof(FrameBlock, pass_radius) == 256);
-static_assert(offsetof(FrameBlock, pass_scale) == 260);
-static_assert(offsetof(FrameBlock, photon_step) == 264);
+static_assert(offsetof(FrameBlock, glossy_threshold) == 256);
+static_assert(offsetof(FrameBlock, pass_radius) == 260);
+static_assert(offsetof(FrameBlock, pass_scale) == 264);
+static_assert(offsetof(FrameBlock, photon_step) == 268);
 static_assert(sizeof(FrameBlock) == 272);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
@@ -100,16 +101,33 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 inline constexpr unsigned kRadiusStatsThreads = 256;
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
-// shaders/common/bsdf.glsl: three vec4 per material.
+// shaders/common/bsdf.glsl and lobes.glsl: five vec4 per material, then the albedo tables
+// (render/microfacet_tables.h) the materials' `table` fields point into.
 struct GpuMaterial {
     glm::vec3 color;              // base colour (times its texture)
     float kind;                   // MaterialKind as a float
     glm::vec3 emission;           // radiance
-    float ior;                    // dielectrics
+    float ior;                    // dielectric, plastic
     std::int32_t color_texture;   // texture index or -1
     std::uint32_t flags;          // MaterialFlag bits (render/area_lights.h)
-    std::uint32_t unused[2];
+    float roughness;
+    std::int32_t roughness_texture;
+    std::int32_t mix_a, mix_b;    // Mix: the two materials
+    float mix_factor;
+    std::int32_t mix_texture;
+    std::uint32_t options;        // MaterialOption bits and fields below
+    float mix_ior;
+    std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
+    std::uint32_t unused;
 };
-static_assert(sizeof(GpuMaterial) == 48 && offsetof(GpuMaterial, color_texture) == 32);
+static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
+              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
+
+// GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
+inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's
+inline constexpr std::uint32_t kOptionMixModeShift = 8;      // bits 8-9: MixFactor
+inline constexpr std::uint32_t kOptionMultiscatter = 4096;
+inline constexpr std::uint32_t kOptionSchlick = 8192;
+inline constexpr std::uint32_t kOptionTintReflection = 16384;
 
 }  // namespace glslppm

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstddef>
 #include <atomic>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -75,6 +76,11 @@ struct Renderer::Gpu {
     int programs_compiled = 0, programs_reused = 0;
     double compile_seconds = 0.0;
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
+    GLuint direct_light = 0, photon_paths = 0, materials = 0, emitter_records = 0;
+    std::size_t geometry_triangles = 0;  // the prepared geometry's, area lights included
+    std::size_t material_count = 0;
+    std::vector<bool> textures_used;     // TextureUse::used of the prepared scene
+    int camera_updates = 0, table_updates = 0, film_resets = 0;
 
     const gl::ComputeProgram* eye = nullptr;
     const gl::ComputeProgram* photon = nullptr;
@@ -319,6 +325,43 @@ struct Renderer::Gpu {
         glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
                            out.data());
         return out;
+    }
+
+    // The film's first state (a new renderer, a restart): no passes, every pixel's radius
+    // the initial one, no direct light, every photon path to start from a light, counts zero.
+    void restart_film() {
+        const std::size_t px = pixels, ph = photon_threads;
+        std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
+        for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = initial_radius;
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pixel_stats);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(stats.size() * 16),
+                        stats.data());
+        const GLuint zero[4] = {0u, 0u, 0u, 0u};
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, direct_light);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                          zero);
+        std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
+        for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, photon_paths);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(paths.size() * 16),
+                        paths.data());
+        const Counters start{std::bit_cast<std::uint32_t>(initial_radius), 0, 0, 0, 0, 0, 0, 0};
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(start), &start);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        passes = 0;
+        pass_indices.clear();  // PPPM: a restarted film has run no pass index
+        seconds = 0.0;
+        std::fill(std::begin(stage_seconds), std::end(stage_seconds), 0.0);
+    }
+
+    // Replaces a buffer's contents, its size too (a table that grew or shrank).
+    void replace_buffer(GLuint id, std::size_t bytes, const void* data, const char* what) {
+        require_fits(bytes, what);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
+                     data, GL_DYNAMIC_COPY);
     }
 
     Counters read_counters() {

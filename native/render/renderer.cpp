@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <future>
+#include <optional>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
@@ -29,9 +30,9 @@
 #include "render/film_merge.h"
 #include "render/pppm_schedule.h"
 #include "scene/scene_hash.h"
+#include "scene/scene_validation.h"
 
 namespace glslppm {
-
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
     PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
@@ -69,10 +70,11 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
     g.hash_cells = prepared.hash_cells;
     g.initial_radius = prepared.initial_radius;
     g.warnings = prepared.warnings;
-    const SceneGeometry& geometry = prepared.geometry;
+    g.geometry_triangles = prepared.geometry.mesh.triangles.size();
+    g.material_count = prepared.geometry.materials.size();
+    g.textures_used = prepared.textures.used;
     const TextureUse& use = prepared.textures;
     const EnvironmentMap* environment = prepared.environment.get();
-    const float radius = prepared.initial_radius;
 
     throw_if_cancelled(cancel);
     g.thread = std::make_unique<gl::GlThread>(g.device);
@@ -155,32 +157,25 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             } else if (settings.full_variant) {
                 g.make_buffer(BINDING_ENVIRONMENT_CDF, 16, nullptr, "environment distribution");
             }
-            g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records), g.emitters.records.data(),
-                          "lights");
-            std::vector<GpuMaterial> materials;
-            for (std::size_t k = 0; k < geometry.materials.size(); ++k) {
-                const Material& m = geometry.materials[k];
-                materials.push_back({m.color, static_cast<float>(m.kind), m.emission, m.ior,
-                                     use.materials ? m.color_texture : -1,
-                                     static_cast<std::uint32_t>(geometry.flags[k]), {0, 0}});
-            }
-            g.make_buffer(BINDING_MATERIALS, bytes(materials), materials.data(), "materials");
-            Counters counters{std::bit_cast<std::uint32_t>(radius), 0, 0, 0, 0, 0, 0, 0};
-            g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(counters), &counters, "counters");
+            g.emitter_records = g.make_buffer(BINDING_EMITTERS, bytes(g.emitters.records),
+                                              g.emitters.records.data(), "lights");
+            g.materials = g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
+                                        prepared.material_records.data(), "materials");
+            g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
-            Gpu::require_fits(px * 3 * 16, "visible points");
+            const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
+            Gpu::require_fits(px * point_vec4s * 16, "visible points");
             Gpu::require_fits(ph * 3 * 16, "photons");
             Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
-            g.make_buffer(BINDING_VISIBLE_POINTS, px * 3 * 16, nullptr, "visible points");
-            std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
-            for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = radius;
-            g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, bytes(stats), stats.data(), "pixel statistics");
-            stats.assign(px * 2, glm::vec4(0.0f));
-            g.make_buffer(BINDING_DIRECT_LIGHT, bytes(stats), stats.data(), "direct light");
-            std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
-            for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
-            g.make_buffer(BINDING_PHOTON_PATHS, bytes(paths), paths.data(), "photon paths");
+            g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
+            // Their first contents: restart_film() below, as at every restart.
+            g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr,
+                                          "pixel statistics");
+            g.direct_light = g.make_buffer(BINDING_DIRECT_LIGHT, px * 2 * 16, nullptr,
+                                           "direct light");
+            g.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * 3 * 16, nullptr,
+                                           "photon paths");
             // PPPM: the photon steps of a pass are stored side by side and hashed and
             // gathered together, as many as fit in a storage buffer of at most 1 GiB; SPPM
             // stores one step. Each step's slot is rounded up to 16 photons (offset
@@ -211,6 +206,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
+            g.restart_film();
             g.setup_cancel = nullptr;
             glFinish();
         } catch (...) {
@@ -337,6 +333,89 @@ int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
     return done;
 }
 
+// The viewport's restarts apply to every worker, each on its own GL thread. PPPM: the pass
+// indices start again from settings.first_pass (a restarted film has run none).
+void Renderer::restart_passes() {
+    next_pass_ = settings_.first_pass;
+    seconds_ = 0.0;
+}
+
+void Renderer::reset_film() {
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            g.restart_film();
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
+}
+
+bool Renderer::set_camera(const Camera& camera) {
+    validate_camera(camera);
+    // The programs were specialized for the projection and for depth of field.
+    const Gpu& first = *gpus_[0];
+    const auto has = [&](const char* define) {
+        return std::any_of(first.defines.begin(), first.defines.end(),
+                           [&](const auto& d) { return d.first == define; });
+    };
+    const bool orthographic = camera.projection == Projection::Orthographic;
+    const bool depth_of_field = !orthographic && camera.aperture_radius > 0.0f;
+    if (!settings_.full_variant &&
+        (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
+        return false;
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            FrameBlock frame = g.frame;
+            const float radius = frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
+            g.frame = frame;
+            g.initial_radius = radius;  // PPPM's pass radii scale from it too
+            g.restart_film();
+            ++g.camera_updates;
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
+    return true;
+}
+
+bool Renderer::update_tables(const Scene& scene) {
+    // Prepared once, on the first worker's thread (its BVH, no run in between); every worker
+    // then takes the same tables.
+    Gpu& first = *gpus_[0];
+    std::optional<PreparedScene> prepared;
+    const bool same = first.thread->call([&] {
+        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr, &first.bvh));
+        const PreparedScene& p = *prepared;
+        return p.geometry.mesh.triangles.size() == first.geometry_triangles &&
+               p.geometry.materials.size() == first.material_count && p.variant == first.variant &&
+               p.defines == first.defines && p.textures.used == first.textures_used &&
+               !p.environment;
+    });
+    if (!same) return false;
+    const PreparedScene& p = *prepared;
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            g.replace_buffer(g.materials, p.material_records.size() * sizeof(glm::vec4),
+                             p.material_records.data(), "materials");
+            g.emitters = p.emitters;
+            g.replace_buffer(g.emitter_records,
+                             g.emitters.records.size() * sizeof(g.emitters.records[0]),
+                             g.emitters.records.data(), "lights");
+            g.frame = p.frame;
+            g.initial_radius = p.initial_radius;
+            g.restart_film();
+            ++g.table_updates;
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
+    scene_hash_ = scene_hash_hex(scene);  // the farm attributes describe the new scene
+    return true;
+}
+
 void Renderer::debug_set_photons_emitted(std::uint64_t count) {
     Gpu& g = *gpus_[0];
     g.thread->call([&] {
@@ -458,6 +537,9 @@ RenderStats Renderer::stats() {
     s.programs_compiled = g.programs_compiled;
     s.programs_reused = g.programs_reused;
     s.compile_seconds = g.compile_seconds;
+    s.camera_updates = g.camera_updates;
+    s.table_updates = g.table_updates;
+    s.film_resets = g.film_resets;
     return s;
 }
 

@@ -59,6 +59,11 @@ struct RenderStats {
     int programs_compiled = 0;
     int programs_reused = 0;
     double compile_seconds = 0.0;
+    // Restarts without a new MTBVH or programs: set_camera, update_tables and reset_film
+    // calls that changed something (the viewport's cheap restarts).
+    int camera_updates = 0;
+    int table_updates = 0;
+    int film_resets = 0;
 };
 
 class Renderer {
@@ -86,6 +91,21 @@ public:
     // Tests only: sets the 64-bit count of photon paths started, so that a short test can
     // carry it past 2^32.
     void debug_set_photons_emitted(std::uint64_t count);
+    // Starts the image again: no passes, every pixel's radius back to the initial one, the
+    // photon paths and 64-bit counts restarted, on every worker; PPPM: run() starts again
+    // from settings.first_pass. Scene, MTBVH and programs stay.
+    void reset_film();
+    // Looks through another camera at the same image size, then reset_film(); no MTBVH
+    // build, no upload but the frame constants. Returns false and changes nothing when the
+    // camera needs other programs (perspective <-> orthographic, depth of field on <-> off):
+    // build a new Renderer then. Throws SceneError for a camera that fails validation.
+    bool set_camera(const Camera& camera);
+    // The materials, lights and world of `scene`, which must have this renderer's geometry
+    // (the same triangles; area lights are geometry), then reset_film(); the MTBVH stays.
+    // Returns false and changes nothing when the change needs other programs or images
+    // (a new kind of material or light, another texture, an environment map) or the
+    // geometry's size differs: build a new Renderer then.
+    bool update_tables(const Scene& scene);
     // Linear RGBA, height x width x 4 floats, row 0 at the top. With several workers, their
     // films merged (render/film_merge.h).
     std::vector<float> film();
@@ -100,6 +120,7 @@ private:
     static void set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
                        const PreparedScene& prepared, const CancelFlag* cancel);
     int run_workers(const std::vector<std::uint64_t>& indices);
+    void restart_passes();  // after a restart of every worker's film
 
     RenderSettings settings_;
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device

@@ -4,9 +4,11 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "bvh/traverse_cpu.h"
+#include "render/microfacet_tables.h"
 #include "scene/scene_validation.h"
 
 namespace glslppm {
@@ -24,15 +26,20 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
     TextureUse use;
     use.used.assign(scene.textures.size(), false);
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
-        const int t = scene.materials[k].color_texture;
-        if (t < 0) continue;  // indices were checked by validate_scene
-        if (geometry.mesh.uvs.empty()) {
-            warnings.push_back("materials[" + std::to_string(k) + "] has a texture but the mesh "
-                               "has no uvs: its colour is used instead");
-            continue;
+        const Material& m = scene.materials[k];
+        bool warned = false;
+        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture}) {
+            if (t < 0) continue;  // indices were checked by validate_scene
+            if (geometry.mesh.uvs.empty()) {
+                if (!warned)
+                    warnings.push_back("materials[" + std::to_string(k) + "] has a texture but "
+                                       "the mesh has no uvs: its constant values are used instead");
+                warned = true;
+                continue;
+            }
+            use.used[static_cast<std::size_t>(t)] = true;
+            use.materials = true;
         }
-        use.used[static_cast<std::size_t>(t)] = true;
-        use.materials = true;
     }
     if (scene.environment_texture >= 0) {
         use.used[static_cast<std::size_t>(scene.environment_texture)] = true;
@@ -43,115 +50,86 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
 
 }  // namespace
 
-PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel) {
-    validate(settings);
-    validate_scene(scene);
-    PreparedScene p;
-    // Area lights join the geometry; textures count only where the mesh has uvs for them.
-    p.geometry = with_area_lights(scene);
-    SceneGeometry& geometry = p.geometry;
-    p.textures = texture_use(scene, geometry, p.warnings);
-    const TextureUse& use = p.textures;
-    if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
-    const ValidMesh mesh =
-        validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
-    if (mesh.kept.empty())
-        throw SceneError("the scene has no geometry: nothing to render (" +
-                         std::to_string(mesh.stats.degenerate_dropped) +
-                         " degenerate triangles dropped)");
-    BvhBuildOptions options;
-    options.leaf_size = settings.leaf_size;
-    options.cancel = cancel;
-    p.bvh = build_packed_bvh(mesh, options, 6);
-    p.bounds = scene_bounds(p.bvh);
-    // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
-    // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
-    const double extent = glm::length(glm::dvec3(p.bounds.hi) - glm::dvec3(p.bounds.lo));
-    if (!(extent >= 1e-14 && extent <= 1e11)) {
-        char size[32];
-        std::snprintf(size, sizeof size, "%.3g", extent);
-        throw SceneError(std::string("the scene is ") + size +
-                         " units across, outside the 1e-14 to 1e11 that 32-bit floats "
-                         "render: scale it (Blender: the objects or the unit scale)");
+// Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
+// model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
+bool needs_microfacet(const Material& m) {
+    switch (m.kind) {
+        case MaterialKind::Diffuse: return false;
+        case MaterialKind::Conductor:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.schlick;
+        case MaterialKind::Dielectric:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.tint_reflection;
+        default: return true;
     }
-    if (use.environment) {
-        p.environment = std::make_unique<EnvironmentMap>(build_environment_map(
-            scene.textures[static_cast<std::size_t>(scene.environment_texture)],
-            scene.environment));
-    }
-    throw_if_cancelled(cancel);
-    p.emitters = build_emitters(scene, geometry.materials, p.bvh, p.bounds, p.environment.get());
-    throw_if_cancelled(cancel);
+}
 
-    // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
-    // scene requires").
-    bool conductor = false, dielectric = false;
-    for (std::uint32_t t = 0; t < p.bvh.triangle_count; ++t) {
-        const auto kind = geometry.materials[static_cast<std::size_t>(
-                                              std::bit_cast<int>(p.bvh.triangles[3 * t].w))]
-                              .kind;
-        conductor |= kind == MaterialKind::Conductor;
-        dielectric |= kind == MaterialKind::Dielectric;
-    }
-    std::vector<std::string> features;
-    auto feature = [&](bool on, const char* define, const char* name) {
-        if (!on && !settings.full_variant) return;
-        p.defines.push_back({define, "1"});
-        features.push_back(name);
+std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
+                                        const std::vector<std::uint32_t>& flags, bool textures,
+                                        bool microfacet) {
+    std::vector<GpuMaterial> records;
+    std::vector<glm::vec4> tables;
+    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * 5);
+    auto add_table = [&](AlbedoLobe lobe, float ior) {
+        const std::int32_t at = tables_base + static_cast<std::int32_t>(tables.size());
+        const std::vector<float> t = albedo_table(lobe, ior);
+        static_assert(kAlbedoTableFloats % 4 == 0);
+        for (std::size_t i = 0; i < t.size(); i += 4) tables.push_back({t[i], t[i + 1], t[i + 2], t[i + 3]});
+        return at;
     };
-    feature(!p.bvh.normals.empty(), "HAS_NORMALS", "normals");
-    feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
-            "HAS_DEPTH_OF_FIELD", "depth-of-field");
-    feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
-    feature(conductor, "HAS_CONDUCTOR", "conductor");
-    feature(dielectric, "HAS_DIELECTRIC", "dielectric");
-    feature(p.emitters.has[0], "HAS_TRIANGLE_EMITTERS", "area-lights");
-    feature(p.emitters.has[1], "HAS_POINT_LIGHTS", "point-lights");
-    feature(p.emitters.has[2], "HAS_SPOT_LIGHTS", "spot-lights");
-    feature(p.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
-    feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
-            "environment");
-    feature(use.materials, "HAS_TEXTURES", "textures");
-    feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
-    // Not features but outputs: the full variant leaves them as the settings say.
-    if (settings.transparent) {
-        p.defines.push_back({"FILM_TRANSPARENT", "1"});
-        features.push_back("transparent");
-        if (settings.transparent_glass) {
-            p.defines.push_back({"FILM_TRANSPARENT_GLASS", "1"});
-            features.push_back("transparent-glass");
+    std::int32_t conductor_table = -1;
+    std::vector<std::pair<float, std::int32_t>> dielectric_tables, layer_tables;
+    auto table_for = [&](std::vector<std::pair<float, std::int32_t>>& known, AlbedoLobe lobe,
+                         float ior) {
+        for (auto [i, at] : known)
+            if (i == ior) return at;
+        const std::int32_t at = add_table(lobe, ior);
+        if (lobe == AlbedoLobe::DielectricOutside) add_table(AlbedoLobe::DielectricInside, ior);
+        known.push_back({ior, at});
+        return at;
+    };
+    for (std::size_t k = 0; k < materials.size(); ++k) {
+        const Material& m = materials[k];
+        GpuMaterial g{};
+        g.flags = flags[k];
+        g.color = m.color;
+        g.kind = static_cast<float>(m.kind);
+        g.emission = m.emission;
+        g.ior = m.ior;
+        g.color_texture = textures ? m.color_texture : -1;
+        g.roughness = m.roughness;
+        g.roughness_texture = textures ? m.roughness_texture : -1;
+        g.mix_a = m.mix_a;
+        g.mix_b = m.mix_b;
+        g.mix_factor = m.mix_factor;
+        g.mix_texture = textures ? m.mix_texture : -1;
+        g.mix_ior = m.mix_ior;
+        g.options = static_cast<std::uint32_t>(m.roughness_channel) |
+                    static_cast<std::uint32_t>(m.mix_channel) << kOptionMixChannelShift |
+                    static_cast<std::uint32_t>(m.mix_mode) << kOptionMixModeShift |
+                    (m.multiscatter ? kOptionMultiscatter : 0u) | (m.schlick ? kOptionSchlick : 0u) |
+                    (m.tint_reflection ? kOptionTintReflection : 0u);
+        g.table = -1;
+        const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
+        if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
+            if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
+            g.table = conductor_table;
+        } else if (microfacet && m.kind == MaterialKind::Dielectric && rough && m.multiscatter) {
+            g.table = table_for(dielectric_tables, AlbedoLobe::DielectricOutside, m.ior);
+        } else if (microfacet && m.kind == MaterialKind::Plastic) {
+            g.table = table_for(layer_tables, AlbedoLobe::DielectricLayer, m.ior);
         }
+        records.push_back(g);
     }
-    // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
-    // only when asked for; its shadow rays skip the surfaces that cast no shadow (area lights,
-    // objects with shadow visibility off) where the scene has them.
-    if (settings.direct_light == DirectLight::Sampled) {
-        p.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
-        bool shadowless = settings.full_variant;
-        for (std::uint32_t flags : geometry.flags)
-            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow)) != 0;
-        if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
-    }
-    p.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
-    p.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
-    p.defines.push_back({"LOCAL_SIZE", std::to_string(local_size) + "u"});
-    p.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
-    features.push_back("rng=" + to_string(settings.rng));
-    features.push_back("hash=" + to_string(settings.hash));
-    features.push_back("direct=" + to_string(settings.direct_light));
-    if (settings.estimator == Estimator::Pppm) {
-        p.defines.push_back({"ESTIMATOR_PPPM", "1"});
-        features.push_back("estimator=pppm");
-    }
-    for (const std::string& f : features) p.variant += (p.variant.empty() ? "" : ",") + f;
+    std::vector<glm::vec4> out(records.size() * 5);
+    static_assert(sizeof(GpuMaterial) == 5 * sizeof(glm::vec4));
+    if (!records.empty()) std::memcpy(out.data(), records.data(), records.size() * sizeof(GpuMaterial));
+    out.insert(out.end(), tables.begin(), tables.end());
+    return out;
+}
 
-    // Sizes and the frame constants.
-    p.pixels = static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
-    p.photon_threads = settings.photons_per_pass;
-    p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
-    const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
-    const Camera& cam = scene.camera;
+float frame_camera(const Camera& cam, const RenderSettings& settings, const PackedBvh& bvh,
+                   const SceneBounds& bounds, FrameBlock& f) {
+    const float diagonal = glm::length(bounds.hi - bounds.lo);
     // The whole frame (larger than the image when the image is a render region).
     const bool region = cam.full_width > 0;
     if (region && (cam.region_x + settings.width > cam.full_width ||
@@ -172,7 +150,6 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                       static_cast<float>(frame_height) * cam.pixel_aspect;
     const float tan_x = std::tan(0.5f * cam.fov_x);
     const float tan_larger = wide ? tan_x : tan_x * aspect;
-    FrameBlock& f = p.frame;
     f.camera_to_world = cam.to_world;
     glm::vec2 half_extent, shift;
     if (cam.projection == Projection::Orthographic) {
@@ -201,23 +178,6 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
     f.aperture_radius = cam.aperture_radius;
     f.focus_distance = cam.focus_distance;
-    f.scene_lo = p.bounds.lo;
-    f.ray_offset_floor = 1e-3f * diagonal;
-    f.scene_center = p.bounds.center();
-    f.scene_radius = p.bounds.radius();
-    f.world_radiance = scene.environment;
-    f.environment_from_world = glm::mat4(glm::transpose(scene.environment_to_world));
-    if (p.environment) {
-        f.environment_texture = scene.environment_texture;
-        f.environment_cdf_width = p.environment->width;
-        f.environment_cdf_height = p.environment->height;
-    }
-    f.image_width = static_cast<std::uint32_t>(settings.width);
-    f.image_height = static_cast<std::uint32_t>(settings.height);
-    f.photon_threads = p.photon_threads;
-    f.hash_cell_count = p.hash_cells;
-    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
-    f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     // Automatic radius: two pixel footprints at the distance of what the camera sees (the
     // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
     // scene's diagonal.
@@ -234,11 +194,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                 const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
                 Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
                         glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
-                const Hit hit = closest_hit(p.bvh, ray);
+                const Hit hit = closest_hit(bvh, ray);
                 if (hit.triangle >= 0) distances.push_back(hit.t);
             }
         }
-        float distance = glm::length(p.bounds.center() - eye);
+        float distance = glm::length(bounds.center() - eye);
         if (!distances.empty()) {
             std::nth_element(distances.begin(), distances.begin() + distances.size() / 2,
                              distances.end());
@@ -252,7 +212,155 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         if (!(radius > 0.0f)) radius = 0.01f * diagonal;
         radius *= settings.radius_scale;
     }
-    p.initial_radius = radius;
+    return radius;
+}
+
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
+                            unsigned local_size, const CancelFlag* cancel, const PackedBvh* built) {
+    validate(settings);
+    validate_scene(scene);
+    PreparedScene p;
+    // Area lights join the geometry; textures count only where the mesh has uvs for them.
+    p.geometry = with_area_lights(scene);
+    SceneGeometry& geometry = p.geometry;
+    p.textures = texture_use(scene, geometry, p.warnings);
+    const TextureUse& use = p.textures;
+    if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
+    if (!built) {
+        const ValidMesh mesh =
+            validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
+        if (mesh.kept.empty())
+            throw SceneError("the scene has no geometry: nothing to render (" +
+                             std::to_string(mesh.stats.degenerate_dropped) +
+                             " degenerate triangles dropped)");
+        BvhBuildOptions options;
+        options.leaf_size = settings.leaf_size;
+        options.cancel = cancel;
+        p.bvh = build_packed_bvh(mesh, options, 6);
+    }
+    // Tables and camera change, the geometry did not: the earlier MTBVH stands (p.bvh stays
+    // empty).
+    const PackedBvh& bvh = built ? *built : p.bvh;
+    p.bounds = scene_bounds(bvh);
+    // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
+    // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
+    const double extent = glm::length(glm::dvec3(p.bounds.hi) - glm::dvec3(p.bounds.lo));
+    if (!(extent >= 1e-14 && extent <= 1e11)) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%.3g", extent);
+        throw SceneError(std::string("the scene is ") + size +
+                         " units across, outside the 1e-14 to 1e11 that 32-bit floats "
+                         "render: scale it (Blender: the objects or the unit scale)");
+    }
+    if (use.environment) {
+        p.environment = std::make_unique<EnvironmentMap>(build_environment_map(
+            scene.textures[static_cast<std::size_t>(scene.environment_texture)],
+            scene.environment));
+    }
+    throw_if_cancelled(cancel);
+    p.emitters = build_emitters(scene, geometry.materials, bvh, p.bounds, p.environment.get());
+    throw_if_cancelled(cancel);
+
+    // The variant: only what this scene uses is compiled (DESIGN.md, "model only what a
+    // scene requires").
+    bool conductor = false, dielectric = false;
+    for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
+        const auto kind = geometry.materials[static_cast<std::size_t>(
+                                              std::bit_cast<int>(bvh.triangles[3 * t].w))]
+                              .kind;
+        conductor |= kind == MaterialKind::Conductor;
+        dielectric |= kind == MaterialKind::Dielectric;
+    }
+    std::vector<std::string> features;
+    auto feature = [&](bool on, const char* define, const char* name) {
+        if (!on && !settings.full_variant) return;
+        p.defines.push_back({define, "1"});
+        features.push_back(name);
+    };
+    feature(!bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
+            "HAS_DEPTH_OF_FIELD", "depth-of-field");
+    feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
+    feature(conductor, "HAS_CONDUCTOR", "conductor");
+    feature(dielectric, "HAS_DIELECTRIC", "dielectric");
+    feature(p.emitters.has[0], "HAS_TRIANGLE_EMITTERS", "area-lights");
+    feature(p.emitters.has[1], "HAS_POINT_LIGHTS", "point-lights");
+    feature(p.emitters.has[2], "HAS_SPOT_LIGHTS", "spot-lights");
+    feature(p.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
+    feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
+            "environment");
+    feature(use.materials, "HAS_TEXTURES", "textures");
+    // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
+    // materials no triangle names). Not part of the full variant: these lobes replace the
+    // closed model's code, with its own random numbers, rather than add branches to it.
+    bool microfacet = false;
+    for (const Material& m : geometry.materials) microfacet |= needs_microfacet(m);
+    if (microfacet) {
+        p.defines.push_back({"HAS_MICROFACET", "1"});
+        features.push_back("microfacet");
+    }
+    p.microfacet = microfacet;
+    p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
+                                          p.microfacet);
+    feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
+    // Not features but outputs: the full variant leaves them as the settings say.
+    if (settings.transparent) {
+        p.defines.push_back({"FILM_TRANSPARENT", "1"});
+        features.push_back("transparent");
+        if (settings.transparent_glass) {
+            p.defines.push_back({"FILM_TRANSPARENT_GLASS", "1"});
+            features.push_back("transparent-glass");
+        }
+    }
+    // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
+    // only when asked for; its shadow rays skip the surfaces that cast no shadow (area lights,
+    // objects with shadow visibility off) where the scene has them.
+    if (settings.direct_light == DirectLight::Sampled) {
+        p.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
+        bool shadowless = settings.full_variant;
+        for (std::uint32_t flags : geometry.flags)
+            shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow |
+                                    kMaterialMayBeTransparent)) != 0;
+        if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
+    }
+    p.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
+    p.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
+    p.defines.push_back({"LOCAL_SIZE", std::to_string(local_size) + "u"});
+    p.defines.push_back({"RADIUS_STATS_THREADS", std::to_string(kRadiusStatsThreads) + "u"});
+    features.push_back("rng=" + to_string(settings.rng));
+    features.push_back("hash=" + to_string(settings.hash));
+    features.push_back("direct=" + to_string(settings.direct_light));
+    if (settings.estimator == Estimator::Pppm) {
+        p.defines.push_back({"ESTIMATOR_PPPM", "1"});
+        features.push_back("estimator=pppm");
+    }
+    for (const std::string& f : features) p.variant += (p.variant.empty() ? "" : ",") + f;
+
+    // Sizes and the frame constants.
+    p.pixels = static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
+    p.photon_threads = settings.photons_per_pass;
+    p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
+    const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
+    FrameBlock& f = p.frame;
+    p.initial_radius = frame_camera(scene.camera, settings, bvh, p.bounds, f);
+    f.scene_lo = p.bounds.lo;
+    f.ray_offset_floor = 1e-3f * diagonal;
+    f.scene_center = p.bounds.center();
+    f.scene_radius = p.bounds.radius();
+    f.world_radiance = scene.environment;
+    f.environment_from_world = glm::mat4(glm::transpose(scene.environment_to_world));
+    if (p.environment) {
+        f.environment_texture = scene.environment_texture;
+        f.environment_cdf_width = p.environment->width;
+        f.environment_cdf_height = p.environment->height;
+    }
+    f.image_width = static_cast<std::uint32_t>(settings.width);
+    f.image_height = static_cast<std::uint32_t>(settings.height);
+    f.photon_threads = p.photon_threads;
+    f.hash_cell_count = p.hash_cells;
+    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.glossy_threshold = settings.glossy_threshold;
+    f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;
     return p;

@@ -39,15 +39,38 @@ struct PreparedScene {
     // The programs' #defines and the variant's name (stats()["variant"]).
     std::vector<std::pair<std::string, std::string>> defines;
     std::string variant;
+    // HAS_MICROFACET: the lobes of shaders/common/lobes.glsl, visible points of 4 vec4.
+    bool microfacet = false;
+    // The Materials buffer: GpuMaterial records, then albedo tables.
+    std::vector<glm::vec4> material_records;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     FrameBlock frame{};
     float initial_radius = 0.0f;
     std::vector<std::string> warnings;
 };
 
+// Whether a material needs the lobes of shaders/common/lobes.glsl (HAS_MICROFACET).
+bool needs_microfacet(const Material& m);
+
+// The Materials buffer: GpuMaterial records (flags: one per material), then the albedo
+// tables the rough lobes need (one shared by every conductor, one per dielectric or plastic
+// index), as vec4s. `textures`: the texture indices are kept; `microfacet`: tables are made.
+std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
+                                        const std::vector<std::uint32_t>& flags, bool textures,
+                                        bool microfacet);
+
 // Throws SceneError / std::invalid_argument naming what is wrong, Cancelled when `cancel` is
-// set. local_size is the stages' work-group size (a #define of every program).
+// set. local_size is the stages' work-group size (a #define of every program). `built`, when
+// given, is this scene's MTBVH from an earlier preparation, used instead of building one (the
+// scene's materials, lights, world or camera changed, not its geometry); p.bvh stays empty.
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel = nullptr);
+                            unsigned local_size, const CancelFlag* cancel = nullptr,
+                            const PackedBvh* built = nullptr);
+
+// The camera's part of the Frame (film extent and shift, projection, depth of field) at the
+// settings' image size, and the automatic radius it implies (settings.initial_radius when
+// positive): two pixel footprints at the median distance the camera sees, through `bvh`.
+float frame_camera(const Camera& camera, const RenderSettings& settings, const PackedBvh& bvh,
+                   const SceneBounds& bounds, FrameBlock& frame);
 
 }  // namespace glslppm

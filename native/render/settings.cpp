@@ -51,6 +51,8 @@ void validate(const RenderSettings& s) {
         fail("alpha: " + std::to_string(s.alpha) + " is outside (0, 1]");
     if (!(s.initial_radius >= 0.0f) || !std::isfinite(s.initial_radius))
         fail("initial_radius: must be 0 (automatic) or a positive distance");
+    if (!(s.glossy_threshold >= 0.0f && s.glossy_threshold <= 1.0f))
+        fail("glossy_threshold: must be a roughness in [0, 1]");
     if (!(s.radius_scale > 0.0f) || !std::isfinite(s.radius_scale))
         fail("radius_scale: must be a positive number");
     if (s.max_depth < 1 || s.max_depth > 1024)

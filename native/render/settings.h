@@ -28,6 +28,9 @@ struct RenderSettings {
     float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
     float radius_scale = 1.0f;    // multiplies the automatic initial radius
     int max_depth = 16;           // eye and photon bounces
+    // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
+    // and glass are); at and above it they hold the visible point that gathers photons.
+    float glossy_threshold = 0.2f;
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
     // docs/direct_light.md: less error at equal time.

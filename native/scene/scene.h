@@ -14,8 +14,39 @@
 
 namespace glslppm {
 
-// The closed material model (DESIGN.md): every Blender material maps onto one of these.
-enum class MaterialKind : std::uint32_t { Diffuse = 0, Conductor = 1, Dielectric = 2 };
+// The material model (DESIGN.md): every Blender material maps onto these lobes, mixed.
+//   Diffuse      Lambert.
+//   Conductor    GGX microfacet metal reflecting `color` (Glossy), or Schlick's Fresnel from
+//                it (`schlick`: Principled's metal); roughness 0 is a mirror.
+//   Dielectric   GGX rough glass (reflection and refraction, Walter et al. 2007); roughness 0
+//                is smooth glass. `color` tints the transmitted light (and the reflected
+//                light too with `tint_reflection`, as the Glass BSDF node does).
+//   Plastic      a GGX dielectric layer of index `ior` over a Lambert base of `color`
+//                (Fresnel-weighted, energy-conserving), as Principled's non-metallic part.
+//   Translucent  Lambert transmission to the other side.
+//   Transparent  passes light straight through, tinted by `color` (alpha cut-outs).
+//   Mix          chooses material mix_b with probability mix_factor, else mix_a (Blender's
+//                Mix Shader, Fac 0 = first); the leaves are whole materials of the table.
+// How deep Mix materials may nest (the GPU walks down at most this many levels).
+inline constexpr int kMaxMixDepth = 8;
+
+enum class MaterialKind : std::uint32_t {
+    Diffuse = 0,
+    Conductor = 1,
+    Dielectric = 2,
+    Plastic = 3,
+    Translucent = 4,
+    Transparent = 5,
+    Mix = 6,
+};
+
+// What a Mix's factor is: a constant (times its texture), Fresnel of index mix_ior at the
+// view direction (Blender's Fresnel node), or Layer Weight's facing output with blend mix_ior.
+enum class MixFactor : std::uint32_t { Constant = 0, Fresnel = 1, Facing = 2 };
+
+// Which number of a texel a scalar input reads: Blender's colour-to-float conversion is the
+// luminance (Rec. 709 weights); glTF's metallicRoughness reads green and blue.
+enum class TextureChannel : std::uint32_t { Red = 0, Green = 1, Blue = 2, Alpha = 3, Luminance = 4 };
 
 struct Material {
     MaterialKind kind = MaterialKind::Diffuse;
@@ -30,6 +61,24 @@ struct Material {
     // photons pass through (depositing on diffuse ones) surfaces that cast no shadow.
     bool visible_to_camera = true;
     bool casts_shadow = true;
+    // Microfacet lobes (conductor, dielectric, plastic's layer): Blender's roughness, GGX
+    // alpha = roughness^2, times the texture's channel where there is one.
+    float roughness = 0.0f;
+    std::int32_t roughness_texture = -1;
+    TextureChannel roughness_channel = TextureChannel::Luminance;
+    // Energy lost to single scattering restored (Blender's "Multiscatter GGX"); false is
+    // plain single-scatter GGX ("GGX").
+    bool multiscatter = true;
+    bool schlick = false;          // conductor
+    bool tint_reflection = false;  // dielectric
+    // Mix only: the two materials (indices into the table) and the factor.
+    std::int32_t mix_a = -1;
+    std::int32_t mix_b = -1;
+    float mix_factor = 0.5f;
+    std::int32_t mix_texture = -1;
+    TextureChannel mix_channel = TextureChannel::Luminance;
+    MixFactor mix_mode = MixFactor::Constant;
+    float mix_ior = 1.5f;  // Fresnel's index, or Layer Weight's blend
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

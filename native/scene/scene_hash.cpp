@@ -64,6 +64,18 @@ std::uint64_t scene_hash(const Scene& s, const CancelFlag* cancel) {
         h.value(m.color_texture);
         h.value(static_cast<std::uint32_t>(m.emission_two_sided | m.visible_to_camera << 1 |
                                            m.casts_shadow << 2));
+        // The microfacet model's (scene.h).
+        h.value(m.roughness);
+        h.value(m.roughness_texture);
+        h.value(m.roughness_channel);
+        h.value(static_cast<std::uint32_t>(m.multiscatter | m.schlick << 1 | m.tint_reflection << 2));
+        h.value(m.mix_a);
+        h.value(m.mix_b);
+        h.value(m.mix_factor);
+        h.value(m.mix_texture);
+        h.value(m.mix_channel);
+        h.value(m.mix_mode);
+        h.value(m.mix_ior);
     }
     h.value(static_cast<std::uint64_t>(s.lights.size()));
     for (const Light& l : s.lights) {

@@ -1,6 +1,7 @@
 #include "scene/scene_validation.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -58,11 +59,49 @@ struct Checker {
     }
 };
 
-void validate_material(const Material& m, const std::string& name, std::size_t textures) {
+void validate_material(const Material& m, const std::string& name, std::size_t textures,
+                       std::size_t materials) {
+    if (static_cast<std::uint32_t>(m.kind) > static_cast<std::uint32_t>(MaterialKind::Mix))
+        Checker::fail(name + ".kind", "is not a material kind");
     Checker::colour(name + ".color", m.color);
     Checker::colour(name + ".emission", m.emission);
-    if (m.kind == MaterialKind::Dielectric) Checker::positive(name + ".ior", m.ior);
+    if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::Plastic)
+        Checker::positive(name + ".ior", m.ior);
     Checker::texture_index(name + ".color_texture", m.color_texture, textures);
+    Checker::in_range(name + ".roughness", m.roughness, 0.0f, 1.0f, false, false, "[0, 1]");
+    Checker::texture_index(name + ".roughness_texture", m.roughness_texture, textures);
+    if (m.kind != MaterialKind::Mix) return;
+    for (auto [field, k] : {std::pair{".mix_a", m.mix_a}, std::pair{".mix_b", m.mix_b}})
+        if (k < 0 || k >= static_cast<std::int32_t>(materials))
+            Checker::fail(name + field, std::to_string(k) + " is not one of the scene's " +
+                                            std::to_string(materials) + " materials");
+    Checker::in_range(name + ".mix_factor", m.mix_factor, 0.0f, 1.0f, false, false, "[0, 1]");
+    Checker::texture_index(name + ".mix_texture", m.mix_texture, textures);
+    if (m.mix_mode == MixFactor::Fresnel) Checker::positive(name + ".mix_ior", m.mix_ior);
+    if (m.mix_mode == MixFactor::Facing)
+        Checker::in_range(name + ".mix_ior", m.mix_ior, 0.0f, 1.0f, false, false, "[0, 1]");
+}
+
+// Mixes are resolved on the GPU by walking down from the triangle's material, at most
+// kMaxMixDepth levels: the mix graph must be a tree (or DAG) that shallow.
+void validate_mix_depth(const std::vector<Material>& materials) {
+    std::vector<int> depth(materials.size(), -1);  // -1 unknown, -2 on the current walk
+    auto walk = [&](auto&& self, std::size_t k) -> int {
+        if (depth[k] >= 0) return depth[k];
+        if (depth[k] == -2)
+            Checker::fail("materials[" + std::to_string(k) + "]", "mixes itself (a cycle of Mix materials)");
+        const Material& m = materials[k];
+        if (m.kind != MaterialKind::Mix) return depth[k] = 0;
+        depth[k] = -2;
+        const int d = 1 + std::max(self(self, static_cast<std::size_t>(m.mix_a)),
+                                   self(self, static_cast<std::size_t>(m.mix_b)));
+        if (d > kMaxMixDepth)
+            Checker::fail("materials[" + std::to_string(k) + "]",
+                          "nests Mix materials " + std::to_string(d) + " deep (at most " +
+                              std::to_string(kMaxMixDepth) + ")");
+        return depth[k] = d;
+    };
+    for (std::size_t k = 0; k < materials.size(); ++k) walk(walk, k);
 }
 
 void validate_light(const Light& l, const std::string& name) {
@@ -98,6 +137,8 @@ void validate_light(const Light& l, const std::string& name) {
     }
 }
 
+}  // namespace
+
 void validate_camera(const Camera& c) {
     Checker::matrix("camera.to_world", c.to_world);
     if (c.projection == Projection::Perspective)
@@ -115,6 +156,8 @@ void validate_camera(const Camera& c) {
             Checker::fail("camera.region", "expected a corner inside a frame of positive size");
     }
 }
+
+namespace {
 
 void validate_texture(const Texture& t, const std::string& name) {
     if (t.width < 1 || t.height < 1)
@@ -134,7 +177,8 @@ void validate_scene(const Scene& scene) {
         throw SceneError("materials: the scene has no materials (at least one is needed)");
     for (std::size_t k = 0; k < scene.materials.size(); ++k)
         validate_material(scene.materials[k], "materials[" + std::to_string(k) + "]",
-                          scene.textures.size());
+                          scene.textures.size(), scene.materials.size());
+    validate_mix_depth(scene.materials);
     for (std::size_t k = 0; k < scene.lights.size(); ++k)
         validate_light(scene.lights[k], "lights[" + std::to_string(k) + "]");
     validate_camera(scene.camera);

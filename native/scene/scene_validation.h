@@ -10,5 +10,7 @@
 namespace glslppm {
 
 void validate_scene(const Scene& scene);
+// The camera alone, for a renderer whose camera changes (Renderer::set_camera).
+void validate_camera(const Camera& camera);
 
 }  // namespace glslppm

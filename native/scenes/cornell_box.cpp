@@ -18,8 +18,20 @@ Scene make_cornell_box(const CornellBoxOptions& options) {
         {MaterialKind::Conductor, glm::vec3(0.95f), 1.5f, glm::vec3(0.0f)},             // mirror
         {MaterialKind::Dielectric, glm::vec3(1.0f), 1.5f, glm::vec3(0.0f)},             // glass
     };
+    if (options.glossy) {
+        Material& gold = materials[4];
+        gold.color = {1.0f, 0.766f, 0.336f};
+        gold.schlick = true;
+        gold.roughness = 0.3f;
+        materials[5].roughness = 0.25f;  // frosted glass
+        Material floor = materials[0];
+        floor.kind = MaterialKind::Plastic;
+        floor.roughness = 0.4f;
+        materials.push_back(floor);
+    }
+    const std::uint32_t floor = options.glossy ? 6 : 0;
     using V = glm::vec3;
-    append_shape(*mesh, make_quad(V(-1, 0, -1), V(-1, 0, 1), V(1, 0, 1), V(1, 0, -1)), 0);  // floor
+    append_shape(*mesh, make_quad(V(-1, 0, -1), V(-1, 0, 1), V(1, 0, 1), V(1, 0, -1)), floor);
     append_shape(*mesh, make_quad(V(-1, 2, -1), V(1, 2, -1), V(1, 2, 1), V(-1, 2, 1)), 0);  // ceiling
     append_shape(*mesh, make_quad(V(-1, 0, -1), V(1, 0, -1), V(1, 2, -1), V(-1, 2, -1)), 0);  // back
     append_shape(*mesh, make_quad(V(-1, 0, -1), V(-1, 2, -1), V(-1, 2, 1), V(-1, 0, 1)), 1);  // left

@@ -12,6 +12,10 @@ struct CornellBoxOptions {
     bool glass_sphere = true;
     int sphere_rings = 48;  // tessellation of each sphere (rings; segments = 2 * rings)
     float light_radiance = 17.0f;
+    // The glossy variant (glslppm-bench --scene cornell-glossy): a rough gold sphere
+    // (roughness 0.3) for the mirror, frosted glass (0.25) for the glass, and a rough plastic
+    // floor (0.4) under them.
+    bool glossy = false;
 };
 
 Scene make_cornell_box(const CornellBoxOptions& options = {});

@@ -1,17 +1,22 @@
-// The closed material model: Lambertian diffuse, specular conductor, smooth dielectric.
+// Materials at a surface point. Scenes whose materials are all Lambert, mirror or smooth
+// glass compile the closed model below (bsdf_eval, scatter_specular); the others compile the
+// lobes of common/lobes.glsl (HAS_MICROFACET).
 #ifndef BSDF_GLSL
 #define BSDF_GLSL
 
 #include "common/scene_buffers.glsl"
 #include "common/surface.glsl"
 #include "common/textures.glsl"
+#include "common/microfacet.glsl"
 
-vec3 material_color(int m) { return materials[3 * m].xyz; }
-int material_kind(int m) { return int(materials[3 * m].w); }
-vec3 material_emission(int m) { return materials[3 * m + 1].xyz; }
-float material_ior(int m) { return materials[3 * m + 1].w; }
-int material_texture(int m) { return floatBitsToInt(materials[3 * m + 2].x); }
-int material_flags(int m) { return floatBitsToInt(materials[3 * m + 2].y); }
+// Five vec4 per material (GpuMaterial in native/render/gpu_layout.h).
+const int MATERIAL_STRIDE = 5;
+vec3 material_color(int m) { return materials[MATERIAL_STRIDE * m].xyz; }
+int material_kind(int m) { return int(materials[MATERIAL_STRIDE * m].w); }
+vec3 material_emission(int m) { return materials[MATERIAL_STRIDE * m + 1].xyz; }
+float material_ior(int m) { return materials[MATERIAL_STRIDE * m + 1].w; }
+int material_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].x); }
+int material_flags(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].y); }
 
 // Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
 // through; some surfaces are hidden from camera rays; some cast no shadow (photons and
@@ -20,6 +25,7 @@ const int MATERIAL_LIGHT_SURFACE = 1;
 const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
 const int MATERIAL_ONE_SIDED_EMISSION = 4;
 const int MATERIAL_CASTS_NO_SHADOW = 8;
+const int MATERIAL_MAY_BE_TRANSPARENT = 16;
 
 // The surface's colour: the material's, times its base-colour texture at the hit's uv.
 vec3 surface_color(Surface s) {
@@ -40,24 +46,14 @@ vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
     return color / PI;
 }
 
-// Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
-float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
-    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
-    if (sin2_t >= 1.0) {
-        cos_t = 0.0;
-        return 1.0;  // total internal reflection
-    }
-    cos_t = sqrt(1.0 - sin2_t);
-    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 // Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or
 // refraction by Fresnel with probability equal to the reflectance, so the weight is the
-// colour alone. `n` is the shading normal on the geometric normal's side; returns the new
-// direction and multiplies `weight`.
-vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, inout vec3 weight) {
+// colour alone, times eta^2 for the radiance that eye paths carry across a refraction (the
+// solid angle changes by the squared ratio of the indices; photons carry flux, which does
+// not: Veach's thesis, section 5.2). `n` is the shading normal on the geometric normal's
+// side; returns the new direction and multiplies `weight`.
+vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, bool radiance,
+                      inout vec3 weight) {
 #ifdef HAS_DIELECTRIC
     if (material_kind(m) == MATERIAL_DIELECTRIC) {
         bool entering = dot(dir, ng) < 0.0;
@@ -67,7 +63,7 @@ vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, ino
         float cos_t;
         float f = fresnel_dielectric(cos_i, eta, cos_t);
         if (u < f) return reflect(dir, nn);
-        weight *= color;
+        weight *= radiance ? color * (eta * eta) : color;
         return normalize(eta * dir + (eta * cos_i - cos_t) * nn);
     }
 #endif

@@ -33,12 +33,12 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     int environment_texture;      // the map's texture index, -1 for none
     int environment_cdf_width;    // its sampling distribution's size
     int environment_cdf_height;
+    float glossy_threshold;       // lobes below this roughness are followed, not gathered
     // PPPM (ESTIMATOR_PPPM): this pass's radius r_1 s(i), its estimate's factor
     // 1 / (pi r_i^2 N_emitted), and the photon step within the pass (0 starts every path).
     float pass_radius;
     float pass_scale;
     uint photon_step;
-    uint frame_unused;
 };
 
 const float PI = 3.14159265358979;

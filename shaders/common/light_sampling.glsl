@@ -16,11 +16,33 @@
 #include "common/emitters.glsl"
 
 #ifdef BVH_ANY_HIT_FILTER
-// Area-light surfaces and objects with shadow visibility off cast no shadow
-// (common/mtbvh.glsl asks this of every hit).
-bool bvh_any_hit_passes(int triangle) {
+// The random number a shadow ray crosses cut-outs with (set before any_hit).
+uint shadow_ray_seed = 0u;
+
+// Area-light surfaces and objects with shadow visibility off cast no shadow; a cut-out (a
+// Mix with a Transparent leaf) lets the shadow ray through where its mix picks that leaf,
+// with a number drawn per surface crossed (common/mtbvh.glsl asks this of every hit). The
+// mixes' view-dependent factors are taken at normal incidence, and a transparent leaf's
+// tint does not colour the shadow.
+bool bvh_any_hit_passes(int triangle, float u, float v) {
     int m = floatBitsToInt(triangles[3 * triangle].w);
-    return (material_flags(m) & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0;
+    int flags = material_flags(m);
+    if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0) return true;
+#ifdef HAS_MICROFACET
+    if ((flags & MATERIAL_MAY_BE_TRANSPARENT) != 0) {
+        vec2 uv = vec2(0.0);
+#ifdef HAS_TEXTURES
+        vec4 uv01 = vertex_uvs[2 * triangle + 0];
+        vec2 uv2 = vertex_uvs[2 * triangle + 1].xy;
+        uv = (1.0 - u - v) * uv01.xy + u * uv01.zw + v * uv2;
+#endif
+        uint h = (shadow_ray_seed ^ uint(triangle) * 0x9E3779B9u) * 747796405u + 2891336453u;
+        h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+        float r = float(((h >> 22u) ^ h) >> 8) * (1.0 / 16777216.0);
+        return material_kind(resolve_mix(m, uv, 1.0, true, r)) == MATERIAL_TRANSPARENT;
+    }
+#endif
+    return false;
 }
 #endif
 
@@ -168,5 +190,36 @@ vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 c
     if (any_hit(shadow)) return vec3(0.0);
     return f * ls.radiance_over_pdf * cos_theta;
 }
+
+#ifdef HAS_MICROFACET
+// The same for a material of common/lobes.glsl, whose lobes may transmit: the light may be on
+// either side. `rough_only`: the smooth lobes, followed by the eye path, are left out.
+vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
+                                float pick, vec4 u, inout uint rays) {
+    vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
+    bool transmits = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
+    // A transmitting lobe sees the constant world from below as well: the cosine-sampled
+    // half is chosen by u.w (which that sampler does not read), at half the density.
+    vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
+    LightSample ls = sample_light(p, side, pick, u);
+#if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
+    if (transmits && floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT)
+        ls.radiance_over_pdf *= 2.0;
+#endif
+    float cos_theta = abs(dot(ng, ls.wi));
+    if (cos_theta <= 0.0 || ls.distance <= 0.0 || all(equal(ls.radiance_over_pdf, vec3(0.0))))
+        return vec3(0.0);
+    vec3 f = bsdf_f(sh, wo, ls.wi, rough_only, false);
+    if (all(equal(f, vec3(0.0)))) return vec3(0.0);
+    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
+    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
+    ++rays;
+#ifdef BVH_ANY_HIT_FILTER
+    shadow_ray_seed = floatBitsToUint(u.x) ^ (floatBitsToUint(u.y) * 0x85EBCA6Bu);
+#endif
+    if (any_hit(shadow)) return vec3(0.0);
+    return f * ls.radiance_over_pdf * cos_theta;
+}
+#endif
 
 #endif

@@ -157,9 +157,10 @@ Hit closest_hit(Ray r) {
 }
 
 #ifdef BVH_ANY_HIT_FILTER
-// Defined by the includer: true for a (packed) triangle that any_hit must not count, so
-// that shadow rays pass through area-light surfaces as every other ray does.
-bool bvh_any_hit_passes(int triangle);
+// Defined by the includer: true for a (packed) triangle that any_hit must not count at the
+// hit's barycentrics (u, v), so that shadow rays pass through area-light surfaces as every
+// other ray does, and through the transparent parts of cut-outs.
+bool bvh_any_hit_passes(int triangle, float u, float v);
 #endif
 
 bool any_hit(Ray r) {
@@ -183,7 +184,7 @@ bool any_hit(Ray r) {
                 if (bvh_intersect_triangle(r, a, b, c, t, u, v) &&
                     bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a, b, c)) {
 #ifdef BVH_ANY_HIT_FILTER
-                    if (bvh_any_hit_passes(i)) continue;
+                    if (bvh_any_hit_passes(i, u, v)) continue;
 #endif
                     return true;
                 }

@@ -9,8 +9,7 @@
 layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
 #endif
 
-// Materials, 3 per material: (colour, kind), (emission, ior),
-// (intBitsToFloat(base-colour texture or -1), intBitsToFloat(flags), 0, 0).
+// Materials, 5 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables.
 layout(std430, binding = BINDING_MATERIALS) readonly buffer Materials { vec4 materials[]; };
 
 #ifdef HAS_NORMALS
@@ -26,6 +25,10 @@ layout(std430, binding = BINDING_UVS) readonly buffer Uvs { vec4 vertex_uvs[]; }
 const int MATERIAL_DIFFUSE = 0;
 const int MATERIAL_CONDUCTOR = 1;
 const int MATERIAL_DIELECTRIC = 2;
+const int MATERIAL_PLASTIC = 3;
+const int MATERIAL_TRANSLUCENT = 4;
+const int MATERIAL_TRANSPARENT = 5;
+const int MATERIAL_MIX = 6;
 
 const int EMITTER_TRIANGLE = 0;
 const int EMITTER_POINT = 1;

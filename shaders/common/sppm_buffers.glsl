@@ -24,8 +24,13 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 
 #ifdef USES_PIXEL_STATE
 // Visible points, 3 per pixel: (position, material id or -1), (normal facing the
-// eye, 0), (eye-path weight = throughput * albedo / pi, 0).
+// eye, 0), (eye-path weight = throughput * albedo / pi, 0). With HAS_MICROFACET, 4 per
+// pixel, what the gather needs to evaluate f(wo, wi): (position, leaf material id or -1),
+// (shading normal on wo's side, u), (wo, v), (eye-path throughput, flag bits below).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
+
+const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
+const uint VISIBLE_POINT_ENTERING = 2u;   // wo is on the geometric front (a dielectric's outside)
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
 layout(std430, binding = BINDING_PIXEL_STATS) buffer PixelStats { vec4 pixel_stats[]; };

@@ -293,6 +293,18 @@ def check_specialize(bench):
     check(out["max_image_difference_relative"] < 0.05, f"specialize images {out}")
 
 
+def check_restart(bench):
+    out = run(bench, "restart", "--scene", "cornell", "--width", "32", "--height", "24",
+              "--photons", "1024", "--moves", "4", "--json")
+    if out is None:
+        return
+    for key in ("camera_restart_seconds_median", "table_update_seconds_median",
+                "rebuild_seconds_median"):
+        check(positive(out.get(key)), f"restart {key} = {out.get(key)}")
+    # Every move went through set_camera and every edit through update_tables.
+    check(out["camera_updates"] == 4 and out["table_updates"] == 4, f"restart counts {out}")
+
+
 def check_longrun(bench):
     out = run(bench, "longrun", "--passes", "1000", "--photons", "64")
     if out is None:
@@ -342,6 +354,7 @@ def main():
         check_furnace(bench)
         check_furnace_pppm(bench)
         check_specialize(bench)
+        check_restart(bench)
         check_longrun(bench)
         print(f"test-bench: {time.monotonic() - start:.1f} s, {len(FAILURES)} failures")
     return 1 if FAILURES else 0

@@ -22,7 +22,9 @@ def test_engine_is_a_render_engine():
     engines = {getattr(cls, "bl_idname", None) for cls in bpy.types.RenderEngine.__subclasses__()}
     assert "GLSLPPM" in engines, engines
     engine = helpers.ADDON.engine.GlslppmRenderEngine
-    assert engine.bl_label == "GLSLPPM" and engine.bl_use_preview is False
+    # Material previews and the Rendered viewport render with SPPM.
+    assert engine.bl_label == "GLSLPPM" and engine.bl_use_preview is True
+    assert callable(engine.view_update) and callable(engine.view_draw)
     bpy.context.scene.render.engine = 'GLSLPPM'
     assert bpy.context.scene.render.engine == 'GLSLPPM'
 

@@ -52,8 +52,11 @@ def disk_irradiance(radiance, b, h, r):
     return 0.5 * math.pi * radiance * (1.0 - (s - b * b) / root)
 
 
-def furnace_scene(g, albedo, emission, rings=24, inward=True):
+def furnace_scene(g, albedo, emission, rings=24, inward=True, materials=None):
+    """A closed sphere of radius 1 seen from its centre; `materials` replaces its one
+    diffuse material of that albedo and emission (the first is the triangles')."""
     p, t, n = sphere((0.0, 0.0, 0.0), 1.0, rings, 2 * rings, inward=inward)
-    materials = [g.Material("diffuse", color=(albedo,) * 3, emission=(emission,) * 3)]
+    if materials is None:
+        materials = [g.Material("diffuse", color=(albedo,) * 3, emission=(emission,) * 3)]
     camera = g.Camera(look_at((0, 0, 0), (0, 0, -1)), fov_x=math.radians(90))
     return g.Scene(p, t, normals=n, materials=materials, camera=camera)

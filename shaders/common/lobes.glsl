@@ -1,0 +1,487 @@
+// The material model's lobes (HAS_MICROFACET): Lambert, GGX conductor, GGX rough dielectric,
+// a dielectric layer over Lambert ("plastic"), translucent and transparent, chosen between by
+// Mix materials. Each lobe has f (bsdf_f), its sampling density (bsdf_pdf) and a sampler
+// (bsdf_sample) whose weight is f cos / pdf; every stage evaluates materials here.
+//
+// Directions point away from the surface. A Shading's frame has its z axis on the side wo
+// leaves from (surfaces are two-sided); a dielectric knows from `entering` which side of it
+// is the inside. f is the radiance form: light refracted into a denser medium is divided by
+// the squared ratio of the indices (eta^2), and the photons, which carry flux, are sampled
+// with the adjoint (no such factor), as in Veach's thesis, section 5.2.
+#ifndef LOBES_GLSL
+#define LOBES_GLSL
+
+#include "common/bsdf.glsl"
+#include "common/sampling.glsl"
+
+#ifdef HAS_MICROFACET
+
+float material_roughness(int m) { return materials[MATERIAL_STRIDE * m + 2].z; }
+int material_roughness_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].w); }
+ivec2 material_mix(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 3].xy); }
+float material_mix_factor(int m) { return materials[MATERIAL_STRIDE * m + 3].z; }
+int material_mix_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 3].w); }
+uint material_options(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x); }
+float material_mix_ior(int m) { return materials[MATERIAL_STRIDE * m + 4].y; }
+int material_table(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 4].z); }
+
+// GpuMaterial's option bits (native/render/gpu_layout.h).
+const uint OPTION_ROUGHNESS_CHANNEL = 7u;     // bits 0-2: TextureChannel
+const uint OPTION_MIX_CHANNEL_SHIFT = 4u;     // bits 4-6
+const uint OPTION_MIX_MODE_SHIFT = 8u;        // bits 8-9: MixFactor
+const uint OPTION_MULTISCATTER = 4096u;       // energy compensation on
+const uint OPTION_SCHLICK = 8192u;            // conductor: Schlick Fresnel from the colour
+const uint OPTION_TINT_REFLECTION = 16384u;   // dielectric: the colour tints reflection too
+
+const int MAX_MIX_DEPTH = 8;  // kMaxMixDepth in native/scene/scene.h
+
+// Albedo tables (native/render/microfacet_tables.h), in the materials buffer after the
+// materials: ALBEDO_TABLE_SIZE^2 values E(mu, roughness) on grids uniform in sqrt(mu) and
+// roughness over [0, 1] (sqrt(mu) fastest),
+// then ALBEDO_TABLE_SIZE hemispherical averages 2 int E(mu) mu dmu; a dielectric has a second
+// block for light inside it.
+const int ALBEDO_TABLE_SIZE = 32;
+const int ALBEDO_TABLE_VEC4S = (ALBEDO_TABLE_SIZE * ALBEDO_TABLE_SIZE + ALBEDO_TABLE_SIZE) / 4;
+
+float table_entry(int base, int k) { return materials[base + (k >> 2)][k & 3]; }
+
+float albedo_table(int base, float mu, float roughness) {
+    const int n = ALBEDO_TABLE_SIZE;
+    vec2 x = vec2(sqrt(clamp(mu, 0.0, 1.0)), clamp(roughness, 0.0, 1.0)) * float(n - 1);
+    ivec2 i = min(ivec2(x), ivec2(n - 2));
+    vec2 f = x - vec2(i);
+    int k = i.y * n + i.x;
+    float a = mix(table_entry(base, k), table_entry(base, k + 1), f.x);
+    float b = mix(table_entry(base, k + n), table_entry(base, k + n + 1), f.x);
+    return mix(a, b, f.y);
+}
+
+float albedo_average(int base, float roughness) {
+    const int n = ALBEDO_TABLE_SIZE;
+    float x = clamp(roughness, 0.0, 1.0) * float(n - 1);
+    int i = min(int(x), n - 2);
+    return mix(table_entry(base, n * n + i), table_entry(base, n * n + i + 1), x - float(i));
+}
+
+float texture_channel(vec4 texel, uint channel) {
+    return channel == 4u ? luminance(texel.rgb) : texel[min(channel, 3u)];
+}
+
+// A scalar input: its value times its texture's channel where it has one.
+float material_scalar(float value, int texture, uint channel, vec2 uv) {
+#ifdef HAS_TEXTURES
+    if (texture >= 0) return value * texture_channel(sample_texture(texture, uv), channel);
+#endif
+    return value;
+}
+
+vec3 material_color_at(int m, vec2 uv) {
+#ifdef HAS_TEXTURES
+    int k = material_texture(m);
+    if (k >= 0) return material_color(m) * sample_texture(k, uv).rgb;
+#endif
+    return material_color(m);
+}
+
+// Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
+// second material with probability equal to its factor, reusing the rest of `u`. `c` is the
+// cosine between the view direction and the shading normal on its side, `front` whether the
+// view is on the geometric front (Blender's Fresnel and Layer Weight nodes read both).
+int resolve_mix(int m, vec2 uv, float c, bool front, float u) {
+    for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
+        uint options = material_options(m);
+        uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
+        float f;
+        if (mode == 0u) {
+            f = material_scalar(material_mix_factor(m), material_mix_texture(m),
+                                (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, uv);
+        } else if (mode == 1u) {
+            float ior = material_mix_ior(m), cos_t;
+            f = fresnel_dielectric(c, front ? 1.0 / ior : ior, cos_t);
+        } else {
+            // Layer Weight's Facing: 1 - c^b, the blend b mapped as Blender maps it.
+            float blend = min(material_mix_ior(m), 1.0 - 1.0e-5);
+            float b = blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend);
+            f = 1.0 - pow(c, b);
+        }
+        f = clamp(f, 0.0, 1.0);
+        ivec2 ab = material_mix(m);
+        if (u < f) {
+            m = ab.y;
+            u = u / f;
+        } else {
+            m = ab.x;
+            u = (u - f) / max(1.0 - f, 1.0e-7);
+        }
+        u = min(u, 0.99999994);
+    }
+    return m;
+}
+
+struct Shading {
+    int material;     // the leaf, after mixes
+    int kind;
+    vec3 color;       // textured
+    float roughness;  // textured
+    float alpha;      // GGX alpha
+    float ior;
+    int table;        // albedo table (vec4 index), -1 for none
+    uint options;
+    bool entering;    // wo on the geometric front: a dielectric's outside
+    vec3 t, b, n;     // frame; n is the shading normal on wo's side
+};
+
+// A leaf material with its frame: n is the shading normal on wo's side.
+Shading shading_of_leaf(int m, vec3 n, vec2 uv, bool entering) {
+    Shading sh;
+    sh.entering = entering;
+    sh.n = n;
+    orthonormal_basis(sh.n, sh.t, sh.b);
+    sh.material = m;
+    sh.kind = material_kind(m);
+    sh.options = material_options(m);
+    sh.color = material_color_at(m, uv);
+    sh.roughness = clamp(material_scalar(material_roughness(m), material_roughness_texture(m),
+                                         sh.options & OPTION_ROUGHNESS_CHANNEL, uv), 0.0, 1.0);
+    sh.alpha = ggx_alpha(sh.roughness);
+    sh.ior = material_ior(m);
+    sh.table = material_table(m);
+    return sh;
+}
+
+// The material at a surface seen from wo; `u` picks between mixes.
+Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 wo, float u) {
+    bool entering = dot(wo, ng) >= 0.0;
+    vec3 n_wo = entering ? n : -n;
+    int leaf = resolve_mix(material, uv, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u);
+    return shading_of_leaf(leaf, n_wo, uv, entering);
+}
+
+vec3 to_local(Shading sh, vec3 v) { return vec3(dot(v, sh.t), dot(v, sh.b), dot(v, sh.n)); }
+vec3 to_world(Shading sh, vec3 v) { return v.x * sh.t + v.y * sh.b + v.z * sh.n; }
+
+float max_component(vec3 c) { return max(c.r, max(c.g, c.b)); }
+
+// ---- Conductor: GGX with Fresnel = the colour (Glossy) or Schlick from it (Principled's
+// metal), plus Kulla and Conty's multiple-scattering lobe where compensation is on:
+//   f_ms = F_ms (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)),
+// which restores a white conductor's albedo to 1 and is reciprocal.
+
+vec3 conductor_fresnel(Shading sh, float c) {
+    return (sh.options & OPTION_SCHLICK) != 0u ? fresnel_schlick(sh.color, c) : sh.color;
+}
+
+float conductor_multiple_probability(Shading sh, vec3 wo) {
+    if ((sh.options & OPTION_MULTISCATTER) == 0u) return 0.0;
+    return 1.0 - albedo_table(sh.table, wo.z, sh.roughness);
+}
+
+vec3 conductor_f(Shading sh, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+    float a2 = sh.alpha * sh.alpha;
+    vec3 h = normalize(wo + wi);
+    vec3 f = conductor_fresnel(sh, dot(wo, h)) * (ggx_d(h, a2) * ggx_g2(wo.z, wi.z, a2) /
+                                                  (4.0 * wo.z * wi.z));
+    if ((sh.options & OPTION_MULTISCATTER) != 0u) {
+        float e_o = albedo_table(sh.table, wo.z, sh.roughness);
+        float e_i = albedo_table(sh.table, wi.z, sh.roughness);
+        float e_avg = albedo_average(sh.table, sh.roughness);
+        vec3 f_avg = (sh.options & OPTION_SCHLICK) != 0u ? fresnel_schlick_average(sh.color)
+                                                         : sh.color;
+        vec3 f_ms = f_avg * f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg));
+        f += f_ms * ((1.0 - e_o) * (1.0 - e_i) / (PI * max(1.0 - e_avg, 1.0e-6)));
+    }
+    return f;
+}
+
+float conductor_pdf(Shading sh, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+    float p_ms = conductor_multiple_probability(sh, wo);
+    vec3 h = normalize(wo + wi);
+    float a2 = sh.alpha * sh.alpha;
+    return (1.0 - p_ms) * ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h)) + p_ms * wi.z / PI;
+}
+
+bool conductor_sample(Shading sh, vec3 wo, vec3 u, out vec3 wi) {
+    if (wo.z <= 0.0) return false;
+    if (u.z < conductor_multiple_probability(sh, wo)) {
+        float r = sqrt(u.x), phi = 2.0 * PI * u.y;
+        wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+    } else {
+        vec3 h = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
+        wi = 2.0 * dot(wo, h) * h - wo;
+    }
+    return wi.z > 0.0;
+}
+
+// ---- Rough dielectric (Walter et al. 2007), reflection and refraction chosen by Fresnel at
+// the sampled normal. etap = n(wi side) / n(wo side) for refraction. With compensation on,
+// f is divided by the lobe's albedo at wo (albedo scaling: energy-conserving, not reciprocal).
+
+float dielectric_eta(Shading sh) { return sh.entering ? sh.ior : 1.0 / sh.ior; }
+
+float dielectric_albedo(Shading sh, vec3 wo) {
+    if ((sh.options & OPTION_MULTISCATTER) == 0u || sh.table < 0) return 1.0;
+    return max(albedo_table(sh.table + (sh.entering ? 0 : ALBEDO_TABLE_VEC4S), wo.z,
+                            sh.roughness), 0.05);
+}
+
+// The generalised half vector of wo and wi and whether it is a valid configuration.
+bool dielectric_half(Shading sh, vec3 wo, vec3 wi, out vec3 m, out float etap) {
+    bool reflection = wi.z > 0.0;
+    etap = reflection ? 1.0 : dielectric_eta(sh);
+    m = wi * etap + wo;
+    if (wi.z == 0.0 || dot(m, m) == 0.0) return false;
+    m = normalize(m);
+    if (m.z < 0.0) m = -m;
+    // Microfacets seen from behind reflect or refract nothing.
+    return dot(m, wi) * wi.z > 0.0 && dot(m, wo) * wo.z > 0.0;
+}
+
+vec3 dielectric_f(Shading sh, vec3 wo, vec3 wi, bool adjoint) {
+    vec3 m;
+    float etap;
+    if (wo.z <= 0.0 || !dielectric_half(sh, wo, wi, m, etap)) return vec3(0.0);
+    float a2 = sh.alpha * sh.alpha;
+    float cos_t;
+    float F = fresnel_dielectric(dot(wo, m), 1.0 / dielectric_eta(sh), cos_t);
+    float dg = ggx_d(m, a2) * ggx_g2(wo.z, abs(wi.z), a2);
+    vec3 tint = (sh.options & OPTION_TINT_REFLECTION) != 0u ? sh.color : vec3(1.0);
+    vec3 f;
+    if (wi.z > 0.0) {
+        f = tint * (F * dg / (4.0 * wo.z * wi.z));
+    } else {
+        float denom = dot(wi, m) + dot(wo, m) / etap;
+        f = sh.color * ((1.0 - F) * dg * abs(dot(wi, m) * dot(wo, m)) /
+                        (abs(wi.z) * wo.z * denom * denom));
+        if (!adjoint) f /= etap * etap;
+    }
+    return f / dielectric_albedo(sh, wo);
+}
+
+float dielectric_pdf(Shading sh, vec3 wo, vec3 wi) {
+    vec3 m;
+    float etap;
+    if (wo.z <= 0.0 || !dielectric_half(sh, wo, wi, m, etap)) return 0.0;
+    float a2 = sh.alpha * sh.alpha;
+    float cos_t;
+    float F = fresnel_dielectric(dot(wo, m), 1.0 / dielectric_eta(sh), cos_t);
+    float visible = ggx_visible_pdf(wo, m, a2);
+    if (wi.z > 0.0) return F * visible / (4.0 * dot(wo, m));
+    float denom = dot(wi, m) + dot(wo, m) / etap;
+    return (1.0 - F) * visible * abs(dot(wi, m)) / (denom * denom);
+}
+
+bool dielectric_sample(Shading sh, vec3 wo, vec3 u, out vec3 wi) {
+    if (wo.z <= 0.0) return false;
+    vec3 m = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
+    float c = dot(wo, m);
+    if (c <= 0.0) return false;
+    float eta = 1.0 / dielectric_eta(sh);  // n(wo side) / n(other side)
+    float cos_t;
+    float F = fresnel_dielectric(c, eta, cos_t);
+    if (u.z < F) {
+        wi = 2.0 * c * m - wo;
+        return wi.z > 0.0;
+    }
+    wi = eta * -wo + (eta * c - cos_t) * m;
+    return wi.z < 0.0;
+}
+
+// ---- Plastic: a GGX dielectric layer (white, index ior) over a Lambert base. The base is
+// scaled by what the layer lets through, reciprocally, with the layer's albedo Es:
+//   f_d = colour (1 - Es(mu_o)) (1 - Es(mu_i)) / (pi (1 - Es_avg)),
+// so a white base reflects exactly 1 in total.
+
+float plastic_layer_albedo(Shading sh, float mu) { return albedo_table(sh.table, mu, sh.roughness); }
+
+// How often the sampler picks the layer: its albedo against what the base returns.
+float plastic_layer_probability(Shading sh, vec3 wo) {
+    float es = plastic_layer_albedo(sh, wo.z);
+    float rest = (1.0 - es) * max_component(sh.color);
+    return es + rest > 0.0 ? es / (es + rest) : 1.0;
+}
+
+vec3 plastic_layer_f(Shading sh, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+    float a2 = sh.alpha * sh.alpha;
+    vec3 h = normalize(wo + wi);
+    float cos_t;
+    float F = fresnel_dielectric(dot(wo, h), 1.0 / sh.ior, cos_t);
+    return vec3(F * ggx_d(h, a2) * ggx_g2(wo.z, wi.z, a2) / (4.0 * wo.z * wi.z));
+}
+
+vec3 plastic_base_f(Shading sh, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+    float es_avg = albedo_average(sh.table, sh.roughness);
+    return sh.color * ((1.0 - plastic_layer_albedo(sh, wo.z)) *
+                       (1.0 - plastic_layer_albedo(sh, wi.z)) / (PI * max(1.0 - es_avg, 1.0e-6)));
+}
+
+float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
+    vec3 h = normalize(wo + wi);
+    float a2 = sh.alpha * sh.alpha;
+    return ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h));
+}
+
+// ---- The material: dispatch on the leaf's kind. A lobe is smooth when its roughness is
+// below the threshold (Frame's glossy_threshold): eye paths then follow it by sampling,
+// and visible points hold only the rough lobes ("rough_only"). Rough dielectrics are
+// followed at every roughness, as pbrt-v4's SPPM follows glossy lobes: a visible point on
+// frosted glass gathers photons through a narrow transmission lobe, whose estimate is far
+// noisier than that of the surfaces seen through it.
+
+bool lobe_smooth(Shading sh) {
+    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold;
+}
+
+// Whether photons landing here can be gathered: the material has a lobe that visible points
+// evaluate.
+bool bsdf_has_rough_lobe(Shading sh) {
+    if (sh.kind == MATERIAL_CONDUCTOR || sh.kind == MATERIAL_DIELECTRIC) return !lobe_smooth(sh);
+    return sh.kind != MATERIAL_TRANSPARENT;
+}
+
+// The probability that an eye path goes on through the smooth part of the material at wo.
+float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
+    switch (sh.kind) {
+        case MATERIAL_TRANSPARENT: return 1.0;
+        case MATERIAL_CONDUCTOR:
+        case MATERIAL_DIELECTRIC: return lobe_smooth(sh) ? 1.0 : 0.0;
+        case MATERIAL_PLASTIC:
+            return lobe_smooth(sh) ? plastic_layer_probability(sh, to_local(sh, wo_world)) : 0.0;
+        default: return 0.0;
+    }
+}
+
+vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjoint) {
+    vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
+    switch (sh.kind) {
+        case MATERIAL_DIFFUSE:
+            return wo.z > 0.0 && wi.z > 0.0 ? sh.color / PI : vec3(0.0);
+        case MATERIAL_TRANSLUCENT:
+            return wo.z > 0.0 && wi.z < 0.0 ? sh.color / PI : vec3(0.0);
+        case MATERIAL_CONDUCTOR:
+            return sh.roughness > 0.0 ? conductor_f(sh, wo, wi) : vec3(0.0);
+        case MATERIAL_DIELECTRIC:
+            return sh.roughness > 0.0 ? dielectric_f(sh, wo, wi, adjoint) : vec3(0.0);
+        case MATERIAL_PLASTIC: {
+            vec3 f = plastic_base_f(sh, wo, wi);
+            if (!(rough_only && lobe_smooth(sh))) f += plastic_layer_f(sh, wo, wi);
+            return f;
+        }
+        default: return vec3(0.0);
+    }
+}
+
+// The density bsdf_sample draws wi with (0 for the delta lobes).
+float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
+    vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
+    switch (sh.kind) {
+        case MATERIAL_DIFFUSE: return wo.z > 0.0 && wi.z > 0.0 ? wi.z / PI : 0.0;
+        case MATERIAL_TRANSLUCENT: return wo.z > 0.0 && wi.z < 0.0 ? -wi.z / PI : 0.0;
+        case MATERIAL_CONDUCTOR: return sh.roughness > 0.0 ? conductor_pdf(sh, wo, wi) : 0.0;
+        case MATERIAL_DIELECTRIC: return sh.roughness > 0.0 ? dielectric_pdf(sh, wo, wi) : 0.0;
+        case MATERIAL_PLASTIC: {
+            if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+            float p = plastic_layer_probability(sh, wo);
+            return p * plastic_layer_pdf(sh, wo, wi) + (1.0 - p) * wi.z / PI;
+        }
+        default: return 0.0;
+    }
+}
+
+// The exact specular lobes of roughness 0: a mirror, and smooth glass chosen by Fresnel.
+bool smooth_sample(Shading sh, vec3 wo, float u, bool adjoint, out vec3 wi, out vec3 weight) {
+    if (wo.z <= 0.0) return false;
+    wi = vec3(-wo.x, -wo.y, wo.z);
+    if (sh.kind == MATERIAL_CONDUCTOR) {
+        weight = conductor_fresnel(sh, wo.z);
+        return true;
+    }
+    float eta = 1.0 / dielectric_eta(sh), cos_t;
+    float F = fresnel_dielectric(wo.z, eta, cos_t);
+    if (u < F) {
+        weight = (sh.options & OPTION_TINT_REFLECTION) != 0u ? sh.color : vec3(1.0);
+        return true;
+    }
+    wi = vec3(-eta * wo.x, -eta * wo.y, -cos_t);
+    weight = adjoint ? sh.color : sh.color * (eta * eta);
+    return true;
+}
+
+// Draws wi from the whole material at wo; weight = f cos / pdf (adjoint: for photons).
+// The lobes of a material are combined by their sampling probabilities (one-sample MIS with
+// the balance heuristic, the density being the mixture's).
+bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_world,
+                 out vec3 weight) {
+    vec3 wo = to_local(sh, wo_world);
+    vec3 wi;
+    weight = vec3(0.0);
+    wi_world = -wo_world;
+    if (wo.z <= 0.0) return false;
+    switch (sh.kind) {
+        case MATERIAL_TRANSPARENT:
+            weight = sh.color;
+            return true;
+        case MATERIAL_DIFFUSE:
+        case MATERIAL_TRANSLUCENT: {
+            float r = sqrt(u.x), phi = 2.0 * PI * u.y;
+            wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+            if (sh.kind == MATERIAL_TRANSLUCENT) wi.z = -wi.z;
+            weight = sh.color;
+            wi_world = to_world(sh, wi);
+            return true;
+        }
+        case MATERIAL_CONDUCTOR:
+        case MATERIAL_DIELECTRIC:
+            if (sh.roughness == 0.0) {
+                if (!smooth_sample(sh, wo, u.z, adjoint, wi, weight)) return false;
+                wi_world = to_world(sh, wi);
+                return true;
+            }
+            if (sh.kind == MATERIAL_CONDUCTOR ? !conductor_sample(sh, wo, u, wi)
+                                              : !dielectric_sample(sh, wo, u, wi))
+                return false;
+            break;
+        case MATERIAL_PLASTIC: {
+            if (u.z < plastic_layer_probability(sh, wo)) {
+                vec3 h = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
+                wi = 2.0 * dot(wo, h) * h - wo;
+            } else {
+                float r = sqrt(u.x), phi = 2.0 * PI * u.y;
+                wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+            }
+            if (wi.z <= 0.0) return false;
+            break;
+        }
+        default: return false;
+    }
+    wi_world = to_world(sh, wi);
+    float pdf = bsdf_pdf(sh, wo_world, wi_world);
+    if (!(pdf > 0.0)) return false;
+    weight = bsdf_f(sh, wo_world, wi_world, false, adjoint) * (abs(wi.z) / pdf);
+    return true;
+}
+
+// Eye paths through the smooth part of a material (bsdf_smooth_probability > 0): the whole
+// material where every lobe is smooth, the layer alone for plastic; weight = f cos / pdf of
+// that part.
+bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, out vec3 weight) {
+    if (sh.kind != MATERIAL_PLASTIC) return bsdf_sample(sh, wo_world, u, false, wi_world, weight);
+    vec3 wo = to_local(sh, wo_world);
+    weight = vec3(0.0);
+    wi_world = -wo_world;
+    if (wo.z <= 0.0) return false;
+    vec3 h = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
+    vec3 wi = 2.0 * dot(wo, h) * h - wo;
+    if (wi.z <= 0.0) return false;
+    float pdf = plastic_layer_pdf(sh, wo, wi);
+    if (!(pdf > 0.0)) return false;
+    weight = plastic_layer_f(sh, wo, wi) * (wi.z / pdf);
+    wi_world = to_world(sh, wi);
+    return true;
+}
+
+#endif
+#endif
