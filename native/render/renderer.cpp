@@ -36,7 +36,8 @@ namespace glslppm {
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
     PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
-    scene_hash_ = scene_hash_hex(scene, cancel);
+    scene_hash_without_camera_ = scene_hash_without_camera(scene, cancel);
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
     const std::vector<int> devices =
         settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     try {
@@ -377,6 +378,7 @@ bool Renderer::set_camera(const Camera& camera) {
         });
     }
     restart_passes();
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, camera));
     return true;
 }
 
@@ -412,7 +414,9 @@ bool Renderer::update_tables(const Scene& scene) {
         });
     }
     restart_passes();
-    scene_hash_ = scene_hash_hex(scene);  // the farm attributes describe the new scene
+    // The farm attributes describe the new scene.
+    scene_hash_without_camera_ = scene_hash_without_camera(scene);
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
     return true;
 }
 

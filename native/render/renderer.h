@@ -126,7 +126,8 @@ private:
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
     std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
     double seconds_ = 0.0;                    // wall time of runs with several workers
-    std::string scene_hash_;
+    std::uint64_t scene_hash_without_camera_ = 0;  // scene/scene_hash.h
+    std::string scene_hash_;                        // with the current camera
 };
 
 }  // namespace glslppm

@@ -48,7 +48,7 @@ private:
 
 }  // namespace
 
-std::uint64_t scene_hash(const Scene& s, const CancelFlag* cancel) {
+std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel) {
     Hasher h(cancel);
     h.array(s.mesh.positions);
     h.array(s.mesh.triangles);
@@ -94,13 +94,6 @@ std::uint64_t scene_hash(const Scene& s, const CancelFlag* cancel) {
         h.value(l.size_y);
         h.value(static_cast<std::uint32_t>(l.spot_cosine | l.visible_to_camera << 1));
     }
-    const Camera& c = s.camera;
-    h.value(c.to_world);
-    for (float v : {c.fov_x, c.shift_x, c.shift_y, c.ortho_scale, c.aperture_radius,
-                    c.focus_distance, c.pixel_aspect})
-        h.value(v);
-    h.value(c.projection);
-    for (int v : {c.full_width, c.full_height, c.region_x, c.region_y}) h.value(v);
     h.value(static_cast<std::uint64_t>(s.textures.size()));
     for (const Texture& t : s.textures) {
         h.value(t.width);
@@ -115,11 +108,30 @@ std::uint64_t scene_hash(const Scene& s, const CancelFlag* cancel) {
     return h.result();
 }
 
-std::string scene_hash_hex(const Scene& scene, const CancelFlag* cancel) {
+std::uint64_t scene_hash_with_camera(std::uint64_t without_camera, const Camera& c) {
+    Hasher h(nullptr);
+    h.value(without_camera);
+    h.value(c.to_world);
+    for (float v : {c.fov_x, c.shift_x, c.shift_y, c.ortho_scale, c.aperture_radius,
+                    c.focus_distance, c.pixel_aspect})
+        h.value(v);
+    h.value(c.projection);
+    for (int v : {c.full_width, c.full_height, c.region_x, c.region_y}) h.value(v);
+    return h.result();
+}
+
+std::uint64_t scene_hash(const Scene& scene, const CancelFlag* cancel) {
+    return scene_hash_with_camera(scene_hash_without_camera(scene, cancel), scene.camera);
+}
+
+std::string scene_hash_hex(std::uint64_t hash) {
     char text[17];
-    std::snprintf(text, sizeof text, "%016llx",
-                  static_cast<unsigned long long>(scene_hash(scene, cancel)));
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
     return text;
+}
+
+std::string scene_hash_hex(const Scene& scene, const CancelFlag* cancel) {
+    return scene_hash_hex(scene_hash(scene, cancel));
 }
 
 }  // namespace glslppm

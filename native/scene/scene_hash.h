@@ -14,5 +14,10 @@ namespace glslppm {
 // Setting `cancel` meanwhile stops it within a MiB of hashing: Cancelled.
 std::uint64_t scene_hash(const Scene& scene, const CancelFlag* cancel = nullptr);
 std::string scene_hash_hex(const Scene& scene, const CancelFlag* cancel = nullptr);  // 16 hex digits
+std::string scene_hash_hex(std::uint64_t hash);
+// scene_hash in two parts, so that a renderer that only changes its camera (the viewport's
+// set_camera) hashes the camera alone: everything but the camera, then that with a camera.
+std::uint64_t scene_hash_without_camera(const Scene& scene, const CancelFlag* cancel = nullptr);
+std::uint64_t scene_hash_with_camera(std::uint64_t without_camera, const Camera& camera);
 
 }  // namespace glslppm
