@@ -18,7 +18,7 @@ from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera, viewport_camera
 from ..export.frame import FrameError, render_frame
-from ..properties.preferences import render_devices
+from ..properties.preferences import render_device, render_devices
 from . import memory
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_renderer, native_scene

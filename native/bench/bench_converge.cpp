@@ -424,16 +424,18 @@ void print_table(const ConvergeOptions& o, const Reference& ref, const ImageErro
     if (cross)
         std::printf("reference against %s: RMSE %.5f, relative MSE %.5f, mean bias %+.5f\n",
                     o.cross_check.c_str(), cross->rmse, cross->rel_mse, cross->mean_bias);
-    std::printf("%6s %9s %7s %10s %5s %8s %5s %8s %8s %10s %10s %10s %10s\n", "alpha",
-                "photons", "radius", "hash", "rng", "direct", "est", "slope", "theory", "passes",
-                "seconds", "RMSE", "mean bias");
+    std::printf("%6s %9s %7s %10s %5s %8s %5s %6s %8s %8s %10s %10s %10s %10s\n", "alpha",
+                "photons", "radius", "hash", "rng", "direct", "est", "glossy", "slope", "theory",
+                "passes", "seconds", "RMSE", "mean bias");
     for (const Run& run : runs) {
         const Point& last = run.points.back();
-        std::printf("%6.3f %9u %7.3g %10s %5s %8s %5s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",
+        std::printf("%6.3f %9u %7.3g %10s %5s %8s %5s %6.3g %8.3f %8.3f %10d %10.3f %10.5f "
+                    "%+10.5f\n",
                     run.settings.alpha, run.settings.photons_per_pass, run.radius_scale,
                     to_string(run.settings.hash).c_str(), to_string(run.settings.rng).c_str(),
                     to_string(run.settings.direct_light).c_str(),
-                    to_string(run.settings.estimator).c_str(), run.slope,
+                    to_string(run.settings.estimator).c_str(), run.settings.glossy_threshold,
+                    run.slope,
                     theoretical_slope(run.settings.alpha), last.passes, last.seconds,
                     last.error.rmse, last.error.mean_bias);
     }
