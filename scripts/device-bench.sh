@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The benchmark runs for the GPU machine (docs/performance.md), one mode per call:
 #
-#   scripts/device-bench.sh rays|passes|converge|scaling|all
+#   scripts/device-bench.sh rays|passes|converge|scaling|instances|all
 #
 # Run from the repository root of a copy whose binaries are bundled under .device/ (the
 # lead's `device` tool: `.device/run glslppm-bench ...`); elsewhere set BENCH, e.g.
@@ -13,8 +13,8 @@
 # tool's per-call limit, so call the modes one by one there).
 set -uo pipefail
 mode=${1:-}
-case "$mode" in rays|passes|converge|scaling|all) ;; *)
-  echo "usage: scripts/device-bench.sh rays|passes|converge|scaling|all" >&2; exit 2 ;;
+case "$mode" in rays|passes|converge|scaling|instances|all) ;; *)
+  echo "usage: scripts/device-bench.sh rays|passes|converge|scaling|instances|all" >&2; exit 2 ;;
 esac
 BENCH=${BENCH:-.device/run glslppm-bench}
 OUT=${OUT:-$PWD/out/device-bench}
@@ -85,6 +85,25 @@ run_scaling() {
   done
 }
 
+run_instances() {
+  # docs/instancing.md: 10,000 instances of a 100k-triangle mesh (1 G instanced triangles)
+  # against the mesh once, both paths; then the flattening rule's crossover (both paths at
+  # 1M to 100M instanced triangles, where the flattened copy still fits).
+  local d=$OUT/instances
+  for mode in flattened two-level; do
+    bench "$d/mesh_once.jsonl" 120 passes --scene instances:1x100k --instancing $mode \
+      --width 1024 --height 1024 --photons 1048576 --passes 200
+  done
+  bench "$d/instances_10000.jsonl" 300 passes --scene instances:10000x100k \
+    --width 1024 --height 1024 --photons 1048576 --passes 200
+  for scene in instances:64x1k instances:256x4k instances:100x100k instances:1000x100k; do
+    for mode in flattened two-level; do
+      bench "$d/rule.jsonl" 180 passes --scene $scene --instancing $mode \
+        --width 1024 --height 1024 --photons 1048576 --passes 100
+    done
+  done
+}
+
 run_converge() {
   local d=$OUT/converge refs=$OUT/converge/references
   # Cornell box, 512^2: a 100k-pass exact-hash reference (about 100 s), then 4,096 passes of
@@ -109,6 +128,7 @@ case "$mode" in
   passes) run_passes ;;
   scaling) run_scaling ;;
   converge) run_converge ;;
+  instances) run_instances ;;
   all) run_rays; run_passes; run_scaling; run_converge ;;
 esac
 echo "device-bench $mode: $failures failed runs; results under $OUT"

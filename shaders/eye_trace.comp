@@ -52,7 +52,13 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
+#ifdef RNG_PCG
+    // The pixel's stream is its index in the whole frame: a tile or render region draws the
+    // numbers the whole frame's render draws there.
+    RNG_STATE rng = rng_load(frame_first_pixel + (i / image_width) * frame_width + i % image_width);
+#else
     RNG_STATE rng = rng_load(i);
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
     // The light sample's numbers come first, so that draws only some variants make (the
     // lens) do not change them: every variant of a scene renders the same image.
@@ -136,7 +142,7 @@ void main() {
 #ifdef DIRECT_LIGHT_SAMPLED
             direct += throughput * direct_light_sampled_lobes(s.position, s.geometric_normal, sh,
                                                               wo, p_smooth > 0.0, light_pick,
-                                                              light_u, rays);
+                                                              light_u, u_dir, rays);
 #endif
             break;
         }

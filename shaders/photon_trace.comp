@@ -21,7 +21,12 @@ void main() {
     uint i = thread_index();
     if (i >= photon_threads) return;
     uint state_index = image_width * image_height + i;
+#ifdef RNG_PCG
+    // Streams after the whole frame's pixels: every tile of a frame traces the same photons.
+    RNG_STATE rng = rng_load(frame_pixels + i);
+#else
     RNG_STATE rng = rng_load(state_index);
+#endif
 
     vec4 p0 = photon_paths[3 * i + 0];
     vec3 origin = p0.xyz;

@@ -10,8 +10,6 @@ import os
 # GPU bytes per pixel: visible points (3 vec4), statistics (2), direct light (2), film (1)
 # and a generator state (1).
 GPU_PER_PIXEL = (3 + 2 + 2 + 1 + 1) * 16
-# The one buffer that grows fastest with the image (visible points).
-LARGEST_PER_PIXEL = 3 * 16
 # GPU bytes per photon thread: paths (3 vec4), photons (3), generator state (1), the sorted
 # indices of the exact hash (1 uint); hash cells come on top (next power of two >= 2x).
 GPU_PER_PHOTON = (3 + 3 + 1) * 16 + 4
@@ -34,7 +32,9 @@ def estimate(width, height, photons_per_pass, views=1):
     pixels = width * height
     hash_cells = next_power_of_two(max(2 * photons_per_pass, 1024))
     gpu = pixels * GPU_PER_PIXEL + photons_per_pass * GPU_PER_PHOTON + hash_cells * HASH_CELL
-    largest = max(pixels * LARGEST_PER_PIXEL, photons_per_pass * 3 * 16, hash_cells * HASH_CELL)
+    # The per-pixel buffers are not among them: a frame whose visible points exceed one
+    # buffer renders as image tiles (the module's plan_tiles).
+    largest = max(photons_per_pass * 3 * 16, hash_cells * HASH_CELL)
     host = views * pixels * HOST_PER_PIXEL + photons_per_pass * HOST_PER_PHOTON
     return {"gpu": gpu, "largest_buffer": largest, "host": host}
 

@@ -16,7 +16,9 @@ def native_scene(native, data):
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
         lights=lights, camera=camera, environment=tuple(data.environment),
         textures=textures, environment_texture=data.environment_texture,
-        environment_to_world=data.environment_to_world)
+        environment_to_world=data.environment_to_world,
+        instance_meshes=data.instance_meshes or None, instances=data.instances,
+        instance_mesh=data.instance_mesh)
 
 
 def film_options(scene):
@@ -50,16 +52,8 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
+        glossy_threshold=settings.glossy_threshold,
+        instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,
-        seed=(settings.seed + seed_offset) % (2**31))
-
-
-def native_renderer(native, scene, settings, width, height, seed_offset=0, film=None,
-                    device=None, cancel=None):
-    """A Renderer for scene (a native Scene) with settings (scene.glslppm). The radius
-    scale multiplies the module's automatic radius (it is ignored with an absolute one).
-    cancel (a native CancelFlag) set from another thread stops construction:
-    native.Cancelled."""
-    return native.Renderer(scene, native_settings(native, settings, width, height,
-                                                  seed_offset, film=film, device=device),
-                           cancel=cancel)
+        seed=(settings.seed + seed_offset) % (2**31),
+        max_block_bytes=settings.max_block_bytes)

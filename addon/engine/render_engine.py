@@ -21,7 +21,7 @@ from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_device, render_devices
 from . import memory
 from .cancellable import StageClock, call_cancellable
-from .native_scene import film_options, native_renderer, native_scene
+from .native_scene import film_options, native_scene, native_settings
 from .progressive import DisplayClock, PassSchedule, stats_line
 from . import viewport
 
@@ -42,10 +42,12 @@ class GlslppmEngineMixin:
 
     passes_done = 0
     last_stats = {}
+    tile_progress = None  # (tile, tiles) while a frame renders as image tiles
     stage_clock = None
 
     def render(self, depsgraph):
         self.stage_clock = StageClock()
+        self.tile_progress = None
         try:
             self._render(depsgraph)
         except Exception as error:  # noqa: BLE001 - the last line of defence
@@ -103,7 +105,8 @@ class GlslppmEngineMixin:
             return
         for warning in data.warnings:
             self.report_to_user('WARNING', warning)
-        print(f"GLSLPPM: exported {data.triangle_count} triangles, {len(data.lights)} lights, "
+        print(f"GLSLPPM: exported {data.triangle_count} triangles, {data.instance_count} "
+              f"instances of {len(data.instance_meshes)} meshes, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
         film = film_options(scene)
@@ -132,10 +135,27 @@ class GlslppmEngineMixin:
                     view=(self.camera_model_matrix(camera, use_spherical_stereo=spherical),
                           self.camera_shift_x(camera, use_spherical_stereo=spherical)))
             label = f" ({view})" if view else ""
+            native_data = native_scene(native, data)
+            # Every chosen device, one worker each (PPPM); tiles too.
+            full = native_settings(native, settings, width, height, scene.frame_current,
+                                   film=film, device=devices)
+            try:
+                # Decided before anything is allocated: a frame whose visible points exceed
+                # the GPU's largest storage buffer renders as bands of rows.
+                tiles = native.plan_tiles(native_data, full)["tiles"]
+            except (native.GlslppmError, ValueError, RuntimeError) as error:
+                self._fail(f"the renderer could not start: {error}", width, height)
+                return
+            if len(tiles) > 1:
+                if not self._render_tiles(native, native_data, full, settings, tiles, width,
+                                          height, view, index == 0):
+                    return
+                continue
             self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
             self.stage_clock.enter("build")
-            renderer = self._build_renderer(native, data, settings, width, height,
-                                            scene.frame_current, film, devices)
+            renderer = self._build_renderer(
+                native, lambda flag: native.Renderer(native_data, full, cancel=flag),
+                width, height)
             if renderer is None:
                 if self.should_stop():
                     self._cancelled(width, height)
@@ -148,21 +168,56 @@ class GlslppmEngineMixin:
             finally:
                 renderer.close()
 
-    def _build_renderer(self, native, data, settings, width, height, frame, film, device):
-        """The native renderer, built on a worker thread that a cancel stops within
-        milliseconds (a 2M-triangle BVH takes seconds); None when cancelled or failed.
-        A driver's program compile cannot be interrupted: one still running after the
-        grace period is left to finish, and its renderer to the garbage collector."""
+    def _render_tiles(self, native, native_data, full, settings, tiles, width, height, view,
+                      warn):
+        """The frame as image tiles one after another, each a whole SPPM render of its
+        rows (its own photon passes, the whole frame's radius and random streams: the tiles
+        join without seams), streamed into the result as it finishes. False when cancelled
+        or failed before a tile was written (the result is then filled)."""
+        count = len(tiles)
+        for number, tile in enumerate(tiles, start=1):
+            if self.should_stop():
+                return number > 1
+            self.tile_progress = (number, count)
+            tile_data, tile_settings = native.tile_render_inputs(native_data, full, tile)
+            label = f"tile {number}/{count}" + (f" ({view})" if view else "")
+            self.update_stats("", f"GLSLPPM | {label}: building BVH and GL programs")
+            self.stage_clock.enter("build")
+            renderer = self._build_renderer(
+                native, lambda flag: native.Renderer(tile_data, tile_settings, cancel=flag),
+                width, height, written=number > 1)
+            if renderer is None:
+                if number == 1 and self.should_stop():
+                    self._cancelled(width, height)
+                return number > 1
+            if warn and number == 1:
+                for warning in renderer.stats().get("warnings", []):
+                    self.report_to_user('WARNING', warning)
+            try:
+                self._render_passes(native, renderer, settings, width, height, view,
+                                    tile=(tile, number, count))
+            finally:
+                renderer.close()
+        return True
+
+    def _build_renderer(self, native, make, width, height, written=False):
+        """The native renderer, make(cancel_flag), built on a worker thread that a cancel
+        stops within milliseconds (a 2M-triangle BVH takes seconds); None when cancelled or
+        failed. A driver's program compile cannot be interrupted: one still running after
+        the grace period is left to finish, and its renderer to the garbage collector.
+        written: tiles of the result are already written (a failure then only reports)."""
         flag = native.CancelFlag()
         try:
             renderer, stopped = call_cancellable(
-                lambda: native_renderer(native, native_scene(native, data), settings, width,
-                                        height, frame, film, device, cancel=flag),
-                self.should_stop, flag.set, grace=PASS_GRACE_SECONDS)
+                lambda: make(flag), self.should_stop, flag.set, grace=PASS_GRACE_SECONDS)
         except native.Cancelled:
             return None
         except (native.GlslppmError, ValueError, RuntimeError, TypeError) as error:
-            self._fail(f"the renderer could not start: {error}", width, height)
+            message = f"the renderer could not start: {error}"
+            if written:
+                self.report_to_user('ERROR', message)
+            else:
+                self._fail(message, width, height)
             return None
         if stopped:
             if renderer is not None:
@@ -170,10 +225,18 @@ class GlslppmEngineMixin:
             return None
         return renderer
 
-    def _render_passes(self, native, renderer, settings, width, height, view=""):
-        schedule = PassSchedule(settings.passes, settings.time_limit)
+    def _render_passes(self, native, renderer, settings, width, height, view="", tile=None):
+        """Passes into the result: the whole width x height image, or tile = ((x, y, w, h),
+        number, count) of it, y from the top, with its share of the time limit."""
+        prefix, x, y, share = "", 0, 0, 1
+        if tile is not None:
+            (x, top, tile_width, tile_height), number, count = tile
+            y = height - top - tile_height  # Blender's rows run from the bottom
+            width, height = tile_width, tile_height
+            prefix, share = f"Tile {number}/{count} | ", count
+        schedule = PassSchedule(settings.passes, settings.time_limit / share)
         clock = DisplayClock()
-        result = self.begin_result(0, 0, width, height, view=view)
+        result = self.begin_result(x, y, width, height, view=view)
         combined = result.layers[0].passes["Combined"]
         start = time.perf_counter()
         film_ok = False
@@ -200,9 +263,10 @@ class GlslppmEngineMixin:
                 self.passes_done = schedule.done
                 elapsed = time.perf_counter() - start
                 self.last_stats = renderer.stats()
-                self.update_stats("", "GLSLPPM | " + stats_line(schedule, self.last_stats,
-                                                                elapsed))
-                self.update_progress(schedule.progress(elapsed))
+                self.update_stats("", "GLSLPPM | " + prefix +
+                                  stats_line(schedule, self.last_stats, elapsed))
+                done_tiles = 0 if tile is None else tile[1] - 1
+                self.update_progress((done_tiles + schedule.progress(elapsed)) / share)
                 if clock.due(elapsed):
                     film_ok = self._write_film(renderer, combined)
                     self.update_result(result)
@@ -221,8 +285,8 @@ class GlslppmEngineMixin:
             if not film_ok:
                 _set_rect(combined, np.zeros((height, width, 4), dtype=np.float32))
             self.end_result(result)
-        print(f"GLSLPPM: {schedule.done} passes in {time.perf_counter() - start:.2f} s "
-              f"on {self.last_stats.get('renderer', '?')}")
+        print(f"GLSLPPM: {prefix}{schedule.done} passes in "
+              f"{time.perf_counter() - start:.2f} s on {self.last_stats.get('renderer', '?')}")
 
     # --- the rendered viewport (engine/viewport.py holds its session) ---
 

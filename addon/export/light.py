@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from ..compat import BLENDER_4
-from .material import _linked_node, socket_color, socket_value
+from .node_inputs import linked_node as _linked_node, socket_color, socket_value
 from .scene_data import LightData
 
 

@@ -1,60 +1,89 @@
-"""Material converter: a Blender material onto the renderer's closed material set
-(diffuse, specular conductor, smooth dielectric, each with optional emission).
+"""Material converter: a Blender material onto the renderer's lobes (diffuse, conductor,
+dielectric, plastic, translucent, transparent) and Mix materials that choose between them.
 
-One converter per shader node type (``SURFACE_CONVERTERS``). A material that
-cannot be mapped falls back to its viewport display colour with one warning;
-export never fails over a material.
+A material's node tree becomes a small tree: leaves are MaterialData of one lobe, inner
+nodes are ``Mix`` (the second part picked with probability equal to the factor, as
+Blender's Mix Shader Fac). ``flatten`` turns it into a list, root first, with mix
+indices into that list; the scene builder appends it to the material table and points
+the faces at the root. One converter per shader node type (``SURFACE_CONVERTERS``);
+Principled BSDF has its own file. A node without a counterpart renders as the material's
+viewport display colour with one warning naming the material and the node; export never
+fails over a material.
 
-An Image Texture node feeding a BSDF's colour (Principled Base Color, Diffuse, Glossy,
-Glass) becomes a texture: the material's colour is white and color_texture indexes
-the scene's TextureTable (the renderer multiplies colour by the texel at the hit's
-UV). Its Vector input is ignored (the mesh's render UV map is used) with a warning.
-Images on other inputs (emission) stand in as their mean colour, with a warning.
+Image Texture nodes become textures on colours (a BSDF's Color, Principled Base Color),
+on roughness, and on factors (Mix Shader Fac, Principled Metallic, Transmission, Alpha);
+images on other inputs (emission) stand in as their mean colour, with a warning.
+
+Add Shader: an Emission added to a BSDF is that BSDF emitting (exact). Two BSDFs added
+become a Mix of factor 0.5 whose parts have their weights doubled (colours and emission
+times 2), exact where a lobe is linear in its colour (Diffuse, Glossy, Glass,
+Translucent, Transparent) and warned where it is not (Principled's parts).
 """
 
 import math
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from .image import image_mean_color
+from .node_inputs import (clamp01, input_socket, linked_node, linked_output,
+                          socket_color, socket_color_texture, socket_scalar, socket_value)
 from .scene_data import MaterialData
 
-# A glossy lobe this rough or rougher is nearer to diffuse than to a mirror.
-ROUGH_AS_DIFFUSE = 0.5
-# Roughness below this renders as a perfect mirror without a warning.
-SMOOTH_ENOUGH = 0.05
-
 DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
+BLACK = MaterialData("diffuse", (0.0, 0.0, 0.0))
+# How deep Mix materials may nest (kMaxMixDepth in native/scene/scene.h).
+MAX_MIX_DEPTH = 8
+
+
+@dataclass(eq=False)
+class Mix:
+    """A Mix material under construction: b is picked with probability factor
+    (times the texture's channel), a otherwise."""
+    a: object
+    b: object
+    factor: float = 0.5
+    texture: int = -1
+    channel: str = "luminance"
+    mode: str = "constant"      # "constant", "fresnel" (IOR ior), "facing" (blend ior)
+    ior: float = 1.5
+    mean_texel: float = 0.5     # the texture's mean channel value (for the mean emission)
+
+
+def mix(a, b, factor, texture=-1, channel="luminance", mean_texel=0.5):
+    """Mix(a, b) with a constant or textured factor, or a or b alone where the factor
+    is 0 or a constant 1."""
+    if factor <= 0.0:
+        return a
+    if texture < 0 and factor >= 1.0:
+        return b
+    return Mix(a, b, min(max(factor, 0.0), 1.0), texture, channel, mean_texel=mean_texel)
 
 
 def convert_material(material, warn, textures=None):
-    """MaterialData for a material (None: Blender's default grey).
-    warn(message) collects a warning for the render report; textures is the scene's
-    TextureTable (None: images stand in as their mean colour)."""
+    """The material's entries, root first (mix indices relative to the list); None is
+    Blender's default grey. warn(message) collects a warning for the render report;
+    textures is the scene's TextureTable (None: images stand in as their mean colour)."""
     if material is None:
-        return DEFAULT_MATERIAL
+        return [DEFAULT_MATERIAL]
 
     def material_warn(message):
         warn(f"material '{material.name}': {message}")
 
     if not material.use_nodes or material.node_tree is None:
-        return MaterialData("diffuse", _clamp01(material.diffuse_color[:3]))
+        return [MaterialData("diffuse", clamp01(material.diffuse_color[:3]))]
     tree = material.node_tree
     output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
     if output is None:
         material_warn("no Material Output node; using the viewport display colour")
-        return _viewport_fallback(material)
-    surface = output.inputs["Surface"]
-    node = _linked_node(surface)
-    if node is None:
+        return [_viewport_fallback(material)]
+    if linked_node(output.inputs["Surface"]) is None:
         material_warn("nothing connected to the Material Output's Surface; rendering black")
-        return MaterialData("diffuse", (0.0, 0.0, 0.0))
-    converter = SURFACE_CONVERTERS.get(node.type)
-    if converter is None:
-        material_warn(f"the {node.bl_label or node.type} node is not supported; "
-                      "using the viewport display colour")
-        return _viewport_fallback(material)
-    return converter(node, _Inputs(material_warn, textures))
+        return [BLACK]
+    context = _Context(material_warn, textures, _viewport_fallback(material))
+    root = context.shader(output.inputs["Surface"])
+    if _depth(root) > MAX_MIX_DEPTH:
+        root = _limit_depth(root, MAX_MIX_DEPTH, material_warn)
+    return flatten(root)
 
 
 def volume_only(material):
@@ -67,23 +96,22 @@ def volume_only(material):
     if output is None:
         return False
     volume = output.inputs.get("Volume")
-    return (_linked_node(output.inputs["Surface"]) is None and volume is not None
-            and _linked_node(volume) is not None)
+    return (linked_node(output.inputs["Surface"]) is None and volume is not None
+            and linked_node(volume) is not None)
 
 
 def _viewport_fallback(material):
-    return MaterialData("diffuse", _clamp01(material.diffuse_color[:3]))
+    return MaterialData("diffuse", clamp01(material.diffuse_color[:3]))
 
 
-# Node converters: each maps one shader node to MaterialData.
+class _Context:
+    """What a node converter needs besides the node: the warning sink, the textures and
+    the fallback. Calling it warns (converters read as before: warn(message))."""
 
-class _Inputs:
-    """What a node converter needs besides the node: the warning sink and the textures.
-    Calling it warns (converters read as before: warn(message))."""
-
-    def __init__(self, warn, textures):
+    def __init__(self, warn, textures, fallback):
         self.warn = warn
         self.textures = textures
+        self.fallback = fallback
 
     def __call__(self, message):
         self.warn(message)
@@ -92,57 +120,201 @@ class _Inputs:
         """(rgb, texture index or -1) of a BSDF colour input."""
         return socket_color_texture(socket, self.warn, self.textures, clamp)
 
+    def value(self, socket):
+        return socket_value(socket, self.warn)
 
-def _principled(node, warn):
-    base, texture = warn.color(_input(node, "Base Color"))
-    metallic = socket_value(_input(node, "Metallic"), warn)
-    transmission = socket_value(_input(node, "Transmission Weight", "Transmission"), warn)
-    roughness = socket_value(_input(node, "Roughness"), warn)
-    ior = socket_value(_input(node, "IOR"), warn)
-    emission = _emission(node, "Emission Color", "Emission", warn)
-    alpha = socket_value(_input(node, "Alpha"), warn)
-    if alpha < 1.0:
-        warn(f"alpha {alpha:.2f} is not supported; rendering opaque")
-    glass = transmission >= 0.5
-    _warn_partial(warn, "transmission", transmission, "glass" if glass else "opaque")
-    if glass:
-        _warn_rough(warn, roughness, "smooth glass")
-        return MaterialData("dielectric", base, _ior(ior), emission, texture)
-    metal = metallic >= 0.5
-    _warn_partial(warn, "metallic", metallic, "metal" if metal else "non-metal")
-    if metal:
-        return replace(_specular_reflector(base, roughness, emission, warn),
-                       color_texture=texture)
-    return MaterialData("diffuse", base, _ior(ior), emission, texture)
+    def value_color(self, node, name):
+        """The RGB of node's colour input name (white where the node has none)."""
+        socket = input_socket(node, name)
+        return (1.0, 1.0, 1.0) if socket is None else socket_color(socket, self.warn,
+                                                                   clamp=False)
+
+    def scalar(self, socket):
+        """(value, texture index or -1, channel) of a float input."""
+        return socket_scalar(socket, self.warn, self.textures)
+
+    def factor(self, socket):
+        """(value, texture, channel, mean texel) of a factor input in [0, 1]."""
+        value, texture, channel = self.scalar(socket)
+        mean = 0.5
+        if texture >= 0:
+            node = linked_node(socket)
+            while node is not None and node.type != 'TEX_IMAGE':
+                node = linked_node(node.inputs[0])
+            if node is not None:
+                mean = _mean_channel(node.image, channel, self.warn)
+        return min(max(value, 0.0), 1.0), texture, channel, mean
+
+    def roughness(self, socket):
+        """Keyword arguments of a roughness input: roughness and its texture."""
+        value, texture, channel = self.scalar(socket)
+        return {"roughness": min(max(value, 0.0), 1.0), "roughness_texture": texture,
+                "roughness_channel": channel}
+
+    def shader(self, socket):
+        """The tree of the shader node feeding socket (an unlinked shader input is
+        black, as in Cycles)."""
+        node = linked_node(socket)
+        if node is None:
+            return BLACK
+        converter = SURFACE_CONVERTERS.get(node.type)
+        if converter is None:
+            self.warn(f"the {node.bl_label or node.type} node '{node.name}' is not "
+                      "supported; using the viewport display colour")
+            return self.fallback
+        return converter(node, self)
 
 
-def _diffuse(node, warn):
-    color, texture = warn.color(node.inputs["Color"])
+def _mean_channel(image, channel, warn):
+    r, g, b = image_mean_color(image, (0.5, 0.5, 0.5), lambda message: None)
+    return {"red": r, "green": g, "blue": b, "alpha": 1.0}.get(
+        channel, 0.2126 * r + 0.7152 * g + 0.0722 * b)
+
+
+# Node converters: each maps one shader node to a tree.
+
+def _diffuse(node, context):
+    color, texture = context.color(node.inputs["Color"])
+    roughness = socket_value(input_socket(node, "Roughness"), context)
+    if roughness > 0.0:
+        context(f"Diffuse BSDF '{node.name}': Oren-Nayar roughness {roughness:.2f} is "
+                "rendered as Lambert")
     return MaterialData("diffuse", color, color_texture=texture)
 
 
-def _glossy(node, warn):
-    color, texture = warn.color(node.inputs["Color"])
-    roughness = socket_value(node.inputs["Roughness"], warn)
-    return replace(_specular_reflector(color, roughness, (0.0, 0.0, 0.0), warn),
-                   color_texture=texture)
+# Blender's microfacet distributions: (multiscatter, mapped onto GGX with a warning).
+_DISTRIBUTIONS = {'SHARP': (False, False), 'GGX': (False, False),
+                  'MULTI_GGX': (True, False), 'BECKMANN': (False, True),
+                  'ASHIKHMIN_SHIRLEY': (False, True)}
 
 
-def _glass(node, warn):
-    color, texture = warn.color(node.inputs["Color"])
-    _warn_rough(warn, socket_value(node.inputs["Roughness"], warn), "smooth glass")
-    return MaterialData("dielectric", color, _ior(socket_value(node.inputs["IOR"], warn)),
-                        color_texture=texture)
+def distribution(node, context):
+    """multiscatter for a node's distribution, warning where it is not GGX."""
+    name = getattr(node, "distribution", 'GGX')
+    multiscatter, approximated = _DISTRIBUTIONS.get(name, (False, True))
+    if approximated:
+        context(f"{node.bl_label} '{node.name}': the {name.replace('_', '-').title()} "
+                "distribution is rendered as GGX")
+    return multiscatter
 
 
-def _refraction(node, warn):
-    warn("Refraction BSDF rendered as glass (with Fresnel reflection)")
-    return _glass(node, warn)
+def _roughness_of(node, context):
+    if getattr(node, "distribution", None) == 'SHARP':
+        return {"roughness": 0.0}
+    return context.roughness(node.inputs["Roughness"])
 
 
-def _emission_node(node, warn):
-    emission = _emission(node, "Color", None, warn, strength_name="Strength")
-    return MaterialData("diffuse", (0.0, 0.0, 0.0), 1.5, emission)
+def _warn_anisotropy(node, context, name="Anisotropy"):
+    socket = input_socket(node, name)
+    if socket is not None and (socket.is_linked or socket.default_value != 0.0):
+        context(f"{node.bl_label} '{node.name}': anisotropy is not supported; "
+                "rendering isotropic")
+
+
+def _glossy(node, context):
+    color, texture = context.color(node.inputs["Color"])
+    _warn_anisotropy(node, context)
+    return MaterialData("conductor", color, color_texture=texture,
+                        multiscatter=distribution(node, context),
+                        **_roughness_of(node, context))
+
+
+def _glass(node, context):
+    color, texture = context.color(node.inputs["Color"])
+    return MaterialData("dielectric", color, _ior(context.value(node.inputs["IOR"])),
+                        color_texture=texture, tint_reflection=True,
+                        multiscatter=distribution(node, context),
+                        **_roughness_of(node, context))
+
+
+def _refraction(node, context):
+    context(f"Refraction BSDF '{node.name}' is rendered as glass (with Fresnel reflection)")
+    return _glass(node, context)
+
+
+def _translucent(node, context):
+    color, texture = context.color(node.inputs["Color"])
+    return MaterialData("translucent", color, color_texture=texture)
+
+
+def _transparent(node, context):
+    return MaterialData("transparent", context.color(node.inputs["Color"])[0])
+
+
+def _emission_node(node, context):
+    return MaterialData("diffuse", (0.0, 0.0, 0.0), 1.5,
+                        emission(node, "Color", None, context, strength_name="Strength"))
+
+
+def _mix_shader(node, context):
+    a = context.shader(node.inputs[1])
+    b = context.shader(node.inputs[2])
+    fac = node.inputs[0]
+    source, output = linked_output(fac)
+    if source is not None and source.type == 'FRESNEL':
+        _warn_normal(source, context)
+        return Mix(a, b, mode="fresnel", ior=_ior(context.value(source.inputs["IOR"])))
+    if source is not None and source.type == 'LAYER_WEIGHT':
+        _warn_normal(source, context)
+        blend = min(max(context.value(source.inputs["Blend"]), 0.0), 1.0)
+        if output.name == "Facing":
+            return Mix(a, b, mode="facing", ior=blend)
+        # Layer Weight's Fresnel is the Fresnel node's with IOR 1 / (1 - blend).
+        return Mix(a, b, mode="fresnel", ior=1.0 / max(1.0 - blend, 1e-5))
+    value, texture, channel, mean = context.factor(fac)
+    return mix(a, b, value, texture, channel, mean)
+
+
+def _warn_normal(node, context):
+    socket = input_socket(node, "Normal")
+    if socket is not None and socket.is_linked:
+        context(f"the Normal input of {node.bl_label} '{node.name}' is ignored")
+
+
+def _add_shader(node, context):
+    a = context.shader(node.inputs[0])
+    b = context.shader(node.inputs[1])
+    for emitter, other in ((a, b), (b, a)):
+        if _emission_only(emitter):
+            return with_emission(other, emitter.emission)
+
+    def approximate():
+        context(f"Add Shader '{node.name}': a Principled BSDF's weight doubled is "
+                "approximated (its specular layer is not scaled)")
+
+    return Mix(_scaled(a, 2.0, approximate), _scaled(b, 2.0, approximate), 0.5)
+
+
+def _emission_only(tree):
+    return (isinstance(tree, MaterialData) and tree.kind == "diffuse" and
+            max(tree.color) == 0.0 and tree.color_texture < 0)
+
+
+def with_emission(tree, radiance):
+    """tree with radiance added to each of its leaves (a new tree)."""
+    if isinstance(tree, Mix):
+        return replace(tree, a=with_emission(tree.a, radiance),
+                       b=with_emission(tree.b, radiance))
+    return replace(tree, emission=tuple(e + r for e, r in zip(tree.emission, radiance)))
+
+
+def _scaled(tree, k, approximate):
+    """tree with its weight times k: colours and emission scaled."""
+    if isinstance(tree, Mix):
+        return replace(tree, a=_scaled(tree.a, k, approximate),
+                       b=_scaled(tree.b, k, approximate))
+    linear = (tree.kind in ("diffuse", "translucent", "transparent") or
+              (tree.kind == "conductor" and not tree.schlick) or
+              (tree.kind == "dielectric" and tree.tint_reflection))
+    if not linear:
+        approximate()
+    return replace(tree, color=tuple(k * c for c in tree.color),
+                   emission=tuple(k * e for e in tree.emission))
+
+
+def _principled(node, context):
+    from .principled import convert_principled
+    return convert_principled(node, context)
 
 
 SURFACE_CONVERTERS = {
@@ -152,24 +324,19 @@ SURFACE_CONVERTERS = {
     'BSDF_ANISOTROPIC': _glossy,     # 3.x
     'BSDF_GLASS': _glass,
     'BSDF_REFRACTION': _refraction,
+    'BSDF_TRANSLUCENT': _translucent,
+    'BSDF_TRANSPARENT': _transparent,
     'EMISSION': _emission_node,
+    'MIX_SHADER': _mix_shader,
+    'ADD_SHADER': _add_shader,
 }
 
 
-def _specular_reflector(color, roughness, emission, warn):
-    """Glossy reflection: a mirror when smooth; the nearest supported lobe when rough."""
-    if roughness >= ROUGH_AS_DIFFUSE:
-        warn(f"roughness {roughness:.2f} is not supported; rendering as diffuse")
-        return MaterialData("diffuse", color, 1.5, emission)
-    _warn_rough(warn, roughness, "a mirror")
-    return MaterialData("conductor", color, 1.5, emission)
-
-
-def _emission(node, color_name, old_color_name, warn, strength_name="Emission Strength"):
+def emission(node, color_name, old_color_name, warn, strength_name="Emission Strength"):
     """Radiance = colour × strength. Principled's colour input is "Emission" in 3.x and
     "Emission Color" in 4.x (where it defaults to white with strength 0)."""
-    color_socket = _input(node, color_name, old_color_name)
-    strength_socket = _input(node, strength_name)
+    color_socket = input_socket(node, color_name, old_color_name)
+    strength_socket = input_socket(node, strength_name)
     strength = socket_value(strength_socket, warn) if strength_socket is not None else 1.0
     if strength <= 0.0 or color_socket is None:
         return (0.0, 0.0, 0.0)
@@ -177,99 +344,85 @@ def _emission(node, color_name, old_color_name, warn, strength_name="Emission St
     return tuple(max(0.0, c * strength) for c in color)
 
 
-def _warn_partial(warn, name, value, rendered_as):
-    if 0.01 < value < 0.99:
-        warn(f"{name} {value:.2f} rendered as {rendered_as}")
-
-
-def _warn_rough(warn, roughness, rendered_as):
-    if roughness > SMOOTH_ENOUGH:
-        warn(f"roughness {roughness:.2f} rendered as {rendered_as}")
-
-
 def _ior(ior):
     return float(ior) if math.isfinite(ior) and ior > 0.0 else 1.5
 
 
-# Socket values: unlinked defaults, constants and (for colours) image textures.
+# The tree as the module's list.
 
-def _input(node, *names):
-    for name in names:
-        if name is not None and name in node.inputs:
-            return node.inputs[name]
-    return None
-
-
-def _linked_node(socket):
-    """The node feeding a socket, through reroutes; None when unlinked or muted."""
-    while socket is not None and socket.is_linked:
-        link = socket.links[0]
-        if not link.is_valid or link.is_muted:
-            return None
-        node = link.from_node
-        if node.type != 'REROUTE':
-            return None if node.mute else node
-        socket = node.inputs[0]
-    return None
+def _expected_factor(node):
+    """The factor's mean: the constant times the texture's mean, or Fresnel / Layer
+    Weight's facing averaged over cosine-weighted directions (for the emission a mix
+    starts photons with; what the eye sees is the leaf's own)."""
+    if node.mode == "constant":
+        return node.factor * (node.mean_texel if node.texture >= 0 else 1.0)
+    if node.mode == "facing":
+        blend = min(node.ior, 1.0 - 1e-5)
+        b = 2.0 * blend if blend < 0.5 else 0.5 / (1.0 - blend)
+        return 1.0 - 2.0 / (b + 2.0)
+    steps = 64
+    return sum(2.0 * c * _fresnel(c, node.ior) / steps
+               for c in ((i + 0.5) / steps for i in range(steps)))
 
 
-def socket_color_texture(socket, warn, textures, clamp=True):
-    """(rgb, texture index) of a colour input: an Image Texture node becomes a texture
-    (rgb white, since the renderer multiplies them); anything else is socket_color."""
-    node = _linked_node(socket)
-    if textures is None or node is None or node.type != 'TEX_IMAGE':
-        return socket_color(socket, warn, clamp), -1
-    if node.inputs["Vector"].is_linked:
-        warn(f"the Vector input of image texture '{node.name}' is ignored; "
-             "using the mesh's render UV map")
-    if node.projection != 'FLAT':
-        warn(f"image texture '{node.name}': {node.projection.title()} projection is "
-             "rendered as Flat (UV)")
-    index = textures.index(node.image, node.extension, warn)
-    if index < 0:
-        return socket_color(socket, warn, clamp, linked=False), -1
-    return (1.0, 1.0, 1.0), index
+def _fresnel(cos_i, ior):
+    """Unpolarized Fresnel reflectance of a dielectric of relative index ior."""
+    sin2_t = (1.0 - cos_i * cos_i) / (ior * ior)
+    if sin2_t >= 1.0:
+        return 1.0
+    cos_t = math.sqrt(1.0 - sin2_t)
+    rs = (cos_i - ior * cos_t) / (cos_i + ior * cos_t)
+    rp = (ior * cos_i - cos_t) / (ior * cos_i + cos_t)
+    return 0.5 * (rs * rs + rp * rp)
 
 
-def socket_color(socket, warn, clamp=True, linked=True):
-    """A colour input's RGB: its default, an RGB node's colour, or an image's mean."""
-    color = tuple(socket.default_value[:3])
-    node = _linked_node(socket) if linked else None
-    if node is not None:
-        if node.type == 'RGB':
-            color = tuple(node.outputs[0].default_value[:3])
-        elif node.type in ('TEX_IMAGE', 'TEX_ENVIRONMENT'):
-            color = image_mean_color(node.image, color, warn)
+def _expected_emission(tree):
+    if isinstance(tree, Mix):
+        f = _expected_factor(tree)
+        ea, eb = _expected_emission(tree.a), _expected_emission(tree.b)
+        return tuple((1.0 - f) * x + f * y for x, y in zip(ea, eb))
+    return tree.emission
+
+
+def _depth(tree):
+    if isinstance(tree, Mix):
+        return 1 + max(_depth(tree.a), _depth(tree.b))
+    return 0
+
+
+def _limit_depth(tree, levels, warn):
+    """tree with at most `levels` Mix levels: deeper mixes become their more likely
+    part, with a warning."""
+    if not isinstance(tree, Mix):
+        return tree
+    if levels == 0:
+        warn(f"Mix shaders nest deeper than {MAX_MIX_DEPTH} levels; the deepest render "
+             "as their more likely shader")
+        likely = tree.b if _expected_factor(tree) >= 0.5 else tree.a
+        return _limit_depth(likely, 0, warn)
+    return replace(tree, a=_limit_depth(tree.a, levels - 1, warn),
+                   b=_limit_depth(tree.b, levels - 1, warn))
+
+
+def flatten(tree):
+    """The tree as MaterialData entries, root first; shared parts appear once."""
+    entries, index = [], {}
+
+    def visit(node):
+        key = id(node)
+        if key in index:
+            return index[key]
+        k = index[key] = len(entries)
+        entries.append(None)
+        if isinstance(node, Mix):
+            a, b = visit(node.a), visit(node.b)
+            entries[k] = MaterialData(
+                "mix", (0.0, 0.0, 0.0), emission=_expected_emission(node), mix_a=a, mix_b=b,
+                mix_factor=node.factor, mix_texture=node.texture, mix_channel=node.channel,
+                mix_mode=node.mode, mix_ior=node.ior)
         else:
-            warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
-                 "is not supported; using the input's own value")
-    if not all(math.isfinite(c) for c in color):
-        warn(f"'{socket.name}' is ({', '.join(f'{c:g}' for c in color)}); "
-             "using 0 for what is not a finite number")
-    return _clamp01(color) if clamp else tuple(_finite(c) for c in color)
+            entries[k] = node
+        return k
 
-
-def socket_value(socket, warn):
-    """A float input's value: its default or a Value node's output."""
-    if socket is None:
-        return 0.0
-    value = socket.default_value
-    node = _linked_node(socket)
-    if node is not None:
-        if node.type == 'VALUE':
-            value = node.outputs[0].default_value
-        else:
-            warn(f"'{socket.name}' is driven by a {node.bl_label or node.type} node, which "
-                 "is not supported; using the input's own value")
-    if not math.isfinite(value):
-        warn(f"'{socket.name}' is {value:g}; using 0")
-    return _finite(value)
-
-
-def _finite(value):
-    value = float(value)
-    return value if math.isfinite(value) else 0.0
-
-
-def _clamp01(color):
-    return tuple(min(1.0, max(0.0, _finite(c))) for c in color)
+    visit(tree)
+    return entries

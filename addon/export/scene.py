@@ -2,8 +2,11 @@
 hands each instance to the converter for its kind (mesh, light), then adds the
 camera and the world.
 
-Mesh data is read once per evaluated object and placed once per instance, so a
-thousand instances of one mesh cost one read and a thousand numpy transforms.
+Mesh data is read once per evaluated object. Objects placed as themselves become
+world-space triangles; instances (geometry nodes, particles, collection instances) are
+exported by mesh: each mesh once in object space, and a row of the instance table (its
+matrix and mesh) per instance, so ten thousand instances cost one read and ten thousand
+matrices. The renderer traces them through a two-level MTBVH or flattens them.
 """
 
 import math
@@ -62,6 +65,7 @@ class SceneBuilder:
         self._uvs = []
         self._material_ids = []
         self._material_index = {}
+        self._material_size = {}
         self.materials = []
         self.lights = []
         self.warnings = []
@@ -69,6 +73,10 @@ class SceneBuilder:
         self.dropped_triangles = 0
         self.textures = TextureTable(self.warn)
         self.check_cancel = CancelPoll(None)
+        self.instance_meshes = []
+        self._instance_mesh_index = {}
+        self._instance_matrices = []
+        self._instance_mesh_ids = []
 
     def warn(self, message):
         """Keeps each distinct warning once (one per material, not per instance)."""
@@ -77,13 +85,25 @@ class SceneBuilder:
             self.warnings.append(message)
 
     def material_id(self, key, make):
-        """Index of a material in the table, converting it the first time it is seen."""
+        """Index of a material's root in the table, converting it the first time it is
+        seen. make() returns the material's entries, root first, their mix indices
+        relative to that list; they are appended with the indices rebased."""
         index = self._material_index.get(key)
         if index is None:
             index = len(self.materials)
-            self.materials.append(make())
+            entries = make()
+            self.materials.extend(
+                replace(m, mix_a=m.mix_a + index, mix_b=m.mix_b + index)
+                if m.kind == "mix" else m for m in entries)
             self._material_index[key] = index
+            self._material_size[index] = len(entries)
         return index
+
+    def material_textured(self, index):
+        """True when the material rooted at index (or one of its mixed parts) reads a
+        texture."""
+        return any(m.textured()
+                   for m in self.materials[index:index + self._material_size[index]])
 
     def add_light(self, light):
         self.lights.append(light)
@@ -114,6 +134,27 @@ class SceneBuilder:
         self._normals.append(normals)
         self._uvs.append(uvs)
         self._material_ids.append(np.ascontiguousarray(material_ids))
+
+    def add_instance(self, key, matrix, make_mesh):
+        """One instance of the mesh cached under key, converted by make_mesh() (a dict of
+        object-space arrays, or None when it has no triangles) the first time."""
+        index = self._instance_mesh_index.get(key)
+        if index is None:
+            mesh = make_mesh()
+            index = self._instance_mesh_index[key] = -1 if mesh is None else len(
+                self.instance_meshes)
+            if mesh is not None:
+                self.instance_meshes.append(mesh)
+        if index >= 0:
+            self._instance_matrices.append(matrix)
+            self._instance_mesh_ids.append(index)
+
+    def instance_table(self):
+        """((N, 4, 4) float32 matrices, (N,) uint32 mesh indices), or (None, None)."""
+        if not self._instance_mesh_ids:
+            return None, None
+        return (np.ascontiguousarray(self._instance_matrices, dtype=np.float32),
+                np.array(self._instance_mesh_ids, dtype=np.uint32))
 
     def geometry(self):
         """(positions, indices, normals or None, uvs or None, material_ids), concatenated.
@@ -179,8 +220,12 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                           getattr(obj, "visible_camera", True))
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
-            _export_object_instance(obj, np.array(instance.matrix_world), builder,
-                                    geometry_cache)
+            if instance.is_instance:
+                _export_instance(obj, np.array(instance.matrix_world, dtype=np.float32),
+                                 builder, geometry_cache)
+            else:
+                _export_object_instance(obj, np.array(instance.matrix_world), builder,
+                                        geometry_cache)
         if obj.type == 'CURVES' and instance.show_self:
             _add_strands(obj, builder, [(0, curves_object(
                 obj, instance.matrix_world, budget, builder.warn))])
@@ -192,6 +237,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                                                     builder.warn))
     builder.check_cancel()
     positions, indices, normals, uvs, material_ids = builder.geometry()
+    instance_matrices, instance_mesh = builder.instance_table()
     builder.check_cancel()
     if camera is None:
         camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
@@ -215,8 +261,12 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         environment_texture=environment_texture,
         environment_to_world=environment_to_world,
         warnings=builder.warnings,
+        instance_meshes=builder.instance_meshes, instances=instance_matrices,
+        instance_mesh=instance_mesh,
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
+               "instance_table": 0 if instance_mesh is None else len(instance_mesh),
+               "instance_meshes": len(builder.instance_meshes),
                "dropped_triangles": builder.dropped_triangles})
 
 
@@ -248,6 +298,52 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
                           source=f"object '{obj.name}'")
 
 
+def _export_instance(obj, matrix, builder, geometry_cache):
+    """A row of the instance table; the object's mesh is read and converted once. Keyed by
+    the data's address: geometry-nodes instances of different geometry share one object
+    and one data name ('Mesh'), but not the data."""
+    key = (obj.name_full, obj.data.as_pointer() if obj.data is not None else 0)
+
+    def make_mesh():
+        cached = geometry_cache.get(key)
+        if cached is None:
+            cached = geometry_cache[key] = _read_object(obj, builder)
+        geometry, slot_materials = cached
+        return None if geometry is None else _instance_mesh(geometry, slot_materials, obj,
+                                                            builder)
+
+    builder.add_instance(key, matrix, make_mesh)
+
+
+def _instance_mesh(geometry, slot_materials, obj, builder):
+    """The module's instance mesh (object space, corners unshared) for a MeshGeometry;
+    triangles with non-finite corners dropped with a warning, as for world triangles."""
+    count = geometry.triangle_count
+    slots = np.clip(geometry.slot_indices, 0, len(slot_materials) - 1)
+    finite = np.isfinite(geometry.positions.reshape(count, 9)).all(axis=1)
+    if not finite.all():
+        dropped = int(count - finite.sum())
+        builder.dropped_triangles += dropped
+        builder.warn(f"object '{obj.name}': dropped {dropped} triangle(s) with NaN or "
+                     "infinite vertices")
+        geometry = geometry.subset(finite)
+        if geometry is None:
+            return None
+        slots = slots[finite]
+    normals = geometry.normals
+    if normals is not None and not np.isfinite(normals).all():
+        bad = ~np.isfinite(normals).all(axis=1)
+        normals = normals.copy()
+        normals[bad] = face_normals(geometry.positions)[bad]
+    count = geometry.triangle_count
+    return {"positions": np.ascontiguousarray(geometry.positions, dtype=np.float32),
+            "indices": np.arange(3 * count, dtype=np.uint32).reshape(count, 3),
+            "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
+            "uvs": (None if geometry.uvs is None
+                    else np.ascontiguousarray(geometry.uvs, np.float32)),
+            "material_ids": np.ascontiguousarray(slot_materials[slots], dtype=np.uint32)}
+
+
 def _add_strands(obj, builder, parts):
     """Adds (material slot, (positions, normals) or None) parts of hair, curves or points
     (world space) with the object's slot materials."""
@@ -269,16 +365,16 @@ def _slot_materials(obj, builder):
     materials, flagged so."""
     visibility = object_visibility(obj, builder.warn)
 
-    def flagged(material):
-        return replace(material, visible_to_camera=visibility.camera,
-                       casts_shadow=visibility.shadow)
+    def flagged(entries):
+        return [replace(material, visible_to_camera=visibility.camera,
+                        casts_shadow=visibility.shadow) for material in entries]
 
     slot_materials = np.array(
         [builder.material_id((_material_key(slot.material), visibility),
                              lambda slot=slot: flagged(convert_material(
                                  slot.material, builder.warn, builder.textures)))
          for slot in obj.material_slots] or
-        [builder.material_id((None, visibility), lambda: flagged(DEFAULT_MATERIAL))],
+        [builder.material_id((None, visibility), lambda: flagged([DEFAULT_MATERIAL]))],
         dtype=np.uint32)
     return slot_materials
 
@@ -287,7 +383,7 @@ def _read_object(obj, builder):
     """(object-space MeshGeometry or None, material table index per slot). UVs are read
     only when one of the object's materials has a texture."""
     slot_materials = _slot_materials(obj, builder)
-    need_uvs = any(builder.materials[i].color_texture >= 0 for i in slot_materials)
+    need_uvs = any(builder.material_textured(int(i)) for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "

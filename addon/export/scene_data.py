@@ -11,8 +11,10 @@ import numpy as np
 
 @dataclass
 class MaterialData:
-    """``_glslppm.Material``: kind is "diffuse", "conductor" or "dielectric";
-    emission is radiance (colour × strength)."""
+    """``_glslppm.Material``: kind is "diffuse", "conductor", "dielectric", "plastic",
+    "translucent", "transparent" or "mix"; emission is radiance (colour × strength).
+    A Blender material becomes a list of these, its root first, whose mix_a / mix_b
+    index that list (``SceneBuilder.material_id`` rebases them into the scene's table)."""
     kind: str = "diffuse"
     color: tuple = (0.8, 0.8, 0.8)
     ior: float = 1.5
@@ -20,6 +22,22 @@ class MaterialData:
     color_texture: int = -1          # index into SceneData.textures; colour x texel(uv)
     visible_to_camera: bool = True   # False: camera rays pass through
     casts_shadow: bool = True        # False: photons pass through (lighting it on the way)
+    roughness: float = 0.0           # Blender's roughness (GGX alpha = roughness^2)
+    roughness_texture: int = -1      # roughness x the texture's channel
+    roughness_channel: str = "luminance"
+    multiscatter: bool = True        # Blender's "Multiscatter GGX"; False: "GGX"
+    schlick: bool = False            # conductor: Schlick Fresnel from the colour
+    tint_reflection: bool = False    # dielectric: the colour tints reflection too
+    mix_a: int = -1                  # mix: the material picked with probability 1 - factor
+    mix_b: int = -1                  # mix: the one picked with probability factor
+    mix_factor: float = 0.5
+    mix_texture: int = -1            # factor x the texture's channel
+    mix_channel: str = "luminance"
+    mix_mode: str = "constant"       # "constant", "fresnel" (IOR mix_ior), "facing" (blend)
+    mix_ior: float = 1.5
+
+    def textured(self):
+        return max(self.color_texture, self.roughness_texture, self.mix_texture) >= 0
 
 
 @dataclass
@@ -91,18 +109,32 @@ class SceneData:
     environment_to_world: object = None  # float32 (4, 4) rotation of the map, or None
     warnings: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
+    # Instanced geometry (geometry nodes, particles, collection instances): each mesh once in
+    # object space (dicts of positions, indices, normals, uvs, material_ids as above), placed
+    # by (N, 4, 4) float32 matrices and (N,) uint32 mesh indices.
+    instance_meshes: list = field(default_factory=list)
+    instances: object = None
+    instance_mesh: object = None
 
     @property
     def triangle_count(self):
         return len(self.indices)
 
+    @property
+    def instance_count(self):
+        return 0 if self.instance_mesh is None else len(self.instance_mesh)
+
     def has_surfaces(self):
         """True when a camera ray can hit something: triangles or an area light."""
-        return self.triangle_count > 0 or any(light.kind == "area" for light in self.lights)
+        return (self.triangle_count > 0 or self.instance_count > 0 or
+                any(light.kind == "area" for light in self.lights))
 
     def emits_light(self):
         """True when something in the scene can light it."""
         if self.lights or max(self.environment) > 0.0:
             return True
         emissive = np.array([max(m.emission) > 0.0 for m in self.materials], dtype=bool)
-        return bool(len(self.material_ids) and emissive[self.material_ids].any())
+        if len(self.material_ids) and emissive[self.material_ids].any():
+            return True
+        return any(len(m["material_ids"]) and emissive[m["material_ids"]].any()
+                   for m in self.instance_meshes)

@@ -9,7 +9,7 @@ node's own colour with a warning; the render goes on.
 
 import numpy as np
 
-from .material import _linked_node, socket_color, socket_value
+from .node_inputs import linked_node as _linked_node, socket_color, socket_value
 from .sky import bake_sky
 
 BLACK = (0.0, 0.0, 0.0)

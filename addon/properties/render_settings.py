@@ -75,6 +75,10 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
             description="PPPM: the pass offset, the index of the first pass this render "
                         "runs; farm job k of n passes each sets k * n (glslppm-merge joins "
                         "the files)"),
+        "glossy_threshold": FloatProperty(
+            name="Glossy Threshold", default=0.2, min=0.0, max=1.0, precision=2,
+            description="Glossy and glass lobes smoother than this roughness are followed "
+                        "by the eye paths; rougher ones gather photons"),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "
@@ -86,6 +90,13 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "draws 2.5-4.4x faster (docs/rng.md)"),
                    ('PAPER', "Float (paper)", "The float-only generator of Hachisuka's GLSL "
                     "rendering system, as printed (fails dieharder's bit tests at 24 bits)"))),
+        "instancing": EnumProperty(
+            name="Instancing", default='AUTO',
+            items=(('AUTO', "Automatic", "Two-level MTBVH or flattened copy, whichever was "
+                    "measured faster for the scene's size (docs/instancing.md)"),
+                   ('TWO_LEVEL', "Two-Level", "Each instanced mesh once, a tree over the "
+                    "instances: memory for the meshes, not for every copy"),
+                   ('FLATTENED', "Flattened", "Every instance's triangles in world space"))),
         "device": IntProperty(
             name="Device Override", default=-1, min=-1, max=64,
             description="EGL device index for this scene only; -1 uses the device chosen "
@@ -98,6 +109,11 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
         "seed": IntProperty(
             name="Seed", default=0, min=0, max=INT_MAX,
             description="Random seed; renders with the same seed and settings repeat"),
+        "max_block_bytes": IntProperty(
+            name="Largest Pixel Buffer", default=0, min=0, max=INT_MAX,
+            description="Caps the per-pixel GPU buffers below the GPU's largest storage "
+                        "buffer (0: the GPU's own limit); a frame past it renders as image "
+                        "tiles. For tests: forces tiles on small images"),
     }
 
     def radius(self):

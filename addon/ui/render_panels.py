@@ -2,6 +2,9 @@
 
 import bpy
 
+from ..engine import device_speed
+from ..properties import preferences
+
 
 class GlslppmRenderPanel:
     bl_space_type = 'PROPERTIES'
@@ -24,10 +27,12 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         settings = context.scene.glslppm
         layout.operator_menu_enum("glslppm.apply_preset", "preset", text="Preset",
                                   icon='PRESET')
+        draw_device_speed(layout, context, settings)
         column = layout.column()
         column.prop(settings, "passes")
         column.prop(settings, "time_limit", text="Time Limit (s)")
         column.prop(settings, "direct_light")
+        column.prop(settings, "glossy_threshold")
         column.prop(settings, "estimator")
         if settings.estimator == 'PPPM':
             column.prop(settings, "first_pass")
@@ -38,6 +43,20 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "viewport_pixel_size", text="Pixel Size")
         column.prop(settings, "viewport_photons_per_pass", text="Photons per Pass")
         column.prop(settings, "preview_passes", text="Preview Passes")
+
+
+def draw_device_speed(layout, context, settings):
+    """The render device's measured rates, from which the presets size photons per pass."""
+    speed = device_speed.cached_device_speed(preferences.render_device(settings, context))
+    row = layout.row()
+    if speed is None:
+        row.label(text="Device speed: not measured yet", icon='INFO')
+    else:
+        column = row.column(align=True)
+        column.label(text=f"Device: {speed['renderer']}", icon='INFO')
+        column.label(text=f"{speed['photon_bounces_per_second'] / 1e6:.2f} M photon "
+                     f"bounces/s, {speed['eye_rays_per_second'] / 1e6:.2f} M eye rays/s")
+    row.operator("glslppm.measure_device_speed", text="", icon='FILE_REFRESH')
 
 
 class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
@@ -83,6 +102,7 @@ class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "hash_mode")
         column.prop(settings, "rng")
+        column.prop(settings, "instancing")
         if settings.device >= 0:  # set by a script or an older file
             column.prop(settings, "device")
         else:

@@ -1,6 +1,7 @@
 // glslppm-bench passes: end-to-end throughput (SPPM or PPPM, one or several devices) on a benchmark scene (--scene, default the
 // built-in Cornell box).
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -33,8 +34,13 @@ int bench_passes(int argc, char** argv) {
     }
     try {
         const float aspect = float(settings.width) / float(settings.height);
+        const auto setup_start = std::chrono::steady_clock::now();
         const Scene scene = make_bench_scene(scene_spec, aspect);
         Renderer renderer(scene, settings);
+        // Scene generation, validation, BVH build, GL set-up and compiles.
+        const double setup_seconds = std::chrono::duration<double>(
+                                         std::chrono::steady_clock::now() - setup_start)
+                                         .count();
         renderer.run(warmup);  // compiles lazily on some drivers; not timed
         const RenderStats before = renderer.stats();
         renderer.run(passes);
@@ -86,8 +92,14 @@ int bench_passes(int argc, char** argv) {
                               {"hash", st.hash_seconds * ms},
                               {"gather", st.gather_seconds * ms}}},
                 {"triangles", after.triangles},
+                {"instancing", after.instancing},
+                {"instancing_reason", after.instancing_reason},
+                {"instances", after.instances},
+                {"instanced_triangles", after.instanced_triangles},
                 {"gpu_bytes", after.gpu_bytes},
                 {"bvh_seconds", after.bvh_seconds},
+                {"bvh_bytes_per_triangle", after.bvh_bytes_per_triangle},
+                {"setup_seconds", setup_seconds},
                 {"renderer", after.renderer},
                 {"variant", after.variant},
                 {"devices", devices},
@@ -99,6 +111,11 @@ int bench_passes(int argc, char** argv) {
                         settings.width, settings.height, settings.photons_per_pass,
                         to_string(settings.hash).c_str(), to_string(settings.rng).c_str(),
                         to_string(settings.direct_light).c_str());
+            std::printf("  instancing %s (%s): %zu instances, %zu instanced triangles, %zu "
+                        "distinct; BVH %.3f s, GPU %zu bytes, set-up %.2f s\n",
+                        after.instancing.c_str(), after.instancing_reason.c_str(),
+                        after.instances, after.instanced_triangles, after.triangles,
+                        after.bvh_seconds, after.gpu_bytes, setup_seconds);
             std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s (%s)\n", passes / seconds,
                         photons / seconds * 1e-6, rays / seconds * 1e-6,
                         to_string(settings.estimator).c_str());

@@ -9,6 +9,7 @@
 #include "gl/device_list.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
+#include "scenes/instances_scene.h"
 #include "scenes/million_scene.h"
 #include "scenes/shapes.h"
 #if __has_include("loaders/scene_file.h")
@@ -102,6 +103,14 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
         options.triangles = parse_count(spec.substr(8));
         return make_million_scene(options);
     }
+    if (spec.rfind("instances:", 0) == 0) {
+        // instances:COUNTxTRIANGLES, e.g. instances:10000x100k
+        const std::string rest = spec.substr(10);
+        const std::size_t x = rest.find('x');
+        if (x == std::string::npos)
+            throw std::invalid_argument("--scene " + spec + ": expected instances:COUNTxTRIANGLES");
+        return make_instances_scene(parse_count(rest.substr(0, x)), parse_count(rest.substr(x + 1)));
+    }
     if (ends_with(spec, ".gltf") || ends_with(spec, ".glb") || ends_with(spec, ".obj")) {
 #ifdef GLSLPPM_HAS_SCENE_FILE
         LoadedScene loaded = load_scene_file(spec, aspect);
@@ -116,7 +125,7 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
     }
     throw std::invalid_argument("--scene '" + spec +
                                 "' is not cornell, cornell-diffuse, cornell-glossy, caustic, furnace, "
-                                "million[:N] "
+                                "million[:N], instances:NxM "
                                 "or a .gltf/.glb/.obj file");
 }
 
@@ -169,6 +178,7 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     }
     else if (a == "--estimator") settings.estimator = parse_estimator(text());
     else if (a == "--scene") scene_spec = text();
+    else if (a == "--instancing") settings.instancing = parse_instancing(text());
     else return false;
     return true;
 }

@@ -3,7 +3,9 @@
 // `caustic` (glass sphere over a floor), `million[:N]` (a field of bumpy spheres of about N
 // triangles, default 1M; `100k`, `4M` suffixes accepted), `furnace` (a closed box whose walls
 // all emit Le = 1 and reflect a = 0.5, seen from its centre: the radiance is known exactly,
-// see furnace_radiance), or a scene file (.gltf, .glb, .obj; native/loaders/scene_file.h).
+// see furnace_radiance), `instances:NxM` (N instances of one bumpy sphere of about M
+// triangles in the same room: scenes/instances_scene.h; instances:1xM is the mesh once), or
+// a scene file (.gltf, .glb, .obj; native/loaders/scene_file.h).
 // `aspect` is the render's width / height.
 #pragma once
 
@@ -34,7 +36,8 @@ double option_number(const std::string& option, int argc, char** argv, int& i);
 long long option_integer(const std::string& option, int argc, char** argv, int& i);
 
 // Reads one option that every end-to-end benchmark shares (--width, --height, --photons,
-// --hash, --rng, --direct, --device (N, N,M,... or all), --estimator, --scene) at argv[i], advancing i past its value; false when
+// --hash, --rng, --direct, --device (N, N,M,... or all), --estimator, --scene, --instancing) at
+// argv[i], advancing i past its value; false when
 // argv[i] is none of them.
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
                          std::string& scene_spec);

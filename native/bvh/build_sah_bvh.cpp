@@ -271,18 +271,23 @@ class Builder {
 
 }  // namespace
 
-Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
+namespace {
+
+void check_options(const BvhBuildOptions& options) {
     if (options.leaf_size < 1)
         throw std::invalid_argument("BVH leaf size must be at least 1, got " +
                                     std::to_string(options.leaf_size));
     if (options.bins < 2 || options.bins > 256)
         throw std::invalid_argument("BVH bins must be in 2..256, got " +
                                     std::to_string(options.bins));
-    Bvh bvh;
-    const auto n = static_cast<std::uint32_t>(mesh.kept.size());
-    if (n == 0) return bvh;
+}
 
-    // Triangle bounds, in two halves on two threads when parallel.
+// Fills refs[i] from box_of(i) for i < n (in two halves on two threads when parallel), then
+// builds: the part both overloads share.
+template <class BoxOf>
+Bvh build_over(std::uint32_t n, BoxOf box_of, const BvhBuildOptions& options) {
+    Bvh bvh;
+    if (n == 0) return bvh;
     std::vector<PrimRef> refs(n);
     auto fill = [&](std::uint32_t begin, std::uint32_t end) {
         Range r;
@@ -290,10 +295,8 @@ Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
         r.end = end;
         for (std::uint32_t i = begin; i < end; ++i) {
             if ((i & 0xFFFFu) == 0) throw_if_cancelled(options.cancel);
-            const std::uint32_t id = mesh.kept[i];
-            const glm::uvec3 tri = mesh.view.triangles[id];
-            const Aabb b = Aabb::of_triangle(mesh.view.positions[tri.x], mesh.view.positions[tri.y],
-                                             mesh.view.positions[tri.z]);
+            std::uint32_t id = 0;
+            const Aabb b = box_of(i, id);
             refs[i] = PrimRef{b.lo, id, b.hi, 0.0f};
             r.box.grow(b);
             r.centroids.grow(centroid2(refs[i]));
@@ -321,6 +324,33 @@ Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
     for (std::uint32_t i = 0; i < n; ++i) bvh.triangles[i] = refs[i].id;
     for (const BvhNode& node : bvh.nodes) bvh.leaf_count += node.is_leaf() ? 1 : 0;
     return bvh;
+}
+
+}  // namespace
+
+Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options) {
+    check_options(options);
+    const auto n = static_cast<std::uint32_t>(mesh.kept.size());
+    return build_over(
+        n,
+        [&](std::uint32_t i, std::uint32_t& id) {
+            id = mesh.kept[i];
+            const glm::uvec3 tri = mesh.view.triangles[id];
+            return Aabb::of_triangle(mesh.view.positions[tri.x], mesh.view.positions[tri.y],
+                                     mesh.view.positions[tri.z]);
+        },
+        options);
+}
+
+Bvh build_sah_bvh(std::span<const Aabb> boxes, const BvhBuildOptions& options) {
+    check_options(options);
+    return build_over(
+        static_cast<std::uint32_t>(boxes.size()),
+        [&](std::uint32_t i, std::uint32_t& id) {
+            id = i;
+            return boxes[i];
+        },
+        options);
 }
 
 }  // namespace glslppm

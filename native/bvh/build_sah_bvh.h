@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bvh/aabb.h"
@@ -47,5 +48,8 @@ struct Bvh {
 // Throws std::invalid_argument for leaf_size < 1 or bins outside 2..256, Cancelled when
 // options.cancel is set meanwhile.
 Bvh build_sah_bvh(const ValidMesh& mesh, const BvhBuildOptions& options);
+// The same over arbitrary boxes (the top level of a two-level BVH: one box per instance);
+// Bvh::triangles then holds box indices.
+Bvh build_sah_bvh(std::span<const Aabb> boxes, const BvhBuildOptions& options);
 
 }  // namespace glslppm

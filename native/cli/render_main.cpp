@@ -19,6 +19,7 @@
 #include "loaders/scene_file.h"
 #include "render/farm_merge.h"
 #include "render/renderer.h"
+#include "render/tiled_render.h"
 #include "scenes/cornell_box.h"
 
 using namespace glslppm;
@@ -63,6 +64,8 @@ std::string usage() {
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
         "                            (default %s; docs/direct_light.md says why)\n"
+        "  --instancing auto|two-level|flattened  how instances are traced (default %s;\n"
+        "                            docs/instancing.md)\n"
         "  --device N|N,M,...|all    EGL device index (default $GLSLPPM_DEVICE or the first GPU);\n"
         "                            several (or every GPU: all) run one worker each (pppm)\n"
         "  --estimator sppm|pppm     progressive per-pixel radii (SPPM) or a radius per pass\n"
@@ -73,11 +76,16 @@ std::string usage() {
         "                            camera gets one that frames the whole scene)\n"
         "  --environment FILE        equirectangular environment map (.hdr, .exr, .png, .jpg)\n"
         "  --environment-color R,G,B environment radiance (default 1,1,1 with a map, else 0)\n"
+        "  --max-block-bytes N       cap the per-pixel buffers below the GPU's largest storage\n"
+        "                            buffer (tests: forces image tiles on small images)\n"
         "  --out FILE.exr            write the image\n"
+        "  A frame whose visible points exceed one storage buffer renders as bands of rows,\n"
+        "  one after another, each with its own photon passes (--passes, not --seconds).\n"
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
-        to_string(d.direct_light).c_str(), to_string(d.estimator).c_str(),
+        to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
+        to_string(d.estimator).c_str(),
         static_cast<unsigned long long>(d.seed));
     return text;
 }
@@ -127,6 +135,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
+        else if (a == "--instancing") o.settings.instancing = parse_instancing(value());
         else if (a == "--device") {
             const std::vector<int> devices = gl::parse_device_list(value());
             o.settings.devices = devices.size() > 1 ? devices : std::vector<int>{};
@@ -135,6 +144,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--estimator") o.settings.estimator = parse_estimator(value());
         else if (a == "--first-pass") o.settings.first_pass = static_cast<std::uint64_t>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
+        else if (a == "--max-block-bytes") o.settings.max_block_bytes = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
         else if (a == "--json") o.json = true;
         else if (a == "--scene") o.scene_file = value();
@@ -199,38 +209,60 @@ int main(int argc, char** argv) {
     try {
         const Options o = parse(argc, argv);
         std::vector<std::string> warnings;
-        Renderer renderer(build_scene(o, warnings), o.settings);
+        const Scene scene = build_scene(o, warnings);
+        const TilePlan plan = plan_tiles(scene, o.settings);
         const bool terminal = isatty(STDERR_FILENO);
-        const auto start = std::chrono::steady_clock::now();
-        auto elapsed = [&] {
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        };
-        int done = 0, step = 1;
-        while (true) {
-            if (o.passes > 0 && done >= o.passes) break;
-            if (o.seconds > 0.0 && elapsed() >= o.seconds) break;
-            int n = step;
-            if (o.passes > 0) n = std::min(n, o.passes - done);
-            const double before = elapsed();
-            renderer.run(n);
-            done += n;
-            // Aim for about four progress updates a second.
-            const double took = elapsed() - before;
-            if (took < 0.125) step *= 2;
-            else if (took > 0.5 && step > 1) step /= 2;
-            if (terminal) {
-                const double f = o.passes > 0 ? double(done) / o.passes : elapsed() / o.seconds;
-                progress(std::min(1.0, f), renderer.stats());
+        RenderStats s;
+        std::vector<float> film;
+        if (plan.tiles.size() > 1) {
+            if (o.passes <= 0)
+                throw std::invalid_argument("a " + std::to_string(o.settings.width) + "x" +
+                                            std::to_string(o.settings.height) + " frame renders in " +
+                                            std::to_string(plan.tiles.size()) +
+                                            " tiles, each its own passes: give --passes");
+            TiledImage image = render_tiled(
+                scene, o.settings, o.passes, plan,
+                [&](std::size_t index, const Tile& tile, const std::vector<float>&) {
+                    std::fprintf(stderr, "tile %zu/%zu done (rows %d-%d)\n", index + 1,
+                                 plan.tiles.size(), tile.y, tile.y + tile.height - 1);
+                    return true;
+                });
+            s = image.stats;
+            film = std::move(image.rgba);
+        } else {
+            Renderer renderer(scene, o.settings);
+            const auto start = std::chrono::steady_clock::now();
+            auto elapsed = [&] {
+                return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            };
+            int done = 0, step = 1;
+            while (true) {
+                if (o.passes > 0 && done >= o.passes) break;
+                if (o.seconds > 0.0 && elapsed() >= o.seconds) break;
+                int n = step;
+                if (o.passes > 0) n = std::min(n, o.passes - done);
+                const double before = elapsed();
+                renderer.run(n);
+                done += n;
+                // Aim for about four progress updates a second.
+                const double took = elapsed() - before;
+                if (took < 0.125) step *= 2;
+                else if (took > 0.5 && step > 1) step /= 2;
+                if (terminal) {
+                    const double f = o.passes > 0 ? double(done) / o.passes : elapsed() / o.seconds;
+                    progress(std::min(1.0, f), renderer.stats());
+                }
             }
+            if (terminal) std::fputc('\n', stderr);
+            s = renderer.stats();
+            if (!o.out.empty()) film = renderer.film();
         }
-        if (terminal) std::fputc('\n', stderr);
-        const RenderStats s = renderer.stats();
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
             warnings.push_back(w);
         }
         if (!o.out.empty()) {
-            FloatImage image{o.settings.width, o.settings.height, renderer.film()};
+            FloatImage image{o.settings.width, o.settings.height, std::move(film)};
             std::map<std::string, std::string> attributes = farm_attributes(o.settings, s);
             attributes.insert(
                       {{"passes", std::to_string(s.passes)},
@@ -259,6 +291,9 @@ int main(int argc, char** argv) {
                 {"height", o.settings.height},
                 {"photons_per_pass", o.settings.photons_per_pass},
                 {"mean_radius", s.mean_radius},
+                {"gpu_bytes", s.gpu_bytes},
+                {"gpu_bytes_per_pixel", s.gpu_bytes_per_pixel},
+                {"tiles", s.tiles},
                 {"renderer", s.renderer},
                 {"variant", s.variant},
                 {"direct_light", s.direct_light},
@@ -266,6 +301,9 @@ int main(int argc, char** argv) {
                 {"pass_ranges", format_pass_ranges(s.pass_ranges)},
                 {"scene_hash", s.scene_hash},
                 {"devices", devices_json(s)},
+                {"instancing", s.instancing},
+                {"instances", s.instances},
+                {"instanced_triangles", s.instanced_triangles},
                 {"warnings", warnings},
             };
             std::printf("%s\n", out.dump().c_str());

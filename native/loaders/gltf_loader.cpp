@@ -31,6 +31,12 @@ struct Loader {
     LoadedScene& out;
     OwnedMesh& mesh;
     std::vector<int> parent;  // per node: the node that listed it first (-2: not reached)
+    // glTF node instancing: a mesh that several nodes use is read once, in its own space,
+    // into an instance mesh, and each node that uses it becomes an instance (nested nodes
+    // flattened to one level: the instance's matrix is the node's world matrix).
+    std::vector<int> mesh_users{};        // per glTF mesh: nodes that use it
+    std::vector<int> instance_mesh_of{};  // per glTF mesh: index into instance_meshes, or -1
+    std::vector<std::shared_ptr<OwnedMesh>> instance_meshes{};
     bool any_normals = false;
     bool any_uvs = false;
     int default_material = -1;
@@ -44,9 +50,13 @@ struct Loader {
 
     glm::mat4 local_transform(const tinygltf::Node& node, const std::string& element) const;
     void visit(int node, int from, const glm::mat4& parent_to_world, int depth);
+    void count_mesh_users(int node, int depth);
     void add_mesh(int mesh, const glm::mat4& to_world, const std::string& element);
+    void add_instance(int mesh, const glm::mat4& to_world, const std::string& element);
+    // Appends a primitive's triangles to `target`: the scene's mesh (world space) or an
+    // instance mesh (to_world the identity).
     void add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_world,
-                       const std::string& element);
+                       const std::string& element, OwnedMesh& target);
     void add_camera(int camera, const glm::mat4& to_world, const std::string& element);
     void add_light(const tinygltf::Node& node, const glm::mat4& to_world,
                    const std::string& element);
@@ -111,11 +121,26 @@ void Loader::visit(int index, int from, const glm::mat4& parent_to_world, int de
     if (depth > kMaxNodeDepth)
         fail(element, "is nested deeper than " + std::to_string(kMaxNodeDepth) + " levels");
     const glm::mat4 to_world = parent_to_world * local_transform(node, element);
-    if (node.mesh >= 0) add_mesh(node.mesh, to_world, element);
+    if (node.mesh >= 0) {
+        if (std::size_t(node.mesh) < mesh_users.size() && mesh_users[std::size_t(node.mesh)] > 1)
+            add_instance(node.mesh, to_world, element);
+        else
+            add_mesh(node.mesh, to_world, element);
+    }
     if (node.camera >= 0) add_camera(node.camera, to_world, element);
     if (node.extensions.count("KHR_lights_punctual")) add_light(node, to_world, element);
     if (node.skin >= 0) warn(element, "skinning is not supported: the bind pose is rendered");
     for (int child : node.children) visit(child, index, to_world, depth + 1);
+}
+
+// Counts the nodes that use each mesh, over the same nodes visit() reaches (errors in the
+// tree itself are left to visit(), which names them).
+void Loader::count_mesh_users(int index, int depth) {
+    if (index < 0 || std::size_t(index) >= model.nodes.size() || depth > kMaxNodeDepth) return;
+    const tinygltf::Node& node = model.nodes[std::size_t(index)];
+    if (node.mesh >= 0 && std::size_t(node.mesh) < mesh_users.size())
+        ++mesh_users[std::size_t(node.mesh)];
+    for (int child : node.children) count_mesh_users(child, depth + 1);
 }
 
 void Loader::add_mesh(int index, const glm::mat4& to_world, const std::string& element) {
@@ -126,7 +151,31 @@ void Loader::add_mesh(int index, const glm::mat4& to_world, const std::string& e
     for (std::size_t p = 0; p < m.primitives.size(); ++p)
         add_primitive(
             m.primitives[p], to_world,
-            "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]");
+            "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]", mesh);
+}
+
+void Loader::add_instance(int index, const glm::mat4& to_world, const std::string& element) {
+    const glm::mat3 linear(to_world);
+    if (!(std::abs(glm::determinant(glm::dmat3(linear))) > 0.0)) {
+        add_mesh(index, to_world, element);  // a flattening transform: no instance of it
+        return;
+    }
+    int& k = instance_mesh_of[std::size_t(index)];
+    if (k < 0) {
+        k = int(instance_meshes.size());
+        auto target = std::make_shared<OwnedMesh>();
+        const tinygltf::Mesh& m = model.meshes[std::size_t(index)];
+        for (std::size_t p = 0; p < m.primitives.size(); ++p)
+            add_primitive(
+                m.primitives[p], glm::mat4(1.0f),
+                "meshes[" + std::to_string(index) + "].primitives[" + std::to_string(p) + "]",
+                *target);
+        instance_meshes.push_back(target);
+    }
+    Instance inst;
+    inst.to_world = to_world;
+    inst.mesh = std::uint32_t(k);
+    out.scene.instances.push_back(inst);
 }
 
 std::uint32_t Loader::material_of(int material, const std::string& element) {
@@ -161,7 +210,7 @@ std::vector<glm::uvec3> assemble(const std::vector<std::uint32_t>& v, int mode) 
 }
 
 void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_world,
-                           const std::string& element) {
+                           const std::string& element, OwnedMesh& target) {
     const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
@@ -200,7 +249,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
              std::to_string(corners.size()) +
                  " indices are not a multiple of 3: the last incomplete triangle is dropped");
     std::vector<glm::uvec3> triangles = assemble(corners, mode);
-    if (mesh.triangles.size() + triangles.size() > kMaxTriangles)
+    if (target.triangles.size() + triangles.size() > kMaxTriangles)
         fail(element, "the scene exceeds " + std::to_string(kMaxTriangles) + " triangles");
 
     std::vector<float> normals, uvs;
@@ -225,7 +274,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
     const glm::mat3 linear(to_world);
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
     const bool mirrored = glm::determinant(linear) < 0.0f;
-    const std::size_t base = mesh.positions.size();
+    const std::size_t base = target.positions.size();
     if (base + vertex_count > 0xffffffffu) fail(element, "the scene exceeds 2^32 vertices");
     for (std::size_t v = 0; v < vertex_count; ++v) {
         const glm::vec3 world(to_world * glm::vec4(positions[3 * v], positions[3 * v + 1],
@@ -233,24 +282,24 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
         if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z))
             fail(element + ".attributes.POSITION",
                  "element " + std::to_string(v) + " is not finite once transformed");
-        mesh.positions.push_back(world);
+        target.positions.push_back(world);
         glm::vec3 n(0.0f);
         if (!normals.empty()) {
             n = normal_matrix * glm::vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
             const float length = glm::length(n);
             n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f);
         }
-        mesh.normals.push_back(n);
-        mesh.uvs.push_back(uvs.empty()
-                               ? glm::vec2(0.0f)
-                               : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
+        target.normals.push_back(n);
+        target.uvs.push_back(uvs.empty()
+                                 ? glm::vec2(0.0f)
+                                 : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
     }
     any_normals |= !normals.empty();
     any_uvs |= !uvs.empty();
     for (glm::uvec3 t : triangles) {
         if (mirrored) std::swap(t.y, t.z);
-        mesh.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
-        mesh.material_ids.push_back(material);
+        target.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
+        target.material_ids.push_back(material);
     }
 }
 
@@ -415,18 +464,43 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
     append_lines(warn, name, out.warnings);
     for (const std::string& e : model.extensionsRequired)
         if (e != "KHR_materials_transmission" && e != "KHR_materials_ior" &&
-            e != "KHR_materials_emissive_strength" && e != "KHR_lights_punctual")
+            e != "KHR_materials_emissive_strength" && e != "KHR_materials_specular" &&
+            e != "KHR_materials_clearcoat" && e != "KHR_lights_punctual")
             throw SceneFileError(name + ": extensionsRequired: " + e + " is not supported");
     auto mesh = std::make_shared<OwnedMesh>();
     gltf::convert_materials(model, images, base_dir, out.scene, out.warnings);
     Loader loader{model, name, aspect, out, *mesh, std::vector<int>(model.nodes.size(), -2)};
-    for (int root : roots(model, name)) loader.visit(root, -1, glm::mat4(1.0f), 0);
+    loader.mesh_users.assign(model.meshes.size(), 0);
+    loader.instance_mesh_of.assign(model.meshes.size(), -1);
+    const std::vector<int> root_nodes = roots(model, name);
+    for (int root : root_nodes) loader.count_mesh_users(root, 0);
+    for (int root : root_nodes) loader.visit(root, -1, glm::mat4(1.0f), 0);
     if (!loader.any_normals)
         mesh->normals.clear();
     else
         fill_missing_normals(*mesh);
     if (!loader.any_uvs) mesh->uvs.clear();
+    // Instance meshes: vertices of primitives without normals keep zero normals (the
+    // renderer's geometric normal); arrays no primitive had are dropped.
+    for (const std::shared_ptr<OwnedMesh>& m : loader.instance_meshes) {
+        if (std::all_of(m->normals.begin(), m->normals.end(),
+                        [](const glm::vec3& n) { return n == glm::vec3(0.0f); }))
+            m->normals.clear();
+        if (!loader.any_uvs) m->uvs.clear();
+    }
+    std::vector<Instance> instances = std::move(out.scene.instances);
     Scene scene = make_scene(mesh);
+    if (!instances.empty()) {
+        struct Meshes {
+            std::shared_ptr<OwnedMesh> world;
+            std::vector<std::shared_ptr<OwnedMesh>> instanced;
+        };
+        auto owner = std::make_shared<Meshes>(Meshes{mesh, loader.instance_meshes});
+        for (const std::shared_ptr<OwnedMesh>& m : owner->instanced)
+            scene.instance_meshes.push_back(m->view());
+        scene.instances = std::move(instances);
+        scene.keepalive = owner;
+    }
     scene.materials = std::move(out.scene.materials);
     scene.textures = std::move(out.scene.textures);
     scene.lights = std::move(out.scene.lights);

@@ -33,6 +33,7 @@ struct Converter {
     Scene& scene;
     std::vector<std::string>& warnings;
     std::map<int, int> scene_texture;  // glTF textures[] index -> Scene::textures index
+    std::map<int, int> linear_copy;    // Scene::textures index -> its copy read as numbers
 
     void warn(const std::string& element, const std::string& what) {
         warnings.push_back(images.file + ": " + element + ": " + what);
@@ -44,6 +45,12 @@ struct Converter {
     bool image_texture(int index, const std::string& element, Texture& out);
     TextureWrap wrap_of(int sampler, const std::string& element);
     int texture(const tinygltf::TextureInfo& info, const std::string& element);
+    int data_texture(const tinygltf::TextureInfo& info, const std::string& element);
+    int mask_texture(int k, float alpha, float cutoff);
+    int part(const Material& m);
+    Material mix_of(int a, int b, float factor, int texture, TextureChannel channel);
+    Material mix(const Material& a, const Material& b, float factor, int texture,
+                 TextureChannel channel);
     Material material(const tinygltf::Material& m, const std::string& element);
 };
 
@@ -205,50 +212,198 @@ int Converter::texture(const tinygltf::TextureInfo& info, const std::string& ele
     return scene_texture[info.index] = int(scene.textures.size()) - 1;
 }
 
+// A part of a material tree (a Mix's child), appended after the roots; its index.
+int Converter::part(const Material& m) {
+    scene.materials.push_back(m);
+    return int(scene.materials.size()) - 1;
+}
+
+// Mix of parts a and b, b picked with probability factor (times the texture's channel). Its
+// emission is the expected one, for the photons and light samples it starts.
+Material Converter::mix_of(int a, int b, float factor, int texture, TextureChannel channel) {
+    Material m;
+    m.kind = MaterialKind::Mix;
+    m.mix_a = a;
+    m.mix_b = b;
+    m.mix_factor = std::clamp(factor, 0.0f, 1.0f);
+    m.mix_texture = texture;
+    m.mix_channel = channel;
+    const float f = m.mix_factor * (texture >= 0 ? 0.5f : 1.0f);
+    const Material& ma = scene.materials[std::size_t(a)];
+    const Material& mb = scene.materials[std::size_t(b)];
+    m.emission = (1.0f - f) * ma.emission + f * mb.emission;
+    m.emission_two_sided = ma.emission_two_sided;
+    m.color = glm::vec3(0.0f);
+    return m;
+}
+
+// a and b mixed, or one of them alone where the factor is 0 or a constant 1.
+Material Converter::mix(const Material& a, const Material& b, float factor, int texture,
+                        TextureChannel channel) {
+    if (!(factor > 0.0f)) return a;  // NaN too
+    if (texture < 0 && factor >= 1.0f) return b;
+    return mix_of(part(a), part(b), factor, texture, channel);
+}
+
+// A texture of numbers (metallicRoughness, transmission): its bytes are linear, not sRGB.
+int Converter::data_texture(const tinygltf::TextureInfo& info, const std::string& element) {
+    const int k = texture(info, element);
+    if (k < 0) return -1;
+    if (auto it = linear_copy.find(k); it != linear_copy.end()) return it->second;
+    Texture t = scene.textures[std::size_t(k)];
+    if (!t.srgb8.empty()) {
+        t.linear.resize(t.srgb8.size());
+        for (std::size_t i = 0; i < t.srgb8.size(); ++i) t.linear[i] = float(t.srgb8[i]) / 255.0f;
+        t.srgb8.clear();
+    }
+    scene.textures.push_back(std::move(t));
+    return linear_copy[k] = int(scene.textures.size()) - 1;
+}
+
+// alphaMode MASK with a texture: coverage (alpha factor times the texel's alpha) compared
+// with the cutoff once, here, into a texture of 0s and 1s.
+int Converter::mask_texture(int k, float alpha, float cutoff) {
+    Texture t = scene.textures[std::size_t(k)];
+    const std::size_t texels = std::size_t(t.width) * std::size_t(t.height);
+    std::vector<float> covered(texels * 4);
+    for (std::size_t i = 0; i < texels; ++i) {
+        const float a = t.srgb8.empty() ? t.linear[4 * i + 3] : float(t.srgb8[4 * i + 3]) / 255.0f;
+        const float c = alpha * a >= cutoff ? 1.0f : 0.0f;
+        for (int j = 0; j < 4; ++j) covered[4 * i + std::size_t(j)] = c;
+    }
+    t.srgb8.clear();
+    t.linear = std::move(covered);
+    scene.textures.push_back(std::move(t));
+    return int(scene.textures.size()) - 1;
+}
+
+// glTF's metallic-roughness model (glTF 2.0 appendix B) as a tree of Mix materials:
+//   alpha: Mix(transparent, coat(metallic mix)), coat: Mix(Fresnel(1.5), base,
+//   Mix(clearcoat, base, white GGX)), metallic: Mix(metallic, Mix(transmission, plastic,
+//   dielectric), conductor).
+// The conductor has Schlick Fresnel from the base colour (as the specification's fresnel_mix
+// of the base colour); the plastic is a white dielectric layer of the specification's F0
+// (from KHR_materials_ior, scaled by KHR_materials_specular's factor) over a Lambert base;
+// transmission is a rough dielectric tinted by the base colour. metallicRoughnessTexture's
+// blue channel scales metallic and green roughness; transmissionTexture's red scales
+// transmission. Roughness is glTF's perceptual roughness, Blender's (alpha = roughness^2).
 Material Converter::material(const tinygltf::Material& m, const std::string& element) {
     const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
-    Material out;
-    out.color = rgb(pbr.baseColorFactor, glm::vec3(1.0f));
-    if (!finite_non_negative(out.color))
+    Material base;
+    base.color = rgb(pbr.baseColorFactor, glm::vec3(1.0f));
+    if (!finite_non_negative(base.color))
         fail(element, "pbrMetallicRoughness.baseColorFactor must be finite and >= 0");
-    const double metallic = pbr.metallicFactor;
-    const double transmission =
-        number(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0);
-    if (transmission >= 0.5) {
-        out.kind = MaterialKind::Dielectric;
-        out.ior = float(number(m.extensions, "KHR_materials_ior", "ior", 1.5));
-        if (!(out.ior >= 1.0f && std::isfinite(out.ior)))
-            fail(element, "KHR_materials_ior.ior " + number_text(out.ior) + " must be >= 1");
-        if (transmission < 1.0)
-            warn(element, "transmission " + number_text(transmission) +
-                              " is rendered as fully transmissive glass");
-    } else {
-        out.kind = metallic >= 0.5 ? MaterialKind::Conductor : MaterialKind::Diffuse;
-        if (transmission > 0.0)
-            warn(element, "transmission " + number_text(transmission) + " below 0.5 is ignored");
-        if (metallic > 0.0 && metallic < 1.0)
-            warn(element, "metallicFactor " + number_text(metallic) + " is rendered as " +
-                              (metallic >= 0.5 ? "a pure conductor" : "pure diffuse"));
-    }
-    if (out.kind != MaterialKind::Diffuse && pbr.roughnessFactor > 0.2)
-        warn(element, "roughnessFactor " + number_text(pbr.roughnessFactor) +
-                          " is rendered as a perfectly smooth surface");
     const float strength =
         float(number(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
-    out.emission = rgb(m.emissiveFactor, glm::vec3(0.0f)) * strength;
+    base.emission = rgb(m.emissiveFactor, glm::vec3(0.0f)) * strength;
     // glTF's single-sided materials are seen (and so emit) from the front only.
-    out.emission_two_sided = m.doubleSided;
-    if (!finite_non_negative(out.emission))
+    base.emission_two_sided = m.doubleSided;
+    if (!finite_non_negative(base.emission))
         fail(element, "emissiveFactor times emissiveStrength must be finite and >= 0");
-    out.color_texture =
+    base.color_texture =
         texture(pbr.baseColorTexture, element + ".pbrMetallicRoughness.baseColorTexture");
-    if (pbr.metallicRoughnessTexture.index >= 0)
-        warn(element, "metallicRoughnessTexture is not supported: the factors decide");
+    float roughness = float(pbr.roughnessFactor);
+    if (!(roughness >= 0.0f && roughness <= 1.0f)) {
+        warn(element, "pbrMetallicRoughness.roughnessFactor " + number_text(roughness) +
+                          " is outside [0, 1]: clamped");
+        roughness = std::isnan(roughness) ? 1.0f : std::clamp(roughness, 0.0f, 1.0f);
+    }
+    base.roughness = roughness;
+    const int metal_roughness = data_texture(
+        pbr.metallicRoughnessTexture, element + ".pbrMetallicRoughness.metallicRoughnessTexture");
+    if (metal_roughness >= 0) {
+        base.roughness_texture = metal_roughness;
+        base.roughness_channel = TextureChannel::Green;
+    }
+
+    const float ior = float(number(m.extensions, "KHR_materials_ior", "ior", 1.5));
+    if (!(ior >= 1.0f && std::isfinite(ior)))
+        fail(element, "KHR_materials_ior.ior " + number_text(ior) + " must be >= 1");
+    const float specular =
+        float(number(m.extensions, "KHR_materials_specular", "specularFactor", 1.0));
+    if (auto it = m.extensions.find("KHR_materials_specular"); it != m.extensions.end()) {
+        if (it->second.Has("specularColorFactor"))
+            warn(element, "KHR_materials_specular.specularColorFactor is not rendered (white)");
+        if (it->second.Has("specularTexture") || it->second.Has("specularColorTexture"))
+            warn(element, "KHR_materials_specular's textures are not supported: its factor "
+                          "alone is used");
+    }
+    // The layer's index: the specification's F0 = ((ior - 1) / (ior + 1))^2 times the
+    // specular factor, as an index of that normal-incidence reflectance.
+    const float f0 = std::clamp(std::pow((ior - 1.0f) / (ior + 1.0f), 2.0f) *
+                                    std::max(specular, 0.0f), 0.0f, 0.999f);
+
+    Material conductor = base;
+    conductor.kind = MaterialKind::Conductor;
+    conductor.schlick = true;
+    Material plastic = base;
+    plastic.kind = MaterialKind::Plastic;
+    plastic.ior = (1.0f + std::sqrt(f0)) / (1.0f - std::sqrt(f0));
+    Material glass = base;
+    glass.kind = MaterialKind::Dielectric;
+    glass.ior = ior;
+
+    const float transmission =
+        float(number(m.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
+    int transmission_texture = -1;
+    if (auto it = m.extensions.find("KHR_materials_transmission");
+        it != m.extensions.end() && it->second.Has("transmissionTexture")) {
+        tinygltf::TextureInfo info;
+        const tinygltf::Value& t = it->second.Get("transmissionTexture");
+        if (t.Has("index") && t.Get("index").IsInt()) info.index = t.Get("index").GetNumberAsInt();
+        if (t.Has("texCoord") && t.Get("texCoord").IsInt())
+            info.texCoord = t.Get("texCoord").GetNumberAsInt();
+        transmission_texture =
+            data_texture(info, element + ".KHR_materials_transmission.transmissionTexture");
+    }
+    const float metallic = float(pbr.metallicFactor);
+    Material out = mix(mix(plastic, glass, transmission, transmission_texture, TextureChannel::Red),
+                       conductor, metallic, metal_roughness, TextureChannel::Blue);
+
+    const float clearcoat =
+        float(number(m.extensions, "KHR_materials_clearcoat", "clearcoatFactor", 0.0));
+    if (clearcoat > 0.0f) {
+        warn(element, "KHR_materials_clearcoat is approximated by a Fresnel-weighted white "
+                      "reflection (index 1.5); its darkening of the layer below is not "
+                      "rendered and its textures are not read");
+        Material coat;
+        coat.kind = MaterialKind::Conductor;
+        coat.color = glm::vec3(1.0f);
+        coat.roughness = std::clamp(
+            float(number(m.extensions, "KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0)),
+            0.0f, 1.0f);
+        coat.emission = base.emission;
+        coat.emission_two_sided = base.emission_two_sided;
+        const int under = part(out);
+        const Material coated = mix_of(under, part(coat), std::min(clearcoat, 1.0f), -1,
+                                       TextureChannel::Luminance);
+        out = mix_of(under, part(coated), 0.5f, -1, TextureChannel::Luminance);
+        out.mix_mode = MixFactor::Fresnel;
+        out.mix_ior = 1.5f;
+    }
+
+    const float alpha = pbr.baseColorFactor.size() >= 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
+    Material clear;
+    clear.kind = MaterialKind::Transparent;
+    clear.color = glm::vec3(1.0f);
+    clear.emission_two_sided = base.emission_two_sided;
+    if (m.alphaMode == "BLEND") {
+        // Coverage as the probability of the surface, the rest passing straight through.
+        out = mix(clear, out, alpha, base.color_texture, TextureChannel::Alpha);
+    } else if (m.alphaMode == "MASK") {
+        const float cutoff = float(m.alphaCutoff);
+        if (base.color_texture >= 0)
+            out = mix(clear, out, 1.0f, mask_texture(base.color_texture, alpha, cutoff),
+                      TextureChannel::Alpha);
+        else
+            out = mix(clear, out, alpha >= cutoff ? 1.0f : 0.0f, -1, TextureChannel::Alpha);
+    } else if (m.alphaMode != "OPAQUE") {
+        warn(element, "alphaMode " + m.alphaMode + " is not one of OPAQUE, MASK, BLEND: "
+                      "rendered opaque");
+    }
     if (m.emissiveTexture.index >= 0)
         warn(element, "emissiveTexture is not supported: emissiveFactor alone is used");
     if (m.normalTexture.index >= 0) warn(element, "normalTexture is not supported: ignored");
-    if (m.alphaMode != "OPAQUE")
-        warn(element, "alphaMode " + m.alphaMode + " is not supported: rendered opaque");
     return out;
 }
 
@@ -277,11 +432,15 @@ bool decode_image(tinygltf::Image* image, int image_index, std::string*, std::st
 void convert_materials(const tinygltf::Model& model, DecodedImages& images,
                        const std::string& base_dir, Scene& scene,
                        std::vector<std::string>& warnings) {
-    Converter c{model, images, base_dir, scene, warnings, {}};
+    Converter c{model, images, base_dir, scene, warnings, {}, {}};
+    // The roots keep the glTF indices; the parts of Mix materials follow them.
+    const std::size_t first = scene.materials.size();
+    scene.materials.resize(first + model.materials.size());
     for (std::size_t i = 0; i < model.materials.size(); ++i) {
         const std::string element =
             display_name("materials[" + std::to_string(i) + "]", model.materials[i].name);
-        scene.materials.push_back(c.material(model.materials[i], element));
+        Material root = c.material(model.materials[i], element);
+        scene.materials[first + i] = root;
     }
 }
 

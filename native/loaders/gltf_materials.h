@@ -1,8 +1,8 @@
-// glTF materials onto the closed material model (DESIGN.md), with base-colour textures.
-// pbrMetallicRoughness: metallic >= 0.5 is a conductor of the base colour, below a diffuse
-// surface; KHR_materials_transmission >= 0.5 makes a dielectric (KHR_materials_ior, 1.5 by
-// default); emission = emissiveFactor * KHR_materials_emissive_strength. Whatever is
-// approximated gets a warning naming the material.
+// glTF materials onto the material model (DESIGN.md): pbrMetallicRoughness with its
+// textures, KHR_materials_transmission, _ior, _specular, _clearcoat and alpha modes as
+// trees of Mix materials (gltf_materials.cpp, Converter::material, says how); emission =
+// emissiveFactor * KHR_materials_emissive_strength. Whatever is approximated gets a
+// warning naming the material.
 #pragma once
 
 #include <map>
@@ -27,7 +27,8 @@ bool decode_image(tinygltf::Image* image, int image_index, std::string* err, std
                   int req_width, int req_height, const unsigned char* bytes, int size,
                   void* user_data);
 
-// Appends one scene material per glTF material (same indices) and the textures they use.
+// Appends one scene material per glTF material (same indices: the roots of their trees),
+// then the trees' other parts, and the textures they use.
 // External images are read relative to `base_dir` (none when it is empty).
 void convert_materials(const tinygltf::Model& model, DecodedImages& images,
                        const std::string& base_dir, Scene& scene,

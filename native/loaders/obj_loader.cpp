@@ -110,6 +110,24 @@ int MaterialConverter::texture(const std::string& file, const tinyobj::texture_o
     }
 }
 
+// Ns -> roughness as Blender writes and reads it: its OBJ exporter writes
+// Ns = 1000 (1 - roughness)^2, so roughness = 1 - sqrt(Ns / 1000), Ns clamped to [0, 1000].
+float roughness_of_shininess(float ns) {
+    return 1.0f - std::sqrt(std::clamp(std::isfinite(ns) ? ns : 0.0f, 0.0f, 1000.0f) / 1000.0f);
+}
+
+// Mirrors and glass whose Ns is tinyobjloader's default (1: not written) are smooth, as
+// before Ns was read; a written Ns above 1 roughens them.
+float specular_roughness(const tinyobj::material_t& m) {
+    return m.shininess > 1.0f ? roughness_of_shininess(m.shininess) : 0.0f;
+}
+
+// illum (the MTL specification's illumination models): 1 is Kd alone; 0 (also what a file
+// without illum reads as) and 2 add the specular Ks with Ns, as Blender's importer reads
+// them: a white specular layer of F0 = 0.08 mean(Ks) (Principled's Specular = mean(Ks))
+// over Kd, Ns giving its roughness; 3 and 5 are mirrors of colour Ks, 4, 6 and 7 glass
+// (as is d < 1); 8 and above are rendered diffuse. Ns >= 800 with Ks at least Kd is
+// mirror-like whatever the illum.
 void MaterialConverter::choose_kind(const tinyobj::material_t& m, Material& out,
                                     const std::string& element) {
     const bool glass_illum = m.illum == 4 || m.illum == 6 || m.illum == 7;
@@ -120,6 +138,7 @@ void MaterialConverter::choose_kind(const tinyobj::material_t& m, Material& out,
             warn(element, "transparent without Ni > 1: rendered as glass of index 1.5");
         // Tf tints the glass where given; tinyobjloader leaves it zero otherwise.
         out.color = max3(m.transmittance) > 0.0f ? vec3_of(m.transmittance) : glm::vec3(1.0f);
+        out.roughness = specular_roughness(m);
         return;
     }
     const bool mirror_illum = m.illum == 3 || m.illum == 5;
@@ -129,13 +148,19 @@ void MaterialConverter::choose_kind(const tinyobj::material_t& m, Material& out,
         out.kind = MaterialKind::Conductor;
         if (max3(m.specular) > 0.0f) out.color = vec3_of(m.specular);
         if (m.metallic >= 0.5f && !mirror_illum && !mirror_like) out.color = vec3_of(m.diffuse);
+        out.roughness = specular_roughness(m);
         return;
     }
     out.kind = MaterialKind::Diffuse;
-    if (max3(m.specular) > 0.5f)
-        warn(element,
-             "specular Ks " + number_text(max3(m.specular)) + " is not rendered (diffuse Kd only)");
     if (m.illum > 7) warn(element, "illum " + std::to_string(m.illum) + " is rendered diffuse");
+    const float specular = (m.specular[0] + m.specular[1] + m.specular[2]) / 3.0f;
+    if (m.illum == 1 || m.illum > 7 || !(specular > 0.0f)) return;
+    out.kind = MaterialKind::Plastic;
+    const float f0 = std::min(0.08f * specular, 0.999f);
+    out.ior = (1.0f + std::sqrt(f0)) / (1.0f - std::sqrt(f0));
+    out.roughness = roughness_of_shininess(m.shininess);
+    if (max3(m.specular) - std::min({m.specular[0], m.specular[1], m.specular[2]}) > 1e-3f)
+        warn(element, "the colour of Ks is not rendered: a white specular of its mean");
 }
 
 Material MaterialConverter::convert(const tinyobj::material_t& m) {

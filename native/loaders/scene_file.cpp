@@ -21,14 +21,21 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
-Camera camera_framing_bounds(const MeshView& mesh, float aspect) {
+Camera camera_framing_bounds(const Scene& scene, float aspect) {
     Camera camera;
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const glm::vec3& p : mesh.positions) {
+    for (const glm::vec3& p : scene.mesh.positions) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    if (mesh.positions.empty()) lo = hi = glm::vec3(0.0f);
+    // Instances: every vertex of each placed mesh (files with instancing are small enough).
+    for (const Instance& inst : scene.instances)
+        for (const glm::vec3& p : scene.instance_meshes[inst.mesh].positions) {
+            const glm::vec3 w(inst.to_world * glm::vec4(p, 1.0f));
+            lo = glm::min(lo, w);
+            hi = glm::max(hi, w);
+        }
+    if (!(lo.x <= hi.x)) lo = hi = glm::vec3(0.0f);
     const glm::vec3 center = 0.5f * (lo + hi);
     const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
     // The bounding sphere fits the narrower of the two angles of view, with a 5% margin.
@@ -51,7 +58,7 @@ LoadedScene load_scene_file(const std::string& path, float aspect) {
         throw SceneFileError(path + ": unknown scene file type '." + ext +
                              "' (expected .gltf, .glb or .obj)");
     if (!loaded.has_camera) {
-        loaded.scene.camera = camera_framing_bounds(loaded.scene.mesh, aspect);
+        loaded.scene.camera = camera_framing_bounds(loaded.scene, aspect);
         loaded.warnings.push_back(path + ": no camera: one is placed to frame the whole scene");
     }
     return loaded;

@@ -27,7 +27,7 @@ struct LoadedScene {
 LoadedScene load_scene_file(const std::string& path, float aspect);
 
 // A camera looking down -Z (the files' forward axis) that frames the mesh's bounding sphere
-// with the default 50 mm lens, for files without a camera.
-Camera camera_framing_bounds(const MeshView& mesh, float aspect);
+// with the default 50 mm lens, for files without a camera (instances included).
+Camera camera_framing_bounds(const Scene& scene, float aspect);
 
 }  // namespace glslppm

@@ -39,8 +39,26 @@ const char* kind_name(MaterialKind k) {
             return "conductor";
         case MaterialKind::Dielectric:
             return "dielectric";
+        case MaterialKind::Plastic:
+            return "plastic";
+        case MaterialKind::Translucent:
+            return "translucent";
+        case MaterialKind::Transparent:
+            return "transparent";
+        case MaterialKind::Mix:
+            return "mix";
     }
     return "?";
+}
+
+const char* channel_name(TextureChannel c) {
+    constexpr const char* names[] = {"red", "green", "blue", "alpha", "luminance"};
+    return names[static_cast<std::uint32_t>(c) % 5];
+}
+
+const char* mix_mode_name(MixFactor f) {
+    constexpr const char* names[] = {"constant", "fresnel", "facing"};
+    return names[static_cast<std::uint32_t>(f) % 3];
 }
 
 const char* light_name(LightKind k) {
@@ -86,6 +104,20 @@ py::list materials_list(const Scene& s) {
         d["ior"] = m.ior;
         d["emission"] = vec3(m.emission);
         d["color_texture"] = m.color_texture;
+        d["emission_two_sided"] = m.emission_two_sided;
+        d["roughness"] = m.roughness;
+        d["roughness_texture"] = m.roughness_texture;
+        d["roughness_channel"] = channel_name(m.roughness_channel);
+        d["multiscatter"] = m.multiscatter;
+        d["schlick"] = m.schlick;
+        d["tint_reflection"] = m.tint_reflection;
+        d["mix_a"] = m.mix_a;
+        d["mix_b"] = m.mix_b;
+        d["mix_factor"] = m.mix_factor;
+        d["mix_texture"] = m.mix_texture;
+        d["mix_channel"] = channel_name(m.mix_channel);
+        d["mix_mode"] = mix_mode_name(m.mix_mode);
+        d["mix_ior"] = m.mix_ior;
         out.append(d);
     }
     return out;

@@ -16,10 +16,12 @@
 #include "image/exr.h"
 #include "gl/shader_program.h"
 #include "python/loaders_module.h"
+#include "render/instancing.h"
 #include "render/renderer.h"
 #include "render/farm_merge.h"
 #include "render/film_merge.h"
 #include "render/pppm_schedule.h"
+#include "render/tiled_render.h"
 #include "scene/scene.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
@@ -178,14 +180,107 @@ Texture make_texture(const py::array& pixels, const std::string& wrap, const std
     return t;
 }
 
+// One mesh in its own space from a dict of arrays (the keys of Scene's own arrays).
+MeshView take_mesh(const py::handle& item, const std::string& name, ArrayOwner& owner) {
+    if (!py::isinstance<py::dict>(item))
+        throw py::value_error(name + ": expected a dict of arrays (positions, indices, normals, "
+                              "uvs, material_ids)");
+    const py::dict d = py::reinterpret_borrow<py::dict>(item);
+    for (const auto& kv : d) {
+        const std::string key = py::str(kv.first);
+        if (key != "positions" && key != "indices" && key != "normals" && key != "uvs" &&
+            key != "material_ids")
+            throw py::value_error(name + ": unknown key '" + key + "'");
+    }
+    if (!d.contains("positions") || !d.contains("indices"))
+        throw py::value_error(name + ": needs positions and indices");
+    MeshView m;
+    const std::string n = name + ".";
+    auto p = take_array<float>(d["positions"], (n + "positions").c_str(), 3, "float32");
+    auto t = take_array<std::uint32_t>(d["indices"], (n + "indices").c_str(), 3, "uint32");
+    owner.arrays.push_back(p);
+    owner.arrays.push_back(t);
+    m.positions = {reinterpret_cast<const glm::vec3*>(p.data()), std::size_t(p.shape(0))};
+    m.triangles = {reinterpret_cast<const glm::uvec3*>(t.data()), std::size_t(t.shape(0))};
+    if (d.contains("normals") && !d["normals"].is_none()) {
+        auto a = take_array<float>(d["normals"], (n + "normals").c_str(), 3, "float32");
+        owner.arrays.push_back(a);
+        m.normals = {reinterpret_cast<const glm::vec3*>(a.data()), std::size_t(a.shape(0))};
+    }
+    if (d.contains("uvs") && !d["uvs"].is_none()) {
+        auto a = take_array<float>(d["uvs"], (n + "uvs").c_str(), 2, "float32");
+        owner.arrays.push_back(a);
+        m.uvs = {reinterpret_cast<const glm::vec2*>(a.data()), std::size_t(a.shape(0))};
+    }
+    if (d.contains("material_ids") && !d["material_ids"].is_none()) {
+        auto a = take_array<std::uint32_t>(d["material_ids"], (n + "material_ids").c_str(), 0,
+                                           "uint32");
+        owner.arrays.push_back(a);
+        m.material_ids = {a.data(), std::size_t(a.shape(0))};
+    }
+    return m;
+}
+
+// The instance table: (N, 4, 4) float32 row-major transforms (Blender's matrix_world), (N,)
+// uint32 mesh indices and optional (N,) uint32 material offsets.
+void add_instances(Scene& scene, ArrayOwner& owner, const py::object& meshes,
+                   const py::object& matrices, const py::object& mesh_ids,
+                   const py::object& offsets) {
+    if (!meshes.is_none()) {
+        std::size_t k = 0;
+        for (const py::handle& item : py::list(meshes))
+            scene.instance_meshes.push_back(
+                take_mesh(item, "instance_meshes[" + std::to_string(k++) + "]", owner));
+    }
+    if (matrices.is_none()) {
+        if (!mesh_ids.is_none() || !offsets.is_none())
+            throw py::value_error("instance_mesh / instance_material_offset need instances");
+        return;
+    }
+    if (!py::isinstance<py::array>(matrices))
+        throw py::value_error("instances: expected a float32 array of shape (N, 4, 4)");
+    const py::array a = py::reinterpret_borrow<py::array>(matrices);
+    if (!a.dtype().is(py::dtype::of<float>()) || a.ndim() != 3 || a.shape(1) != 4 ||
+        a.shape(2) != 4)
+        throw py::value_error("instances: expected a float32 array of shape (N, 4, 4), got " +
+                              describe(a));
+    const auto m = py::array_t<float, py::array::c_style>::ensure(a);
+    const std::size_t count = static_cast<std::size_t>(m.shape(0));
+    if (mesh_ids.is_none()) throw py::value_error("instances: instance_mesh is needed too");
+    const auto ids = take_array<std::uint32_t>(mesh_ids, "instance_mesh", 0, "uint32");
+    if (static_cast<std::size_t>(ids.shape(0)) != count)
+        throw py::value_error("instance_mesh: " + std::to_string(ids.shape(0)) +
+                              " entries for " + std::to_string(count) + " instances");
+    py::array_t<std::uint32_t> offs;
+    if (!offsets.is_none()) {
+        offs = take_array<std::uint32_t>(offsets, "instance_material_offset", 0, "uint32");
+        if (static_cast<std::size_t>(offs.shape(0)) != count)
+            throw py::value_error("instance_material_offset: " + std::to_string(offs.shape(0)) +
+                                  " entries for " + std::to_string(count) + " instances");
+    }
+    scene.instances.resize(count);
+    const float* f = m.data();
+    for (std::size_t i = 0; i < count; ++i) {
+        Instance& inst = scene.instances[i];
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) inst.to_world[c][r] = f[16 * i + 4 * r + c];
+        inst.mesh = ids.data()[i];
+        inst.material_offset = offsets.is_none() ? 0 : offs.data()[i];
+    }
+}
+
 Scene make_py_scene(const py::object& positions, const py::object& indices,
                     const py::object& normals, const py::object& uvs,
                     const py::object& material_ids, std::vector<Material> materials,
                     std::vector<Light> lights, Camera camera, std::array<float, 3> environment,
                     std::vector<Texture> textures, int environment_texture,
-                    const py::object& environment_to_world) {
+                    const py::object& environment_to_world, const py::object& instance_meshes,
+                    const py::object& instances, const py::object& instance_mesh,
+                    const py::object& instance_material_offset) {
     auto owner = std::make_shared<ArrayOwner>();
     Scene scene;
+    add_instances(scene, *owner, instance_meshes, instances, instance_mesh,
+                  instance_material_offset);
     auto p = take_array<float>(positions, "positions", 3, "float32");
     auto t = take_array<std::uint32_t>(indices, "indices", 3, "uint32");
     owner->arrays = {p, t};
@@ -222,6 +317,15 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
     if (scene.materials.empty()) scene.materials.push_back(Material{});
     // Validate now, so that a bad array fails where the user passed it.
     validate_mesh(scene.mesh, static_cast<std::uint32_t>(scene.materials.size()));
+    for (std::size_t k = 0; k < scene.instance_meshes.size(); ++k) {
+        try {
+            validate_mesh(scene.instance_meshes[k],
+                          static_cast<std::uint32_t>(scene.materials.size()));
+        } catch (const SceneError& e) {
+            throw SceneError("instance_meshes[" + std::to_string(k) + "]: " + e.what());
+        }
+    }
+    plan_instancing(scene, scene.materials, Instancing::Auto);  // checks the instances
     return scene;
 }
 
@@ -288,10 +392,16 @@ py::dict stats_dict(const RenderStats& s) {
     d["devices"] = devices;
     d["triangles"] = s.triangles;
     d["degenerate_dropped"] = s.degenerate_dropped;
+    d["instancing"] = s.instancing;
+    d["instancing_reason"] = s.instancing_reason;
+    d["instances"] = s.instances;
+    d["instanced_triangles"] = s.instanced_triangles;
     d["emitters"] = s.emitters;
     d["bvh_seconds"] = s.bvh_seconds;
     d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
     d["gpu_bytes"] = s.gpu_bytes;
+    d["gpu_bytes_per_pixel"] = s.gpu_bytes_per_pixel;
+    d["tiles"] = s.tiles;
     d["warnings"] = s.warnings;
     d["programs_compiled"] = s.programs_compiled;
     d["programs_reused"] = s.programs_reused;
@@ -433,7 +543,11 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("lights") = std::vector<Light>{}, py::arg("camera") = Camera{},
              py::arg("environment") = std::array<float, 3>{0, 0, 0},
              py::arg("textures") = std::vector<Texture>{}, py::arg("environment_texture") = -1,
-             py::arg("environment_to_world") = py::none())
+             py::arg("environment_to_world") = py::none(),
+             py::arg("instance_meshes") = py::none(), py::arg("instances") = py::none(),
+             py::arg("instance_mesh") = py::none(),
+             py::arg("instance_material_offset") = py::none())
+        .def_property_readonly("instance_count", [](const Scene& s) { return s.instances.size(); })
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def("arrays", [](const Scene& s) {
             // Copies for rebuilding the scene elsewhere (scripts/cycles_reference.py).
@@ -483,7 +597,8 @@ PYBIND11_MODULE(_glslppm, m) {
                          bool transparent, bool transparent_glass,
                          const std::string& direct_light, float glossy_threshold,
                          const std::string& estimator, std::vector<int> devices,
-                         std::uint64_t first_pass) {
+                         std::uint64_t first_pass, const std::string& instancing,
+                         std::uint64_t max_block_bytes) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -507,6 +622,8 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.estimator = parse_estimator(estimator);
                  s.devices = std::move(devices);
                  s.first_pass = first_pass;
+                 s.instancing = parse_instancing(instancing);
+                 s.max_block_bytes = max_block_bytes;
                  validate(s);
                  return s;
              }),
@@ -524,8 +641,11 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("direct_light") = to_string(defaults.direct_light),
              py::arg("glossy_threshold") = defaults.glossy_threshold,
              py::arg("estimator") = to_string(defaults.estimator),
-             py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass)
+             py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass,
+             py::arg("instancing") = to_string(defaults.instancing),
+             py::arg("max_block_bytes") = defaults.max_block_bytes)
         .def_readonly("width", &RenderSettings::width)
+        .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale)
         .def_property_readonly("estimator", [](const RenderSettings& s) { return to_string(s.estimator); })
@@ -626,6 +746,68 @@ PYBIND11_MODULE(_glslppm, m) {
             r.close();
         }, "Frees the GL context and every GPU buffer now (also done on garbage collection).")
         .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); });
+
+    // Frames larger than one storage buffer holds, as image tiles (render/tiled_render.h).
+    auto tile_tuple = [](const Tile& t) { return py::make_tuple(t.x, t.y, t.width, t.height); };
+    auto plan_dict = [tile_tuple](const TilePlan& plan) {
+        py::list tiles;
+        for (const Tile& t : plan.tiles) tiles.append(tile_tuple(t));
+        py::dict d;
+        d["tiles"] = tiles;
+        d["gpu_bytes_per_pixel"] = plan.gpu_bytes_per_pixel;
+        d["block_bytes_per_pixel"] = plan.block_bytes_per_pixel;
+        d["largest_block"] = plan.largest_block;
+        return d;
+    };
+    m.def("plan_tiles", [plan_dict](const Scene& scene, const RenderSettings& settings) {
+        TilePlan plan;
+        {
+            py::gil_scoped_release release;
+            plan = plan_tiles(scene, settings);
+        }
+        return plan_dict(plan);
+    }, py::arg("scene"), py::arg("settings"),
+       "The image tiles (x, y, width, height; y from the top) that a render of this size "
+       "needs on its device, decided before allocating: one when it fits. Also the per-pixel "
+       "bytes and the device's largest storage buffer.");
+    m.def("tile_render_inputs", [](const Scene& scene, const RenderSettings& settings,
+                                   std::array<int, 4> tile) {
+        const Tile t{tile[0], tile[1], tile[2], tile[3]};
+        Scene s = scene;
+        s.camera = tile_camera(scene.camera, settings, t);
+        return py::make_tuple(s, tile_settings(settings, t));
+    }, py::arg("scene"), py::arg("settings"), py::arg("tile"),
+       "The (scene, settings) that render one tile (x, y, width, height) of the frame: its "
+       "camera looks through the tile's window, with the whole frame's radius and streams.");
+    m.def("render_tiled", [plan_dict, tile_tuple](const Scene& scene, const RenderSettings& settings,
+                                                  int passes, py::object on_tile,
+                                                  std::shared_ptr<CancelFlag> cancel) {
+        TiledImage image;
+        {
+            py::gil_scoped_release release;
+            const TilePlan plan = plan_tiles(scene, settings);
+            TileDone done;
+            if (!on_tile.is_none()) {
+                done = [&](std::size_t index, const Tile& t, const std::vector<float>& rgba) {
+                    py::gil_scoped_acquire acquire;
+                    py::array_t<float> a({t.height, t.width, 4});
+                    std::memcpy(a.mutable_data(), rgba.data(), rgba.size() * sizeof(float));
+                    const py::object keep = on_tile(index, tile_tuple(t), a);
+                    return keep.is_none() || keep.cast<bool>();
+                };
+            }
+            image = render_tiled(scene, settings, passes, plan, done, cancel.get());
+        }
+        py::array_t<float> out({settings.height, settings.width, 4});
+        std::memcpy(out.mutable_data(), image.rgba.data(), image.rgba.size() * sizeof(float));
+        py::dict stats = stats_dict(image.stats);
+        stats["plan"] = plan_dict(image.plan);
+        return py::make_tuple(out, stats);
+    }, py::arg("scene"), py::arg("settings"), py::arg("passes"), py::arg("on_tile") = py::none(),
+       py::arg("cancel") = nullptr,
+       "Renders the frame as the tiles plan_tiles gives, `passes` SPPM passes each (each tile "
+       "traces its own photons: time grows with the tile count). on_tile(index, (x, y, w, h), "
+       "rgba) after each; returning False stops. Returns (rgba, stats).");
 
     m.def("cornell_box", [](bool mirror_sphere, bool glass_sphere, int sphere_rings) {
         CornellBoxOptions o;

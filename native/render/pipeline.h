@@ -22,9 +22,11 @@
 #include "gl/shader_program.h"
 #include "render/emitters.h"
 #include "render/gpu_layout.h"
+#include "render/instancing.h"
 #include "render/pppm_schedule.h"
 #include "render/renderer.h"
 #include "render/texture_atlas.h"
+#include "render/tiled_render.h"
 #include "scene/cancel.h"
 
 namespace glslppm {
@@ -48,7 +50,10 @@ using pipeline_detail::mix_seed;
 struct Renderer::Gpu {
     std::unique_ptr<gl::GlThread> thread;
     RenderSettings settings;
-    PackedBvh bvh;
+    PackedBvh bvh;  // what is uploaded: the two-level MTBVH's arrays when it is the path
+    std::vector<glm::vec4> instances;  // two-level instance records, else empty
+    InstancePlan instancing;
+    std::size_t instance_count = 0;
     EmitterTable emitters;
     SceneBounds bounds;
     FrameBlock frame{};
@@ -66,6 +71,7 @@ struct Renderer::Gpu {
     const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
     float initial_radius = 0.0f;
     std::size_t gpu_bytes = 0;
+    std::size_t gpu_bytes_per_pixel = 0;  // the per-pixel buffers' bytes for one pixel
 
     GLuint ubo = 0;
     GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling
@@ -92,16 +98,26 @@ struct Renderer::Gpu {
     const gl::ComputeProgram* resolve = nullptr;
     const gl::ComputeProgram* radius_reduce = nullptr;
 
-    // Before anything is allocated for it: a buffer larger than the driver allows is an
-    // error that says what to lower (llvmpipe allows 128 MiB).
-    static void require_fits(std::size_t bytes, const char* what) {
+    // The largest storage buffer a render may allocate: the driver's (llvmpipe allows
+    // 128 MiB); for the per-pixel buffers, less where settings.max_block_bytes caps it.
+    // 0: no limit known.
+    std::size_t largest_block(bool per_pixel) const {
         GLint64 largest = 0;
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
-        if (largest > 0 && bytes > static_cast<std::size_t>(largest))
+        return per_pixel ? capped_block_bytes(largest, settings)
+                         : static_cast<std::size_t>(std::max<GLint64>(largest, 0));
+    }
+
+    // Before anything is allocated for it: a buffer larger than the driver allows is an
+    // error that says what to lower.
+    void require_fits(std::size_t bytes, const char* what, bool per_pixel = false) const {
+        const std::size_t largest = largest_block(per_pixel);
+        if (largest > 0 && bytes > largest)
             throw gl::GlError(std::string(what) + " needs " + std::to_string(bytes >> 20) +
                               " MiB, more than this GPU's largest storage buffer (" +
                               std::to_string(largest >> 20) +
-                              " MiB): lower the resolution or the photons per pass");
+                              " MiB): lower the resolution or the photons per pass, or render "
+                              "in tiles (render_tiled, glslppm-render)");
     }
 
     GLuint make_buffer(GLuint binding, std::size_t bytes, const void* data, const char* what) {

@@ -36,6 +36,26 @@ namespace glslppm {
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
     PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
+    if (prepared.two_level) {
+        // The same buffers carry the two-level tree (bvh/two_level_bvh.h): the top tree's node
+        // count is what the traversal starts from.
+        TwoLevelBvh& two = *prepared.two_level;
+        PackedBvh& bvh = prepared.bvh;
+        bvh.nodes = std::move(two.nodes);
+        bvh.links = std::move(two.links);
+        bvh.triangles = std::move(two.triangles);
+        bvh.normals = std::move(two.normals);
+        bvh.uvs = std::move(two.uvs);
+        bvh.node_count = two.top_node_count;
+        BvhStats& st = bvh.stats;
+        st.triangles = two.stats.mesh_triangles;
+        st.build_seconds += two.stats.bottom_seconds + two.stats.top_seconds;
+        st.bytes_total = two.stats.bytes_total;
+        st.bytes_per_triangle =
+            st.triangles ? static_cast<double>(st.bytes_total) / static_cast<double>(st.triangles) : 0.0;
+    }
+    std::vector<glm::vec4> instances;  // two-level instance records, else empty
+    if (prepared.two_level) instances = std::move(prepared.two_level->instances);
     scene_hash_without_camera_ = scene_hash_without_camera(scene, cancel);
     scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
     const std::vector<int> devices =
@@ -43,10 +63,18 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
     try {
         for (std::size_t k = 0; k < devices.size(); ++k) {
             gpus_.push_back(std::make_unique<Gpu>());
-            // The last worker takes the BVH; the others copy it.
-            if (k + 1 == devices.size()) gpus_.back()->bvh = std::move(prepared.bvh);
-            else gpus_.back()->bvh = prepared.bvh;
-            set_up(*gpus_.back(), devices[k], scene, settings, prepared, cancel);
+            // The last worker takes the BVH (one or two levels); the others copy it.
+            Gpu& g = *gpus_.back();
+            if (k + 1 == devices.size()) {
+                g.bvh = std::move(prepared.bvh);
+                g.instances = std::move(instances);
+            } else {
+                g.bvh = prepared.bvh;
+                g.instances = instances;
+            }
+            g.instancing = prepared.instancing;
+            g.instance_count = scene.instances.size();
+            set_up(g, devices[k], scene, settings, prepared, cancel);
         }
     } catch (...) {
         for (auto& g : gpus_)
@@ -55,7 +83,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
     }
 }
 
-// One worker: its context on `device`, the programs, the buffers (g.bvh already set).
+// One worker: its context on `device`, the programs, the buffers (g.bvh, g.instances and
+// g.instancing already set).
 void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
                       const PreparedScene& prepared, const CancelFlag* cancel) {
     g.setup_cancel = cancel;
@@ -131,6 +160,8 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             g.make_buffer(BINDING_BVH_NODES, bytes(g.bvh.nodes), g.bvh.nodes.data(), "BVH nodes");
             g.make_buffer(BINDING_BVH_LINKS, bytes(g.bvh.links), g.bvh.links.data(), "BVH links");
             g.make_buffer(BINDING_TRIANGLES, bytes(g.bvh.triangles), g.bvh.triangles.data(), "triangles");
+            if (!g.instances.empty())
+                g.make_buffer(BINDING_INSTANCES, bytes(g.instances), g.instances.data(), "instances");
             if (!g.bvh.normals.empty())
                 g.make_buffer(BINDING_NORMALS, bytes(g.bvh.normals), g.bvh.normals.data(), "normals");
             else if (settings.full_variant)
@@ -166,9 +197,11 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
             const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
-            Gpu::require_fits(px * point_vec4s * 16, "visible points");
-            Gpu::require_fits(ph * 3 * 16, "photons");
-            Gpu::require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
+            g.require_fits(px * point_vec4s * 16, "visible points", true);
+            g.require_fits(ph * 3 * 16, "photons");
+            g.require_fits(std::size_t(g.hash_cells) * 16, "hash cells");
+            // Visible points, pixel statistics, direct light, film.
+            g.gpu_bytes_per_pixel = (point_vec4s + 2 + 2 + 1) * 16;
             g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
             // Their first contents: restart_film() below, as at every restart.
             g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr,
@@ -192,7 +225,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
                     cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(settings.max_depth)));
             }
             const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
-            Gpu::require_fits(stored * 3 * 16, "photons");
+            g.require_fits(stored * 3 * 16, "photons");
             g.photons = g.make_buffer(BINDING_PHOTONS, stored * 3 * 16, nullptr, "photons");
             const GLuint zero[4] = {0, 0, 0, 0};
             glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
@@ -529,10 +562,15 @@ RenderStats Renderer::stats() {
     s.direct_light = to_string(g.settings.direct_light);
     s.triangles = g.bvh.stats.triangles;
     s.degenerate_dropped = g.bvh.stats.degenerate_dropped;
+    s.instancing = g.instancing.path;
+    s.instancing_reason = g.instancing.reason;
+    s.instances = g.instance_count;
+    s.instanced_triangles = g.instancing.instanced_triangles;
     s.emitters = g.emitters.count;
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
     for (const auto& w : gpus_) s.gpu_bytes += w->gpu_bytes;
+    s.gpu_bytes_per_pixel = g.gpu_bytes_per_pixel;
     s.eye_seconds = g.stage_seconds[0];
     s.photon_seconds = g.stage_seconds[1];
     s.hash_seconds = g.stage_seconds[2];

@@ -45,12 +45,21 @@ struct RenderStats {
     std::vector<std::pair<std::uint64_t, std::uint64_t>> pass_ranges;
     std::vector<DeviceStats> devices;   // one per worker
     std::string scene_hash;             // scene/scene_hash.h, 16 hex digits
-    std::size_t triangles = 0;
+    std::size_t triangles = 0;  // distinct: each instanced mesh counted once
     std::size_t degenerate_dropped = 0;
+    // How instances were traced ("none", "two-level", "flattened"), why, how many, and the
+    // triangles a flattened copy holds.
+    std::string instancing;
+    std::string instancing_reason;
+    std::size_t instances = 0;
+    std::size_t instanced_triangles = 0;
     std::size_t emitters = 0;
     double bvh_seconds = 0.0;
     double bvh_bytes_per_triangle = 0.0;
     std::size_t gpu_bytes = 0;          // buffers this renderer allocated
+    std::size_t gpu_bytes_per_pixel = 0;  // of the per-pixel buffers, for one pixel
+    // Image tiles rendered one after another (native/render/tiled_render.h); 1 untiled.
+    int tiles = 1;
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.
     double eye_seconds = 0.0, photon_seconds = 0.0, hash_seconds = 0.0, gather_seconds = 0.0;
     std::vector<std::string> warnings;  // what was approximated (downscaled images, ...)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -21,8 +22,7 @@ std::uint32_t next_power_of_two(std::uint64_t v) {
 }
 
 // A texture without uvs is a warning; indices were checked by validate_scene.
-TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
-                       std::vector<std::string>& warnings) {
+TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string>& warnings) {
     TextureUse use;
     use.used.assign(scene.textures.size(), false);
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
@@ -30,7 +30,7 @@ TextureUse texture_use(const Scene& scene, const SceneGeometry& geometry,
         bool warned = false;
         for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture}) {
             if (t < 0) continue;  // indices were checked by validate_scene
-            if (geometry.mesh.uvs.empty()) {
+            if (!has_uvs) {
                 if (!warned)
                     warnings.push_back("materials[" + std::to_string(k) + "] has a texture but "
                                        "the mesh has no uvs: its constant values are used instead");
@@ -128,7 +128,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
 }
 
 float frame_camera(const Camera& cam, const RenderSettings& settings, const PackedBvh& bvh,
-                   const SceneBounds& bounds, FrameBlock& f) {
+                   const SceneBounds& bounds, FrameBlock& f, const TwoLevelBvh* two_level) {
     const float diagonal = glm::length(bounds.hi - bounds.lo);
     // The whole frame (larger than the image when the image is a render region).
     const bool region = cam.full_width > 0;
@@ -162,6 +162,9 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
         half_extent = glm::vec2(tan_x, tan_x * aspect);
         shift = glm::vec2(2.0f * cam.shift_x * tan_larger, 2.0f * cam.shift_y * tan_larger);
     }
+    // The automatic radius below looks through the whole frame, so that a region or a tile
+    // of it gathers with the radius the whole frame's render would use.
+    const glm::vec2 frame_half_extent = half_extent, frame_shift = shift;
     if (region) {
         // The window's half extent and centre in the frame's film coordinates ([-1, 1],
         // y up, row 0 at the top).
@@ -175,6 +178,12 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
     }
     f.film_half_extent = half_extent;
     f.film_shift = shift;
+    f.frame_first_pixel = region ? static_cast<std::uint32_t>(cam.region_y) *
+                                           static_cast<std::uint32_t>(frame_width) +
+                                       static_cast<std::uint32_t>(cam.region_x)
+                                 : 0u;
+    f.frame_width = static_cast<std::uint32_t>(frame_width);
+    f.frame_pixels = static_cast<std::uint32_t>(frame_width) * static_cast<std::uint32_t>(frame_height);
     f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
     f.aperture_radius = cam.aperture_radius;
     f.focus_distance = cam.focus_distance;
@@ -188,14 +197,19 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
         for (int j = 0; j < 5; ++j) {
             for (int i = 0; i < 5; ++i) {
                 const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec2 film = ndc * f.film_half_extent + f.film_shift;
+                const glm::vec2 film = ndc * frame_half_extent + frame_shift;
                 const bool ortho = cam.projection == Projection::Orthographic;
                 const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
                 const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
                 Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
                         glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
-                const Hit hit = closest_hit(bvh, ray);
-                if (hit.triangle >= 0) distances.push_back(hit.t);
+                if (two_level) {
+                    const InstanceHit hit = closest_hit(*two_level, ray);
+                    if (hit.instance >= 0) distances.push_back(hit.t);
+                } else {
+                    const Hit hit = closest_hit(bvh, ray);
+                    if (hit.triangle >= 0) distances.push_back(hit.t);
+                }
             }
         }
         float distance = glm::length(bounds.center() - eye);
@@ -223,25 +237,72 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     // Area lights join the geometry; textures count only where the mesh has uvs for them.
     p.geometry = with_area_lights(scene);
     SceneGeometry& geometry = p.geometry;
-    p.textures = texture_use(scene, geometry, p.warnings);
-    const TextureUse& use = p.textures;
-    if (!use.materials) geometry.mesh.uvs = {};  // no texture lookups: no uvs uploaded
-    if (!built) {
-        const ValidMesh mesh =
-            validate_mesh(geometry.mesh, static_cast<std::uint32_t>(geometry.materials.size()));
-        if (mesh.kept.empty())
-            throw SceneError("the scene has no geometry: nothing to render (" +
-                             std::to_string(mesh.stats.degenerate_dropped) +
-                             " degenerate triangles dropped)");
-        BvhBuildOptions options;
-        options.leaf_size = settings.leaf_size;
-        options.cancel = cancel;
-        p.bvh = build_packed_bvh(mesh, options, 6);
+    p.instancing = plan_instancing(scene, geometry.materials, settings.instancing);
+    const bool two_level = p.instancing.two_level;
+    SceneBounds instanced_bounds;
+    if (!scene.instances.empty())
+        instanced_scene_bounds(geometry.mesh, scene, instanced_bounds.lo, instanced_bounds.hi);
+    if (p.instancing.path == "flattened") {
+        const std::shared_ptr<OwnedMesh> flat = flatten_instances(geometry.mesh, scene, true);
+        geometry.owned = flat;
+        geometry.mesh = flat->view();
     }
+    bool has_uvs = !geometry.mesh.uvs.empty();
+    std::vector<MeshView> instance_meshes;
+    if (two_level) {
+        instance_meshes = scene.instance_meshes;
+        for (const MeshView& m : instance_meshes) has_uvs |= !m.uvs.empty();
+    }
+    p.textures = texture_use(scene, has_uvs, p.warnings);
+    const TextureUse& use = p.textures;
+    if (!use.materials) {  // no texture lookups: no uvs uploaded
+        geometry.mesh.uvs = {};
+        for (MeshView& m : instance_meshes) m.uvs = {};
+    }
+    const auto material_count = static_cast<std::uint32_t>(geometry.materials.size());
+    const ValidMesh mesh = validate_mesh(geometry.mesh, material_count);
+    std::vector<ValidMesh> valid_instance_meshes;
+    std::size_t kept = mesh.kept.size(), dropped = mesh.stats.degenerate_dropped;
+    for (std::size_t m = 0; m < instance_meshes.size(); ++m) {
+        try {
+            valid_instance_meshes.push_back(validate_mesh(instance_meshes[m], material_count));
+        } catch (const SceneError& e) {
+            throw SceneError("instance_meshes[" + std::to_string(m) + "]: " + e.what());
+        }
+        dropped += valid_instance_meshes.back().stats.degenerate_dropped;
+    }
+    if (two_level)
+        for (const Instance& inst : scene.instances)
+            kept += valid_instance_meshes[inst.mesh].kept.size();
+    if (kept == 0)
+        throw SceneError("the scene has no geometry: nothing to render (" +
+                         std::to_string(dropped) + " degenerate triangles dropped)");
+    BvhBuildOptions options;
+    options.leaf_size = settings.leaf_size;
+    options.cancel = cancel;
     // Tables and camera change, the geometry did not: the earlier MTBVH stands (p.bvh stays
-    // empty).
+    // empty). Instanced scenes build their two levels again.
+    if (two_level) built = nullptr;
+    if (!built) p.bvh = build_packed_bvh(mesh, options, 6);
     const PackedBvh& bvh = built ? *built : p.bvh;
-    p.bounds = scene_bounds(bvh);
+    if (two_level) {
+        // Mesh 0: the placed-once triangles, under the identity; instance meshes after it.
+        const auto bottom_start = std::chrono::steady_clock::now();
+        std::vector<PackedBvh> bottoms;
+        bottoms.push_back(p.bvh);
+        for (const ValidMesh& m : valid_instance_meshes)
+            bottoms.push_back(build_packed_bvh(m, options, 6));
+        const double bottom_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - bottom_start).count();
+        std::vector<Instance> instances{Instance{}};
+        for (Instance inst : scene.instances) {
+            ++inst.mesh;
+            instances.push_back(inst);
+        }
+        p.two_level = std::make_unique<TwoLevelBvh>(build_two_level_bvh(bottoms, instances, options));
+        p.two_level->stats.bottom_seconds = bottom_seconds;  // mesh 0 is timed in p.bvh.stats
+    }
+    p.bounds = scene.instances.empty() ? scene_bounds(bvh) : instanced_bounds;
     // float32 positions, radii and ray offsets hold from about 1e-14 to 1e11 units across
     // (tests/python/test_geometry_extremes.py): outside that, say so rather than render black.
     const double extent = glm::length(glm::dvec3(p.bounds.hi) - glm::dvec3(p.bounds.lo));
@@ -271,13 +332,26 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         conductor |= kind == MaterialKind::Conductor;
         dielectric |= kind == MaterialKind::Dielectric;
     }
+    if (two_level) {
+        for (const Instance& inst : scene.instances) {
+            const MeshView& m = scene.instance_meshes[inst.mesh];
+            std::uint32_t most = 0;
+            for (std::uint32_t id : m.material_ids) most = std::max(most, id);
+            for (std::uint32_t k = 0; k <= most; ++k) {
+                const auto kind = geometry.materials[inst.material_offset + k].kind;
+                conductor |= kind == MaterialKind::Conductor;
+                dielectric |= kind == MaterialKind::Dielectric;
+            }
+        }
+    }
     std::vector<std::string> features;
     auto feature = [&](bool on, const char* define, const char* name) {
         if (!on && !settings.full_variant) return;
         p.defines.push_back({define, "1"});
         features.push_back(name);
     };
-    feature(!bvh.normals.empty(), "HAS_NORMALS", "normals");
+    feature(!(two_level ? p.two_level->normals : bvh.normals).empty(), "HAS_NORMALS",
+            "normals");
     feature(scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
             "HAS_DEPTH_OF_FIELD", "depth-of-field");
     feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC", "orthographic");
@@ -323,6 +397,10 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                                     kMaterialMayBeTransparent)) != 0;
         if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
     }
+    if (two_level) {
+        p.defines.push_back({"GLSLPPM_INSTANCES", "1"});
+        features.push_back("instances");
+    }
     p.defines.push_back({settings.rng == RngKind::Pcg ? "RNG_PCG" : "RNG_PAPER", "1"});
     p.defines.push_back({settings.hash == HashMode::Exact ? "HASH_EXACT" : "HASH_STOCHASTIC", "1"});
     p.defines.push_back({"LOCAL_SIZE", std::to_string(local_size) + "u"});
@@ -342,7 +420,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
     const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
     FrameBlock& f = p.frame;
-    p.initial_radius = frame_camera(scene.camera, settings, bvh, p.bounds, f);
+    p.initial_radius = frame_camera(scene.camera, settings, bvh, p.bounds, f, p.two_level.get());
     f.scene_lo = p.bounds.lo;
     f.ray_offset_floor = 1e-3f * diagonal;
     f.scene_center = p.bounds.center();

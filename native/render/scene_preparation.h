@@ -12,10 +12,12 @@
 #include <vector>
 
 #include "bvh/packed_bvh.h"
+#include "bvh/two_level_bvh.h"
 #include "render/area_lights.h"
 #include "render/emitters.h"
 #include "render/environment_map.h"
 #include "render/gpu_layout.h"
+#include "render/instancing.h"
 #include "render/settings.h"
 #include "scene/cancel.h"
 #include "scene/scene.h"
@@ -32,7 +34,11 @@ struct TextureUse {
 struct PreparedScene {
     SceneGeometry geometry;  // the scene's mesh and materials, area lights appended
     TextureUse textures;
-    PackedBvh bvh;
+    PackedBvh bvh;  // the triangles placed once (with the area lights)
+    // The scene's instances: how they are traced, and the two-level MTBVH (the placed-once
+    // triangles its mesh 0) when that is the path; null otherwise (flattened into `bvh`).
+    InstancePlan instancing;
+    std::unique_ptr<TwoLevelBvh> two_level;
     SceneBounds bounds;
     std::unique_ptr<EnvironmentMap> environment;  // null without an environment map
     EmitterTable emitters;
@@ -71,6 +77,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
 // settings' image size, and the automatic radius it implies (settings.initial_radius when
 // positive): two pixel footprints at the median distance the camera sees, through `bvh`.
 float frame_camera(const Camera& camera, const RenderSettings& settings, const PackedBvh& bvh,
-                   const SceneBounds& bounds, FrameBlock& frame);
+                   const SceneBounds& bounds, FrameBlock& frame,
+                   const TwoLevelBvh* two_level = nullptr);
 
 }  // namespace glslppm

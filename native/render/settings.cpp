@@ -30,6 +30,20 @@ Estimator parse_estimator(const std::string& name) {
     throw std::invalid_argument("estimator: '" + name + "' is not an estimator (sppm, pppm)");
 }
 
+Instancing parse_instancing(const std::string& name) {
+    if (name == "auto") return Instancing::Auto;
+    if (name == "two-level") return Instancing::TwoLevel;
+    if (name == "flattened") return Instancing::Flattened;
+    throw std::invalid_argument("instancing: '" + name +
+                                "' is not an instancing mode (auto, two-level, flattened)");
+}
+
+std::string to_string(Instancing instancing) {
+    return instancing == Instancing::Auto       ? "auto"
+           : instancing == Instancing::TwoLevel ? "two-level"
+                                                : "flattened";
+}
+
 std::string to_string(HashMode mode) { return mode == HashMode::Exact ? "exact" : "stochastic"; }
 std::string to_string(RngKind kind) { return kind == RngKind::Pcg ? "pcg" : "paper"; }
 std::string to_string(DirectLight direct) {

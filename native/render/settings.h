@@ -19,6 +19,9 @@ enum class DirectLight { Sampled, Photons };
 // of the passes' estimates, so any set of pass indices can run on any device or machine and
 // the means merge exactly (render/film_merge.h).
 enum class Estimator { Sppm, Pppm };
+// How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
+// triangles, or chosen by the measured rule in render/instancing.h.
+enum class Instancing { Auto, TwoLevel, Flattened };
 
 struct RenderSettings {
     int width = 256;
@@ -30,7 +33,11 @@ struct RenderSettings {
     int max_depth = 16;           // eye and photon bounces
     // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
     // and glass are); at and above it they hold the visible point that gathers photons.
-    float glossy_threshold = 0.2f;
+    // 0.5: a visible point's direct light is a light sample alone (no BSDF sample to weigh
+    // it against yet), whose noise on narrower lobes is large: a white conductor of
+    // roughness 0.3 under a uniform sky read 0.95-1.08 after 64 passes where following the
+    // lobe reads 1.000.
+    float glossy_threshold = 0.5f;
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
     // docs/direct_light.md: less error at equal time.
@@ -47,21 +54,27 @@ struct RenderSettings {
     // benchmark's baseline); off, programs model only what the scene requires.
     bool full_variant = false;
     int max_texture_size = 0;     // 0: the GPU's GL_MAX_TEXTURE_SIZE; smaller tests downscaling
+    // 0: the GPU's GL_MAX_SHADER_STORAGE_BLOCK_SIZE; smaller caps the per-pixel buffers
+    // below it, so that tests tile small images (native/render/tiled_render.h).
+    std::uint64_t max_block_bytes = 0;
     // Film alpha = coverage: camera rays that leave the scene are transparent and show no
     // world (Blender's Film > Transparent); with transparent_glass, so are those that leave
     // through smooth glass, in proportion to what the glass transmits.
     bool transparent = false;
     bool transparent_glass = false;
+    Instancing instancing = Instancing::Auto;
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
 Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm"
+Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);
 std::string to_string(RngKind kind);
 std::string to_string(DirectLight direct);
 std::string to_string(Estimator estimator);
+std::string to_string(Instancing instancing);
 
 // Throws std::invalid_argument naming the setting when one is out of range.
 void validate(const RenderSettings& settings);

@@ -41,6 +41,15 @@ struct ValidMesh {
     MeshStats stats;
 };
 
+// One placement of a mesh (instancing; bvh/two_level_bvh.h): world = to_world * (x, 1),
+// to_world affine (bottom row 0 0 0 1) and invertible; its material ids are the mesh's plus
+// material_offset.
+struct Instance {
+    glm::mat4 to_world{1.0f};
+    std::uint32_t mesh = 0;
+    std::uint32_t material_offset = 0;
+};
+
 // Throws SceneError naming the array and the first bad index: index out of range, NaN or
 // Inf coordinates or normals or uvs, material id >= material_count, arrays whose lengths
 // disagree. Zero-area triangles are dropped and counted.

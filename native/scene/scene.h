@@ -149,8 +149,14 @@ struct Camera {
 };
 
 struct Scene {
-    MeshView mesh;
-    std::shared_ptr<const void> keepalive;  // owns the arrays the MeshView points into
+    MeshView mesh;  // world-space triangles, placed once
+    std::shared_ptr<const void> keepalive;  // owns the arrays the MeshViews point into
+    // Instanced geometry: meshes in their own space, each placed by any number of instances
+    // (Instance::mesh indexes instance_meshes). The renderer traces them through a two-level
+    // MTBVH, or flattens them into world space where that is faster (RenderSettings::
+    // instancing, stats()["instancing"]).
+    std::vector<MeshView> instance_meshes;
+    std::vector<Instance> instances;
     std::vector<Material> materials;
     std::vector<Light> lights;
     Camera camera;

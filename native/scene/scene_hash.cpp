@@ -55,6 +55,21 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
     h.array(s.mesh.normals);
     h.array(s.mesh.uvs);
     h.array(s.mesh.material_ids);
+    // Instanced meshes in their own space and the instances placing them (scene.h).
+    h.value(static_cast<std::uint64_t>(s.instance_meshes.size()));
+    for (const MeshView& m : s.instance_meshes) {
+        h.array(m.positions);
+        h.array(m.triangles);
+        h.array(m.normals);
+        h.array(m.uvs);
+        h.array(m.material_ids);
+    }
+    h.value(static_cast<std::uint64_t>(s.instances.size()));
+    for (const Instance& i : s.instances) {
+        h.value(i.to_world);
+        h.value(i.mesh);
+        h.value(i.material_offset);
+    }
     h.value(static_cast<std::uint64_t>(s.materials.size()));
     for (const Material& m : s.materials) {
         h.value(m.kind);

@@ -25,6 +25,7 @@
 #define BINDING_TEXTURE_INFO 17    // each image's place in its atlas
 #define BINDING_ENVIRONMENT_CDF 18 // the environment map's sampling distribution
 #define BINDING_RADIUS_STATS 19    // per-thread sums of the radii, for stats()
+#define BINDING_INSTANCES 20       // two-level MTBVH instance records (common/mtbvh_instances.glsl)
 
 // Uniform block and texture units.
 #define BINDING_FRAME 0            // uniform Frame (common/frame.glsl)

@@ -53,6 +53,19 @@ vec3 sample_environment(float u1, float u2, float u3, float u4, out float pdf) {
     pdf = p_row * p_col * float(w * h) / (2.0 * PI * PI * max(sin_theta, 1e-7));
     return environment_direction(uv);
 }
+
+// The density sample_environment draws world_dir with.
+float environment_pdf(vec3 world_dir) {
+    uint w = uint(environment_cdf_width), h = uint(environment_cdf_height);
+    vec2 uv = environment_uv(world_dir);
+    uint row = min(uint(uv.y * float(h)), h - 1u);
+    uint col = min(uint(uv.x * float(w)), w - 1u);
+    uint first = h + 1u + row * (w + 1u);
+    float p_row = environment_cdf[row + 1u] - environment_cdf[row];
+    float p_col = environment_cdf[first + col + 1u] - environment_cdf[first + col];
+    float sin_theta = sin(uv.y * PI);
+    return p_row * p_col * float(w * h) / (2.0 * PI * PI * max(sin_theta, 1e-7));
+}
 #endif
 #endif
 

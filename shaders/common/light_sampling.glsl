@@ -24,8 +24,7 @@ uint shadow_ray_seed = 0u;
 // with a number drawn per surface crossed (common/mtbvh.glsl asks this of every hit). The
 // mixes' view-dependent factors are taken at normal incidence, and a transparent leaf's
 // tint does not colour the shadow.
-bool bvh_any_hit_passes(int triangle, float u, float v) {
-    int m = floatBitsToInt(triangles[3 * triangle].w);
+bool shadow_passes(int m, int triangle, float u, float v) {
     int flags = material_flags(m);
     if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0) return true;
 #ifdef HAS_MICROFACET
@@ -44,6 +43,15 @@ bool bvh_any_hit_passes(int triangle, float u, float v) {
 #endif
     return false;
 }
+bool bvh_any_hit_passes(int triangle, float u, float v) {
+    return shadow_passes(floatBitsToInt(triangles[3 * triangle].w), triangle, u, v);
+}
+#ifdef GLSLPPM_INSTANCES
+bool bvh_any_hit_passes_instanced(int triangle, int instance, float u, float v) {
+    int m = floatBitsToInt(triangles[3 * triangle].w) + bvh_instance_bases(instance).w;
+    return shadow_passes(m, triangle, u, v);
+}
+#endif
 #endif
 
 const float DISTANT_LIGHT = 3.0e38;
@@ -192,33 +200,85 @@ vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 c
 }
 
 #ifdef HAS_MICROFACET
+#ifdef HAS_ENVIRONMENT
+// The density per solid angle with which light sampling (below) draws wi from the world:
+// its pick probability times the map's density, or the cosine density about `side`, halved
+// where the lobe transmits (either side is drawn, with probability 1/2). The world is the
+// emitter table's last record (native/render/emitters.cpp) when there is one.
+float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
+    uint k = emitter_count - 1u;
+    if (floatBitsToInt(emitters[4u * k].w) != EMITTER_ENVIRONMENT) return 0.0;
+    float pick = emitters[4u * k + 3u].w;
+#ifdef HAS_ENVIRONMENT_MAP
+    return pick * environment_pdf(wi);
+#else
+    float c = dot(side, wi);
+    if (transmits) return pick * 0.5 * abs(c) / PI;
+    return c > 0.0 ? pick * c / PI : 0.0;
+#endif
+}
+#endif
+
 // The same for a material of common/lobes.glsl, whose lobes may transmit: the light may be on
 // either side. `rough_only`: the smooth lobes, followed by the eye path, are left out.
+// Glossy lobes see the world better through their own samples than through the world's:
+// with an environment, one BSDF sample `u_bsdf` also looks for it, and the two estimates of
+// the world's light are combined by the balance heuristic (Veach's multiple importance
+// sampling). Other lights come from their light samples alone (the BSDF sample ignores them).
 vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
-                                float pick, vec4 u, inout uint rays) {
+                                float pick, vec4 u, vec3 u_bsdf, inout uint rays) {
     vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
     bool transmits = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
     // A transmitting lobe sees the constant world from below as well: the cosine-sampled
     // half is chosen by u.w (which that sampler does not read), at half the density.
     vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
+    vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
+    bool world = floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT;
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
-    if (transmits && floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT)
-        ls.radiance_over_pdf *= 2.0;
+    if (transmits && world) ls.radiance_over_pdf *= 2.0;
 #endif
     float cos_theta = abs(dot(ng, ls.wi));
-    if (cos_theta <= 0.0 || ls.distance <= 0.0 || all(equal(ls.radiance_over_pdf, vec3(0.0))))
-        return vec3(0.0);
     vec3 f = bsdf_f(sh, wo, ls.wi, rough_only, false);
-    if (all(equal(f, vec3(0.0)))) return vec3(0.0);
-    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
-    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
-    ++rays;
+    if (cos_theta > 0.0 && ls.distance > 0.0 && any(greaterThan(ls.radiance_over_pdf, vec3(0.0))) &&
+        any(greaterThan(f, vec3(0.0)))) {
+        Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
+        if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
+        ++rays;
 #ifdef BVH_ANY_HIT_FILTER
-    shadow_ray_seed = floatBitsToUint(u.x) ^ (floatBitsToUint(u.y) * 0x85EBCA6Bu);
+        shadow_ray_seed = floatBitsToUint(u.x) ^ (floatBitsToUint(u.y) * 0x85EBCA6Bu);
 #endif
-    if (any_hit(shadow)) return vec3(0.0);
-    return f * ls.radiance_over_pdf * cos_theta;
+        if (!any_hit(shadow)) {
+            float weight = 1.0;
+#ifdef HAS_ENVIRONMENT
+            if (world) {
+                float p_light = environment_light_pdf(ls.wi, ng_wo, transmits);
+                float p_bsdf = bsdf_pdf(sh, wo, ls.wi);
+                weight = p_light / (p_light + p_bsdf);
+            }
+#endif
+            result += f * ls.radiance_over_pdf * (cos_theta * weight);
+        }
+    }
+#ifdef HAS_ENVIRONMENT
+    vec3 wi, sampled;
+    if (bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
+        float p_bsdf = bsdf_pdf(sh, wo, wi);
+        float p_light = environment_light_pdf(wi, ng_wo, transmits);
+        vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
+        if (p_bsdf > 0.0 && p_light > 0.0 && any(greaterThan(f_rough, vec3(0.0)))) {
+            Ray escape = make_ray(offset_origin(p, ng, wi), wi);
+            ++rays;
+#ifdef BVH_ANY_HIT_FILTER
+            shadow_ray_seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+#endif
+            if (!any_hit(escape))
+                result += f_rough * environment_radiance(wi) *
+                          (abs(dot(ng, wi)) / (p_bsdf + p_light));
+        }
+    }
+#endif
+    return result;
 }
 #endif
 

@@ -7,7 +7,8 @@
 // Define BVH_COUNT_VISITS (benchmarks and tests only) to count the work of each traversal
 // in bvh_nodes_visited and bvh_triangles_tested, exactly where TraversalCounts counts it on
 // the CPU: a wrong order choice costs only speed, and these counts are how it shows. Without
-// the define BVH_COUNT expands to nothing, so the renderer's code is unchanged.
+// the define BVH_COUNT expands to nothing, so the renderer's code is unchanged. Define
+// GLSLPPM_INSTANCES when the buffers hold a two-level MTBVH (common/mtbvh_instances.glsl).
 
 #include "common/bindings.glsl"
 
@@ -36,6 +37,9 @@ struct Hit {
     float u;  // barycentrics of v1 and v2
     float v;
     int triangle;  // PACKED triangle index (fetch triangles[3 * i + k]), -1 for a miss
+#ifdef GLSLPPM_INSTANCES
+    int instance;  // the instance hit (native/bvh/two_level_bvh.h), -1 for a miss
+#endif
 };
 
 // kBoxPadRelative and kSlabFarScale of aabb.h / intersect.h.
@@ -117,6 +121,9 @@ int bvh_link_base(vec3 dir) {
 #endif
 }
 
+#ifdef GLSLPPM_INSTANCES
+#include "common/mtbvh_instances.glsl"
+#else
 Hit closest_hit(Ray r) {
     Hit best = Hit(r.tmax, 0.0, 0.0, -1);
     int best_id = -1;  // original id of best.triangle, for the tie rule
@@ -196,3 +203,4 @@ bool any_hit(Ray r) {
     }
     return false;
 }
+#endif

@@ -23,6 +23,33 @@ struct Surface {
     vec2 uv;                // texture coordinates (HAS_TEXTURES only)
 };
 
+#ifdef GLSLPPM_INSTANCES
+// A surface found in an instance's space, moved to world space: the position by A x + T
+// (interpolated in the instance, where its coordinates are small, and moved once), normals
+// by A^-T, the material by the instance's offset (native/bvh/two_level_bvh.h). A mirrored
+// instance (det A < 0) keeps its front side, as in Blender: the winding's normal is moved
+// like the others rather than recomputed from the mirrored winding.
+void instance_surface_to_world(inout Surface s, int instance) {
+    int base = INSTANCE_RECORD_VEC4 * instance;
+    vec4 i0 = instances[base];
+    vec4 i1 = instances[base + 1];
+    vec4 i2 = instances[base + 2];
+    vec4 a0 = instances[base + 3];
+    vec4 a1 = instances[base + 4];
+    vec4 a2 = instances[base + 5];
+    s.position = vec3(dot(a0.xyz, s.position), dot(a1.xyz, s.position),
+                      dot(a2.xyz, s.position)) + vec3(a0.w, a1.w, a2.w);
+    // A^-T n: the rows of A^-1 weighted by n's components.
+    vec3 ng = i0.xyz * s.geometric_normal.x + i1.xyz * s.geometric_normal.y +
+              i2.xyz * s.geometric_normal.z;
+    s.geometric_normal = normalize(ng);
+    vec3 n = i0.xyz * s.normal.x + i1.xyz * s.normal.y + i2.xyz * s.normal.z;
+    s.normal = normalize(n);
+    if (dot(s.normal, s.geometric_normal) < 0.0) s.normal = -s.normal;
+    s.material += bvh_instance_bases(instance).w;
+}
+#endif
+
 Surface surface_at(Ray ray, Hit hit) {
     int t = hit.triangle;
     vec4 a = triangles[3 * t + 0];
@@ -48,6 +75,9 @@ Surface surface_at(Ray ray, Hit hit) {
     s.uv = (1.0 - hit.u - hit.v) * uv01.xy + hit.u * uv01.zw + hit.v * uv2;
 #else
     s.uv = vec2(0.0);
+#endif
+#ifdef GLSLPPM_INSTANCES
+    instance_surface_to_world(s, hit.instance);
 #endif
     return s;
 }

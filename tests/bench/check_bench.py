@@ -87,6 +87,23 @@ def check_passes(bench):
     for stage in ("eye", "photon", "hash", "gather"):
         check(positive(out["stage_ms"][stage]), f"passes stage {stage} = {out['stage_ms']}")
     check("dielectric" in out["variant"], f"caustic scene variant {out['variant']}")
+    check(out["instancing"] == "none" and out["instances"] == 0,
+          f"caustic scene instancing {out['instancing']}")
+    # The instancing scene: 200 bumpy spheres of about 2k triangles, past the flattening
+    # bound (262,144), so the two-level MTBVH; the distinct triangles are the room's 12 and
+    # one sphere's.
+    out = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+              "--passes", "2", "--warmup", "1", "--scene", "instances:200x2k", "--json")
+    if out is None:
+        return
+    check(out["instancing"] == "two-level", f"instances scene path {out['instancing']}")
+    check("instances" in out["variant"].split(","), f"instances variant {out['variant']}")
+    check(out["instances"] == 200, f"instances {out['instances']}")
+    sphere = out["triangles"] - 12
+    check(out["instanced_triangles"] == 200 * sphere and sphere > 1900,
+          f"instanced triangles {out['instanced_triangles']}, distinct {out['triangles']}")
+    for key in ("passes_per_second", "bvh_seconds", "setup_seconds", "gpu_bytes"):
+        check(positive(out.get(key)), f"instances passes {key} = {out.get(key)}")
 
 
 def check_passes_two_workers(bench):

@@ -248,6 +248,7 @@ def recording_engine_class():
         render_returned_at = None
         last_passes = 0
         last_stats = {}
+        tiles_seen = []             # (tile, tiles) of the engine's image tiles, in order
 
         def render(self, depsgraph):
             super().render(depsgraph)
@@ -261,6 +262,9 @@ def recording_engine_class():
             limit = GlslppmRecordingEngine.break_after_passes
             GlslppmRecordingEngine.last_passes = self.passes_done
             GlslppmRecordingEngine.last_stats = self.last_stats
+            seen = GlslppmRecordingEngine.tiles_seen
+            if self.tile_progress is not None and self.tile_progress not in seen:
+                seen.append(self.tile_progress)
             if limit is not None and self.passes_done >= limit:
                 return True
             stage = GlslppmRecordingEngine.break_in_stage
@@ -294,6 +298,7 @@ def recording_engine():
     cls.render_returned_at = None
     cls.last_passes = 0
     cls.last_stats = {}
+    cls.tiles_seen = []
     return cls
 
 

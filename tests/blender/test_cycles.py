@@ -340,9 +340,10 @@ def test_default_cube_matches_cycles_once_its_material_is_diffuse():
     """Blender's default scene (cube, point light, camera) was 2-4% darker than Cycles. With
     light sampling that stays 2% (measured 0.980 under 3.4), so it is not the gather
     radius; with the cube's Principled BSDF replaced by a Diffuse BSDF of the same colour
-    the image matches Cycles to 0.04% (photons alone: 0.3%). The rest is Principled's
-    specular layer, which the material model does not have yet: the bound below is 1%, on
-    the diffuse cube, and the Principled cube's ratio is printed."""
+    the image matches Cycles to 0.04% (photons alone: 0.3%). The rest was Principled's
+    specular layer: exported with it, the Principled cube measures 0.996 (3.4) and 0.9985
+    (4.3). The bound below is 1%, on the diffuse cube, and the Principled cube's ratio is
+    printed."""
     helpers.reset_scene(size=(96, 54))
     scene = bpy.context.scene
     # Blender's startup file, as it stands: a 2 m cube with the default Principled BSDF, a

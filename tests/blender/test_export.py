@@ -75,15 +75,20 @@ def test_modifiers_and_instances():
         empty.scale = (0.5, 0.5, 0.5)
         bpy.context.scene.collection.objects.link(empty)
     data = export()
-    assert data.triangle_count == 3 * 12 + 2 * 12, data.triangle_count
-    centers = _triangles(data).mean(axis=1)
-    instanced = centers[centers[:, 0] > 15]
-    assert len(instanced) == 24
-    assert_close(sorted({10 * round(float(x) / 10) for x in instanced[:, 0]}), [20, 30], 0,
+    # The array's cubes are the object's own triangles, in world space; the collection's
+    # two instances are rows of the instance table over one mesh read once.
+    assert data.triangle_count == 3 * 12, data.triangle_count
+    assert_close(data.positions[:, 0].max(), 9.0, 1e-5, "array end")
+    assert data.instance_count == 2 and len(data.instance_meshes) == 1, data.stats
+    assert data.instance_meshes[0]["indices"].shape == (12, 3)
+    assert_close(sorted(float(m[0, 3]) for m in data.instances), [20, 30], 1e-5,
                  "instance placement")
-    inst = data.positions[data.positions[:, 0] > 15]
-    assert_close(inst[:, 1].min(), -0.5, 1e-5, "instance scale")
-    assert_close(data.positions[:, 0][data.positions[:, 0] < 15].max(), 9.0, 1e-5, "array end")
+    for m in data.instances:
+        assert_close(np.diag(m)[:3], (0.5, 0.5, 0.5), 1e-6, "instance scale")
+    # Placed: x in 20 +- 0.5 and 30 +- 0.5, y in +-0.5.
+    corners = data.instance_meshes[0]["positions"]
+    placed = np.concatenate([corners @ m[:3, :3].T + m[:3, 3] for m in data.instances])
+    assert_close(placed[:, 1].min(), -0.5, 1e-5, "instance scale")
     assert data.stats["meshes"] == 2, data.stats  # the instanced mesh was read once
 
 
@@ -140,6 +145,17 @@ def _material_of(data, index=0):
     return data.materials[int(data.material_ids[index])]
 
 
+def _base_colour(data, index=0):
+    """(colour, texture) of the base lobe of the first triangle's material: the first part
+    of its mixes, a 0.5 mix's doubled weight undone."""
+    material, scale = _material_of(data, index), 1.0
+    while material.kind == "mix":
+        if material.mix_mode == "constant" and material.mix_factor == 0.5:
+            scale *= 0.5
+        material = data.materials[material.mix_a]
+    return tuple(scale * c for c in material.color), material.color_texture
+
+
 def _single(material):
     """Exports one cube with the material (clearing earlier objects, keeping materials)."""
     for obj in list(bpy.data.objects):
@@ -149,22 +165,47 @@ def _single(material):
     return export()
 
 
+def _check_plastic(materials, index, base, ior):
+    """4.x: one plastic layer of index ior over base; 3.x: Cycles 3.x's sum of a diffuse
+    and a Fresnel-weighted specular, as Mix(0.5, diffuse of 2 base, Mix(Fresnel(ior),
+    black, reflector of colour 2))."""
+    material = materials[index]
+    if helpers.BLENDER_4:
+        assert material.kind == "plastic", material
+        assert_close(material.color, base, 1e-6, "plastic base colour")
+        assert abs(material.ior - ior) < 1e-4, material
+        return
+    assert material.kind == "mix" and material.mix_factor == 0.5, material
+    diffuse, specular = materials[material.mix_a], materials[material.mix_b]
+    assert diffuse.kind == "diffuse", diffuse
+    assert_close(diffuse.color, [2 * c for c in base], 1e-6, "doubled base colour")
+    assert specular.mix_mode == "fresnel" and abs(specular.mix_ior - ior) < 1e-4, specular
+    assert materials[specular.mix_a].color == (0.0, 0.0, 0.0)
+    reflector = materials[specular.mix_b]
+    assert reflector.kind == "conductor" and reflector.color == (2.0, 2.0, 2.0), reflector
+
+
 def test_principled_mappings():
+    """Principled BSDF's parts: a plastic layer (index from Specular in 3.x, from IOR and
+    Specular IOR Level in 4.x), a Schlick metal, glass, emission, and a rough metal kept
+    rough."""
     base = (0.2, 0.4, 0.6, 1.0)
-    data = _single(node_material("Plastic", PRINCIPLED, **{"Base Color": base}))
-    material = _material_of(data)
-    assert material.kind == "diffuse", material
-    assert_close(material.color, base[:3], 1e-6, "principled base colour")
+    data = _single(node_material("Plastic", PRINCIPLED, **{"Base Color": base, "IOR": 1.5}))
+    # 3.x: Specular 0.5 is F0 = 0.04, index 1.5; 4.x: IOR 1.5 at level 0.5.
+    _check_plastic(data.materials, int(data.material_ids[0]), base[:3], 1.5)
     assert not data.warnings, data.warnings
 
     metal = {"Base Color": base, "Metallic": 1.0, "Roughness": 0.0}
     data = _single(node_material("Metal", PRINCIPLED, **metal))
-    assert _material_of(data).kind == "conductor" and not data.warnings, data.warnings
+    material = _material_of(data)
+    assert material.kind == "conductor" and material.schlick, material
+    assert not data.warnings, data.warnings
 
     glass = {TRANSMISSION: 1.0, "IOR": 1.33, "Roughness": 0.0}
     data = _single(node_material("Glass", PRINCIPLED, **glass))
     material = _material_of(data)
-    assert material.kind == "dielectric" and abs(material.ior - 1.33) < 1e-6, material
+    assert material.kind == "dielectric" and abs(material.ior - 1.33) < 1e-5, material
+    assert material.tint_reflection != helpers.BLENDER_4, material
 
     glow = {EMISSION_COLOR: (1.0, 0.5, 0.25, 1), "Emission Strength": 4.0}
     data = _single(node_material("Glow", PRINCIPLED, **glow))
@@ -173,8 +214,60 @@ def test_principled_mappings():
 
     rough_metal = {"Metallic": 1.0, "Roughness": 0.8}
     data = _single(node_material("RoughMetal", PRINCIPLED, **rough_metal))
-    assert _material_of(data).kind == "diffuse"
-    assert len(data.warnings) == 1 and "roughness" in data.warnings[0], data.warnings
+    material = _material_of(data)
+    assert material.kind == "conductor" and abs(material.roughness - 0.8) < 1e-6, material
+    assert not data.warnings, data.warnings
+
+
+def test_principled_parts_become_mixes():
+    """Metallic 0.3 and Transmission 0.4 with alpha 0.6: Mix(Transparent, Mix(metallic,
+    Mix(transmission, plastic, glass), metal)), the mix indices pointing into the table."""
+    inputs = {"Metallic": 0.3, TRANSMISSION: 0.4, "Alpha": 0.6, "Roughness": 0.35}
+    data = _single(node_material("Parts", PRINCIPLED, **inputs))
+    materials = data.materials
+    root = _material_of(data)
+    assert root.kind == "mix" and abs(root.mix_factor - 0.6) < 1e-6, root
+    assert materials[root.mix_a].kind == "transparent", materials[root.mix_a]
+    metallic = materials[root.mix_b]
+    assert metallic.kind == "mix" and abs(metallic.mix_factor - 0.3) < 1e-6, metallic
+    assert materials[metallic.mix_b].kind == "conductor"
+    transmission = materials[metallic.mix_a]
+    assert abs(transmission.mix_factor - 0.4) < 1e-6, transmission
+    _check_plastic(materials, transmission.mix_a, (0.8, 0.8, 0.8), 1.5)
+    assert materials[transmission.mix_b].kind == "dielectric"
+    for leaf in materials:
+        if leaf.kind in ("plastic", "dielectric", "conductor"):
+            assert abs(leaf.roughness - 0.35) < 1e-6, leaf
+    assert not data.warnings, data.warnings
+
+
+def test_principled_v2_specular_level_sets_the_index():
+    """4.x: Specular IOR Level 0.25 halves F0 = ((1.5 - 1) / 2.5)^2 = 0.04, so the layer's
+    index is (1 + sqrt(0.02)) / (1 - sqrt(0.02)) = 1.32945; 3.x: Specular 0.25 gives F0
+    0.02, the same index."""
+    name = "Specular IOR Level" if helpers.BLENDER_4 else "Specular"
+    data = _single(node_material("Half", PRINCIPLED, **{name: 0.25, "IOR": 1.5}))
+    expected = (1 + math.sqrt(0.02)) / (1 - math.sqrt(0.02))
+    _check_plastic(data.materials, int(data.material_ids[0]), (0.8, 0.8, 0.8), expected)
+
+
+def test_principled_unmodelled_parts_warn_once_each():
+    sheen = "Sheen Weight" if helpers.BLENDER_4 else "Sheen"
+    coat = "Coat Weight" if helpers.BLENDER_4 else "Clearcoat"
+    data = _single(node_material("Velvet", PRINCIPLED, **{sheen: 0.5, coat: 0.8}))
+    assert len(data.warnings) == 2, data.warnings
+    assert all(w.startswith("material 'Velvet': Principled BSDF 'Principled BSDF': ")
+               for w in data.warnings), data.warnings
+    assert "sheen" in data.warnings[1] and "coat" in data.warnings[0], data.warnings
+    root = _material_of(data)
+    # The coat: Fresnel of its index between the base and Mix(weight, base, white GGX).
+    assert root.kind == "mix" and root.mix_mode == "fresnel" and root.mix_ior == 1.5, root
+    inner = data.materials[root.mix_b]
+    assert inner.mix_a == root.mix_a, (inner, root)
+    coat = data.materials[inner.mix_b]
+    assert coat.kind == "conductor" and coat.color == (1.0, 1.0, 1.0), coat
+    # 3.x's clearcoat reflects a quarter of 4.x's coat of the same weight.
+    assert abs(inner.mix_factor - (0.8 if helpers.BLENDER_4 else 0.2)) < 1e-6, inner
 
 
 def test_basic_node_mappings():
@@ -186,21 +279,114 @@ def test_basic_node_mappings():
                                  Color=(0.9, 0.9, 0.9, 1)))
     assert _material_of(data).kind == "conductor" and not data.warnings, data.warnings
 
-    data = _single(node_material("Satin", "ShaderNodeBsdfGlossy", Roughness=0.3))
-    assert _material_of(data).kind == "conductor"
-    assert len(data.warnings) == 1 and "0.30" in data.warnings[0], data.warnings
+    satin = node_material("Satin", "ShaderNodeBsdfGlossy", Roughness=0.3)
+    for node in satin.node_tree.nodes:
+        if node.type == 'BSDF_GLOSSY':
+            node.distribution = 'MULTI_GGX'
+    data = _single(satin)
+    material = _material_of(data)
+    assert material.kind == "conductor" and not material.schlick, material
+    assert abs(material.roughness - 0.3) < 1e-6 and material.multiscatter, material
+    assert not data.warnings, data.warnings
 
-    data = _single(node_material("Matte", "ShaderNodeBsdfGlossy", Roughness=0.9))
-    assert _material_of(data).kind == "diffuse" and len(data.warnings) == 1
+    matte = node_material("Matte", "ShaderNodeBsdfGlossy", Roughness=0.9)
+    for node in matte.node_tree.nodes:
+        if node.type == 'BSDF_GLOSSY':
+            node.distribution = 'BECKMANN'
+    data = _single(matte)
+    material = _material_of(data)
+    assert material.kind == "conductor" and not material.multiscatter, material
+    assert data.warnings == ["material 'Matte': Glossy BSDF 'Glossy BSDF': the Beckmann "
+                             "distribution is rendered as GGX"], data.warnings
 
-    data = _single(node_material("Glass", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0))
+    data = _single(node_material("Glass", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.2))
     material = _material_of(data)
     assert material.kind == "dielectric" and abs(material.ior - 1.45) < 1e-6, material
+    assert material.tint_reflection and abs(material.roughness - 0.2) < 1e-6, material
+
+    data = _single(node_material("Veil", "ShaderNodeBsdfTranslucent",
+                                 Color=(0.5, 0.6, 0.7, 1)))
+    assert _material_of(data).kind == "translucent" and not data.warnings, data.warnings
+    data = _single(node_material("Clear", "ShaderNodeBsdfTransparent"))
+    assert _material_of(data).kind == "transparent" and not data.warnings, data.warnings
 
     data = _single(helpers.emission_material("Lamp", (1.0, 0.8, 0.6), 10.0))
     material = _material_of(data)
     assert_close(material.emission, (10.0, 8.0, 6.0), 1e-5, "emission radiance")
     assert_close(material.color, (0, 0, 0), 0, "emitter reflects nothing")
+
+
+def _shader_pair(name, combiner, first, second):
+    """A material of combiner (Mix or Add Shader) over two shader nodes (type, inputs)."""
+    material = node_material(name, combiner)
+    tree = material.node_tree
+    node = next(n for n in tree.nodes if n.type in ('MIX_SHADER', 'ADD_SHADER'))
+    offset = 1 if node.type == 'MIX_SHADER' else 0
+    for k, (node_type, inputs) in enumerate((first, second)):
+        shader = tree.nodes.new(node_type)
+        for key, value in inputs.items():
+            shader.inputs[key].default_value = value
+        tree.links.new(shader.outputs[0], node.inputs[offset + k])
+    return material, tree, node
+
+
+def test_mix_and_add_shaders():
+    """Mix Shader's Fac is the probability of its second shader; Layer Weight's Fresnel
+    is the Fresnel node's with IOR 1 / (1 - blend); Add of an Emission is the other
+    shader emitting; Add of two BSDFs is Mix 0.5 with both weights doubled."""
+    red = ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.1, 0.1, 1)})
+    glossy = ("ShaderNodeBsdfGlossy", {"Roughness": 0.25})
+    material, tree, node = _shader_pair("Mixed", "ShaderNodeMixShader", red, glossy)
+    node.inputs[0].default_value = 0.3
+    data = _single(material)
+    root = _material_of(data)
+    assert root.kind == "mix" and abs(root.mix_factor - 0.3) < 1e-6, root
+    assert data.materials[root.mix_a].kind == "diffuse"
+    assert data.materials[root.mix_b].kind == "conductor"
+
+    weight = tree.nodes.new("ShaderNodeLayerWeight")
+    weight.inputs["Blend"].default_value = 0.2
+    tree.links.new(weight.outputs["Fresnel"], node.inputs[0])
+    root = _material_of(_single(material))
+    assert root.mix_mode == "fresnel" and abs(root.mix_ior - 1.25) < 1e-5, root
+    tree.links.new(weight.outputs["Facing"], node.inputs[0])
+    root = _material_of(_single(material))
+    assert root.mix_mode == "facing" and abs(root.mix_ior - 0.2) < 1e-6, root
+
+    lamp = ("ShaderNodeEmission", {"Color": (1, 1, 1, 1), "Strength": 3.0})
+    material, _, _ = _shader_pair("Glowing", "ShaderNodeAddShader", red, lamp)
+    data = _single(material)
+    leaf = _material_of(data)
+    assert leaf.kind == "diffuse" and leaf.emission == (3.0, 3.0, 3.0), leaf
+
+    blue = ("ShaderNodeBsdfDiffuse", {"Color": (0.1, 0.1, 0.4, 1)})
+    material, _, _ = _shader_pair("Sum", "ShaderNodeAddShader", red, blue)
+    data = _single(material)
+    root = _material_of(data)
+    assert root.kind == "mix" and root.mix_factor == 0.5, root
+    assert_close(data.materials[root.mix_a].color, (1.6, 0.2, 0.2), 1e-6, "doubled red")
+    assert_close(data.materials[root.mix_b].color, (0.2, 0.2, 0.8), 1e-6, "doubled blue")
+    assert not data.warnings, data.warnings
+
+
+def test_two_mixed_materials_keep_their_roots():
+    """Two objects with tree materials: each face points at its own material's root and
+    each root's mix indices at its own parts."""
+    red = ("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.1, 0.1, 1)})
+    glossy = ("ShaderNodeBsdfGlossy", {"Roughness": 0.25})
+    first, _, _ = _shader_pair("First", "ShaderNodeMixShader", red, glossy)
+    second, _, _ = _shader_pair("Second", "ShaderNodeMixShader", glossy, red)
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    _camera()
+    add_cube("A", material=first)
+    add_cube("B", location=(4, 0, 0), material=second)
+    data = export()
+    roots = sorted(set(int(k) for k in data.material_ids))
+    assert roots == [0, 3], roots
+    assert [m.kind for m in data.materials] == ["mix", "diffuse", "conductor",
+                                                "mix", "conductor", "diffuse"]
+    assert (data.materials[3].mix_a, data.materials[3].mix_b) == (4, 5)
 
 
 def test_linked_colour_inputs():
@@ -262,8 +448,13 @@ def test_image_texture_becomes_a_texture():
     assert texture.pixels.dtype == np.uint8 and texture.pixels.shape == (4, 3, 4)
     assert_close(texture.pixels, np.rint(rows * 255), 0, "sRGB bytes")
     assert texture.wrap == "repeat"
-    for material in data.materials:
-        assert material.color_texture == 0 and material.color == (1.0, 1.0, 1.0), material
+    # The Diffuse BSDF's material and the Principled BSDF's base, each white times the
+    # texture (3.x's Principled base at twice its weight, as Cycles 3.x sums it).
+    textured = [m for m in data.materials if m.color_texture >= 0]
+    assert len(textured) == 2, data.materials
+    for material in textured:
+        assert material.color_texture == 0 and len(set(material.color)) == 1, material
+        assert material.color[0] in (1.0, 2.0), material
     assert data.uvs is not None and data.uvs.shape == (len(data.positions), 2)
     corners = data.uvs.reshape(-1, 3, 2)
     assert_close(np.sort(np.unique(data.uvs)), (0.0, 1.0), 0, "unit-square UVs")
@@ -302,8 +493,9 @@ def test_image_texture_colour_spaces_and_fallbacks():
     principled = next(node for node in tree.nodes if node.type == 'BSDF_PRINCIPLED')
     tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
     data = _single(missing)
-    assert_close(_material_of(data).color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
-    assert _material_of(data).color_texture == -1 and not data.textures
+    color, texture = _base_colour(data)
+    assert_close(color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
+    assert texture == -1 and not data.textures
     assert data.uvs is None
     assert any("missing" in w for w in data.warnings), data.warnings
 
@@ -329,7 +521,7 @@ def missing_image():
 
 def test_unsupported_material_falls_back_once():
     _camera()
-    material = node_material("Toon", "ShaderNodeBsdfTranslucent")
+    material = node_material("Toon", "ShaderNodeBsdfToon")
     material.diffuse_color = (0.1, 0.7, 0.2, 1.0)
     add_cube("A", material=material)
     add_cube("B", location=(5, 0, 0), material=material)
@@ -530,7 +722,7 @@ def test_presets_set_the_settings_they_name():
     settings = bpy.context.scene.glslppm
     assert {"PREVIEW", "FINAL", "CAUSTICS"} <= set(presets)
     for key, preset in presets.items():
-        settings.passes, settings.photons_per_pass, settings.radius_scale = 3, 5, 7.0
+        settings.passes, settings.radius_scale = 3, 7.0
         result = bpy.ops.glslppm.apply_preset(preset=key)
         assert result == {'FINISHED'}, result
         assert preset["description"], key
@@ -544,8 +736,10 @@ def test_presets_set_the_settings_they_name():
     # final render, caustics keep every photon and start from a smaller radius.
     table = {key: preset["settings"] for key, preset in presets.items()}
     preview, final, caustics = table["PREVIEW"], table["FINAL"], table["CAUSTICS"]
-    assert preview["passes"] * preview["photons_per_pass"] < \
-        final["passes"] * final["photons_per_pass"]
+    sizing = {key: preset["photons"] for key, preset in presets.items()}
+    assert preview["passes"] < final["passes"]
+    assert sizing["PREVIEW"]["photon_to_eye"] <= sizing["FINAL"]["photon_to_eye"]
+    assert sizing["PREVIEW"]["highest"] <= sizing["FINAL"]["highest"]
     assert caustics["hash_mode"] == 'EXACT' and caustics["radius_scale"] < 1.0
 
 

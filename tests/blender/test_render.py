@@ -3,6 +3,7 @@ session, time limit, `-a` animation, and scenes that cannot render properly (emp
 unlit, NaN vertices, missing image, a renderer that fails to start) each end with a
 report and no crash."""
 
+import importlib
 import math
 import os
 import subprocess
@@ -259,3 +260,102 @@ def test_radius_scale_multiplies_the_automatic_radius():
     scaled = engine.last_stats["initial_radius"]
     assert automatic > 0 and abs(scaled - 0.5 * automatic) < 1e-6 * automatic, \
         (automatic, scaled)
+
+
+# A real pass of a preset against its target time. The calibration renders the caustic
+# scene (eye paths through a glass sphere), this test a diffuse room whose eye paths are
+# cheaper per pixel, and the machine is shared: the measured photon rate here moved from
+# 0.48 to 0.25 M/s between two runs while a build ran beside them, and a pass took 23 ms
+# against a 64 ms target. A factor of 4 still catches photons sized from the wrong rate,
+# the wrong pixel count or an H200's fixed 262,144 (about 0.5 s a pass here at 128x128).
+PASS_TIME_FACTOR = 4.0
+
+
+def test_presets_size_photons_from_the_measured_device_speed():
+    """Each preset's photons per pass follow from the device's measured photon and eye
+    rates and the preset's target pass time, and a real pass lands near that target."""
+    size = 128
+    helpers.reset_scene(size=(size, size))
+    add_cube("Room", scale=(3, 3, 3), material=diffuse_material("Walls", (0.6, 0.6, 0.6)))
+    add_cube("Box", location=(0.5, 0.5, -2.2), scale=(0.8, 0.8, 0.8))
+    add_light('POINT', 200.0, location=(0, 0, 2))
+    add_camera((0, -2.8, 0), (math.radians(90), 0, 0), lens=18.0)
+    presets = helpers.ADDON.properties.presets
+    device_speed = importlib.import_module(helpers.ADDON.__name__ + ".engine.device_speed")
+    native_scene = importlib.import_module(helpers.ADDON.__name__ + ".engine.native_scene")
+    native = helpers.load_native()
+    settings = bpy.context.scene.glslppm
+    pixels = size * size
+    data = helpers.export()
+    scene = native_scene.native_scene(native, data)
+    for key, preset in presets.PRESETS.items():
+        assert bpy.ops.glslppm.apply_preset(preset=key) == {'FINISHED'}
+        speed = device_speed.cached_device_speed(
+            helpers.ADDON.properties.preferences.render_device(settings))
+        assert speed is not None, f"{key}: applying the preset measured no device speed"
+        eye_seconds = pixels / speed["eye_rays_per_second"]
+        sizing = preset["photons"]
+        target = (1.0 + sizing["photon_to_eye"]) * eye_seconds
+        wanted = speed["photon_bounces_per_second"] * (target - eye_seconds)
+        wanted = min(max(wanted, sizing["lowest"]), sizing["highest"])
+        expected = min(max(2 ** round(math.log2(wanted)), sizing["lowest"]), sizing["highest"])
+        print(f"  {key}: {speed['photon_bounces_per_second'] / 1e6:.3f} M photon bounces/s, "
+              f"{speed['eye_rays_per_second'] / 1e6:.3f} M eye rays/s: target "
+              f"{target * 1e3:.1f} ms, {settings.photons_per_pass} photons (expected "
+              f"{expected})")
+        assert settings.photons_per_pass == expected, (key, settings.photons_per_pass, expected)
+
+        renderer = native_scene.native_renderer(native, scene, settings, size, size)
+        try:
+            renderer.run(2)  # warm-up
+            before = renderer.stats()["seconds"]
+            passes = renderer.run(6)
+            pass_seconds = (renderer.stats()["seconds"] - before) / passes
+        finally:
+            renderer.close()
+        print(f"  {key}: a pass took {pass_seconds * 1e3:.1f} ms against the target "
+              f"{target * 1e3:.1f} ms")
+        assert target / PASS_TIME_FACTOR < pass_seconds < target * PASS_TIME_FACTOR, \
+            (key, pass_seconds, target)
+
+
+def test_tiles_stream_into_the_result_without_seams():
+    """A frame past the largest pixel buffer (capped here to 12 rows of 48 pixels of
+    visible points, 3 x 16 bytes each) renders as three bands of rows, each written into
+    the result as it finishes. Every band traces the whole frame's photons and eye paths
+    with the whole frame's radius, so the tiled image equals the untiled one up to float
+    rounding of the gathered sums (1e-4 relative; a seam would differ by the noise, tens
+    of percent at 4 passes)."""
+    small_lit_scene(passes=4)
+    whole, error = render("untiled")
+    assert error is None, error
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    engine = helpers.recording_engine()
+    tiled, error = render("tiled", engine)
+    assert error is None, error
+    assert not messages(engine, 'ERROR'), engine.reports
+    assert engine.tiles_seen == [(1, 3), (2, 3), (3, 3)], engine.tiles_seen
+    assert tiled.shape == whole.shape == (SIZE[1], SIZE[0], 4)
+    assert whole[..., :3].mean() > 1e-3
+    difference = np.abs(tiled[..., :3] - whole[..., :3])
+    assert (difference <= 1e-4 * np.maximum(whole[..., :3], 1e-2)).all(), difference.max()
+    # Rows on either side of each band's edge (11 | 12 and 23 | 24, from the top).
+    for edge in (12, 24):
+        assert difference[edge - 1:edge + 1].max() <= 1e-4 * max(whole[..., :3].max(), 1.0)
+
+
+def test_cancel_during_a_tile_keeps_it_and_starts_no_other():
+    """Esc in the first of three tiles: that tile's passes so far are written into the
+    result and the other two never start."""
+    small_lit_scene(passes=100000)
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    engine = helpers.recording_engine()
+    engine.break_after_passes = 3
+    began = time.perf_counter()
+    image, error = render("tile_cancelled", engine)
+    assert error is None, error
+    assert time.perf_counter() - began < 60
+    assert engine.tiles_seen == [(1, 3)], engine.tiles_seen
+    assert 3 <= engine.last_passes < 100000, engine.last_passes
+    assert image[:12, :, :3].mean() > 1e-3, "the cancelled tile lost its passes"
+    assert image[12:, :, :3].max() == 0.0, "a tile after the cancel was rendered"

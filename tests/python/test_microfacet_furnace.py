@@ -7,7 +7,8 @@ the lobe's albedo is 1 at every angle: the energy-compensated white GGX conducto
 Conty's multiple-scattering lobe) and the white plastic (a dielectric GGX layer over a white
 base scaled by what the layer lets through). Roughness 0.1 is below the glossy threshold
 (the eye path follows the lobe by sampling); 0.3 to 1 hold visible points that gather
-photons weighted by f(wo, wi), so both halves of the SPPM extension are measured.
+photons weighted by f(wo, wi) (the tests set glossy_threshold 0.2), so both halves of the
+SPPM extension are measured.
 """
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ def furnace(g, leaf, passes, **settings):
                  g.Material("diffuse", color=(0.0,) * 3, emission=emission), leaf]
     r = g.Renderer(furnace_scene(g, 0.5, 1.0, materials=materials),
                    g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024,
-                              seed=3, **settings))
+                              seed=3, glossy_threshold=0.2, **settings))
     r.run(passes)
     image = r.film()[..., :3]
     assert np.isfinite(image).all()

@@ -1,0 +1,170 @@
+"""Principled BSDF onto the renderer's lobes, for both of Blender's versions of the node:
+v1 (Blender 3.x: Specular, Transmission Roughness, Clearcoat, Sheen) and v2 (4.x:
+Specular IOR Level, Transmission Weight, Coat, Sheen Weight).
+
+The node is a tree of Mix materials, as Cycles composes its closures:
+
+    Mix(Transparent, ...)                          alpha (when below 1 or textured)
+      Mix(Fresnel(coat IOR), base,                 the coat (when its weight is > 0)
+          Mix(coat weight, base, white GGX of the coat's roughness))
+        base = Mix(metallic, Mix(transmission, plastic, glass), metal)
+
+- metal: a GGX conductor with Schlick Fresnel from the base colour (v2's F82 tint from a
+  non-white Specular Tint is not modelled: warned);
+- glass: a GGX dielectric tinting its transmission by the base colour; v1 tints its
+  reflection too (its glass reflection starts at the base colour), v2 does not;
+- plastic, v2: a white GGX dielectric layer over a Lambert base of the base colour,
+  energy conserving (as 4.x layers them), its index from IOR scaled by Specular IOR
+  Level (F0 times 2 level, as Cycles 4.x does);
+- plastic, v1: Cycles 3.x adds a Fresnel-weighted white specular to a diffuse it does
+  not attenuate, so v1 is that sum: Mix(0.5, Lambert of twice the base colour,
+  Mix(Fresnel, nothing, GGX reflector of colour 2)), both weights doubled, the index from
+  Specular (F0 = 0.08 specular). Its Disney diffuse's retro-reflection is Lambert here;
+- coat: approximated by a Fresnel-weighted choice of a white GGX reflector (Fresnel of
+  the coat's IOR at the view direction, times its weight: v1's clearcoat weight is a
+  quarter of Clearcoat at IOR 1.5, as Cycles 3.x scales it). Tint and the coat's
+  darkening of the base are not modelled: a warning says so.
+
+Sheen, subsurface, anisotropy, thin film and normal maps have no counterpart yet: each is
+left out with a warning naming the material and the node. Emission is added to every lobe
+below the alpha (Principled's emission is covered by its alpha, as in Cycles).
+"""
+
+import math
+
+from dataclasses import replace
+
+from .material import (BLACK, MaterialData, Mix, distribution, emission, mix, with_emission,
+                       _ior)
+from .node_inputs import input_socket
+
+TRANSPARENT = MaterialData("transparent", (1.0, 1.0, 1.0))
+
+
+def convert_principled(node, context):
+    v2 = "Specular IOR Level" in node.inputs
+    label = f"Principled BSDF '{node.name}'"
+
+    def warn(message):
+        context(f"{label}: {message}")
+
+    base_color, base_texture = context.color(node.inputs["Base Color"])
+    roughness = context.roughness(node.inputs["Roughness"])
+    multiscatter = distribution(node, context)
+    ior = _ior(context.value(node.inputs["IOR"]))
+    if v2:
+        level = max(context.value(node.inputs["Specular IOR Level"]), 0.0)
+        layer_ior = _ior_from_f0(min(_f0(ior) * 2.0 * level, 0.999), ior < 1.0)
+        glass_ior = layer_ior
+        if _non_white(context.value_color(node, "Specular Tint")):
+            warn("Specular Tint (F82 tint of metals, tinted dielectric reflection) is not "
+                 "rendered")
+    else:
+        specular = max(context.value(node.inputs["Specular"]), 0.0)
+        layer_ior = _ior_from_f0(min(0.08 * specular, 0.999), False)
+        glass_ior = ior
+        if context.value(node.inputs["Specular Tint"]) > 0.0:
+            warn("Specular Tint is not rendered")
+
+    def lobe(kind, **kwargs):
+        return MaterialData(kind, base_color, color_texture=base_texture,
+                            multiscatter=multiscatter, **{**roughness, **kwargs})
+
+    metal = lobe("conductor", schlick=True)
+    if abs(layer_ior - 1.0) < 1e-6:
+        # No specular (Specular or Specular IOR Level 0): the diffuse base alone.
+        plastic = MaterialData("diffuse", base_color, color_texture=base_texture)
+    elif v2:
+        plastic = lobe("plastic", ior=layer_ior)
+    else:
+        diffuse = MaterialData("diffuse", tuple(2.0 * c for c in base_color),
+                               color_texture=base_texture)
+        specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
+                                **roughness)
+        plastic = Mix(diffuse, Mix(BLACK, specular, mode="fresnel", ior=layer_ior))
+    glass = lobe("dielectric", ior=glass_ior, tint_reflection=not v2)
+    if not v2:
+        glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)
+
+    transmission = context.factor(input_socket(node, "Transmission Weight", "Transmission"))
+    metallic = context.factor(node.inputs["Metallic"])
+    tree = mix(mix(plastic, glass, *transmission), metal, *metallic)
+    tree = _coat(node, context, v2, tree, multiscatter, warn)
+
+    _warn_unmodelled(node, context, v2, warn)
+    radiance = emission(node, "Emission Color", "Emission", context)
+    if max(radiance) > 0.0:
+        tree = with_emission(tree, radiance)
+    alpha = context.factor(node.inputs["Alpha"])
+    return mix(TRANSPARENT, tree, *alpha)
+
+
+def _v1_transmission_roughness(node, context, glass, multiscatter, warn):
+    """Blender 3.x refracts with roughness 1 - (1 - roughness)(1 - transmission
+    roughness), except with Multiscatter GGX above roughness 0.05, where its glass
+    ignores Transmission Roughness."""
+    socket = node.inputs["Transmission Roughness"]
+    t = min(max(context.value(socket), 0.0), 1.0)
+    if t <= 0.0 or (multiscatter and glass.roughness > 0.05):
+        return glass
+    warn("Transmission Roughness also roughens the glass's reflection here")
+    r = glass.roughness if glass.roughness_texture < 0 else 0.5
+    if glass.roughness_texture >= 0:
+        warn("a textured Roughness with Transmission Roughness: the glass uses a constant "
+             "roughness")
+    return replace(glass, roughness=1.0 - (1.0 - r) * (1.0 - t), roughness_texture=-1)
+
+
+def _coat(node, context, v2, tree, multiscatter, warn):
+    if v2:
+        weight = context.value(node.inputs["Coat Weight"])
+        coat_roughness = context.roughness(node.inputs["Coat Roughness"])
+        coat_ior = _ior(context.value(node.inputs["Coat IOR"]))
+        tinted = _non_white(context.value_color(node, "Coat Tint"))
+    else:
+        weight = 0.25 * context.value(node.inputs["Clearcoat"])
+        coat_roughness = context.roughness(node.inputs["Clearcoat Roughness"])
+        coat_ior = 1.5
+        tinted = False
+    if weight <= 0.0:
+        return tree
+    warn("the coat is approximated by a Fresnel-weighted white reflection; its darkening "
+         "of the layers below" + (" and its tint are" if tinted else " is") + " not rendered")
+    coat = MaterialData("conductor", (1.0, 1.0, 1.0), multiscatter=multiscatter,
+                        **coat_roughness)
+    return Mix(tree, mix(tree, coat, min(weight, 1.0)), mode="fresnel", ior=coat_ior)
+
+
+def _warn_unmodelled(node, context, v2, warn):
+    def active(*names):
+        socket = input_socket(node, *names)
+        return socket is not None and (socket.is_linked or socket.default_value > 0.0)
+
+    if active("Sheen Weight", "Sheen"):
+        warn("sheen is not rendered")
+    if active("Subsurface Weight", "Subsurface"):
+        warn("subsurface scattering is rendered as diffuse reflection")
+    if active("Anisotropic"):
+        warn("anisotropy is not supported; rendering isotropic")
+    if active("Thin Film Thickness"):
+        warn("thin film is not rendered")
+    for name in ("Normal", "Coat Normal", "Clearcoat Normal"):
+        socket = input_socket(node, name)
+        if socket is not None and socket.is_linked:
+            warn(f"its {name} input is ignored (normal and bump maps are not supported yet)")
+
+
+def _f0(ior):
+    return ((ior - 1.0) / (ior + 1.0)) ** 2
+
+
+def _ior_from_f0(f0, inverted):
+    """The index whose normal-incidence reflectance is f0 (its inverse for v2's IOR
+    below 1, as Cycles inverts it)."""
+    s = math.sqrt(max(f0, 0.0))
+    ior = (1.0 + s) / (1.0 - s)
+    return 1.0 / ior if inverted else ior
+
+
+def _non_white(color):
+    return any(abs(c - 1.0) > 1e-4 for c in color)

@@ -1,0 +1,51 @@
+// A scene's instances on their way to the GPU: whether they are traced through a two-level
+// MTBVH (bvh/two_level_bvh.h) or flattened into world-space triangles, by a measured rule,
+// and the flattening itself. The placed-once triangles (Scene::mesh with the area lights)
+// are mesh 0 of the two-level tree, under an identity instance.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/settings.h"
+#include "scene/scene.h"
+
+namespace glslppm {
+
+// Flatten when the flattened copy holds at most this many triangles. Measured on llvmpipe
+// (docs/instancing.md, glslppm-bench passes --scene instances:NxM): the flattened MTBVH
+// was 14% faster at 64 x 1k triangles, the two paths within noise at 4 x 4k and 16 x 4k,
+// and the two-level one 24% faster at 256 x 4k (1M) and the only one that fits at 64 x 64k;
+// the bound sits between 64k and 1M. Not yet measured on a GPU.
+constexpr std::size_t kFlattenMaxTriangles = 1u << 18;
+
+struct InstancePlan {
+    bool two_level = false;
+    std::string path;    // "none" (no instances), "two-level" or "flattened": stats()["instancing"]
+    std::string reason;  // why, for stats and logs
+    std::size_t instanced_triangles = 0;  // what the flattened copy holds (instances only)
+};
+
+// Checks the instances (mesh index, finite affine invertible transform, material offsets in
+// range: SceneError naming the instance) and chooses the path.
+InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
+                             Instancing mode);
+
+// `world` followed by every instance's triangles in world space: positions A x + T, normals
+// A^-T n (not normalized: interpolated across a triangle and then normalized, they point as
+// the two-level traversal's do), zero normals and uvs for meshes without them (the renderer
+// then falls back to the geometric normal), material ids plus the instance's offset; the
+// corners of a mirrored instance's triangles swapped so that their front sides stay.
+std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene& scene,
+                                             bool keep_uvs);
+
+// The box of a scene with instances, the same whichever path traces them (the photon hash
+// grid, ray offsets and radius floors derive from it, so the two paths render alike): the
+// placed-once triangles' vertices and, per instance, its mesh's vertex box mapped corner by
+// corner (in double, rounded outwards).
+void instanced_scene_bounds(const MeshView& world, const Scene& scene, glm::vec3& lo,
+                            glm::vec3& hi);
+
+}  // namespace glslppm

@@ -1,0 +1,67 @@
+// A frame larger than one storage buffer holds (llvmpipe and some GPUs allow 128 MiB per
+// block: about 2.8 Mpixels of visible points) rendered as image tiles one after another.
+// Each tile is a whole SPPM render of a band of rows, through the camera's render region:
+// its own photon passes (the time grows with the tile count), the same seed, and the whole
+// frame's automatic radius and random streams (native/render/scene_preparation.h
+// frame_camera), so that tiles join without seams.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "render/renderer.h"
+#include "render/settings.h"
+#include "scene/cancel.h"
+#include "scene/scene.h"
+
+namespace glslppm {
+
+struct Tile {
+    int x = 0, y = 0;  // the first pixel, in the image (row 0 at the top)
+    int width = 0, height = 0;
+};
+
+struct TilePlan {
+    std::size_t block_bytes_per_pixel = 0;  // the largest per-pixel buffer (visible points)
+    std::size_t gpu_bytes_per_pixel = 0;    // every per-pixel buffer together
+    std::size_t largest_block = 0;          // what one buffer may hold; 0: no limit known
+    std::vector<Tile> tiles;                // row-major, covering the image once
+};
+
+// The storage-buffer limit the per-pixel buffers work to: the driver's, capped by
+// settings.max_block_bytes where that is set. 0: no limit known.
+std::size_t capped_block_bytes(std::int64_t driver_largest, const RenderSettings& settings);
+
+// Bands of whole rows, as few as fit (every band's visible points within `largest_block`),
+// their heights differing by at most one row. One tile when the image fits.
+TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
+                    std::size_t gpu_bytes_per_pixel, std::size_t largest_block);
+
+// The plan for a scene on its device, decided before anything is allocated: asks the
+// device's limit through a short-lived EGL context (gl::GlError when none opens).
+TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings);
+
+// One tile's camera and settings: the tile's window in the whole frame, composed with the
+// camera's own render region where it has one.
+Camera tile_camera(const Camera& camera, const RenderSettings& settings, const Tile& tile);
+RenderSettings tile_settings(const RenderSettings& settings, const Tile& tile);
+
+struct TiledImage {
+    std::vector<float> rgba;  // height x width x 4, row 0 at the top
+    RenderStats stats;        // summed over the tiles (passes: each tile's)
+    TilePlan plan;
+};
+
+// Called after each tile with its index, place and RGBA (tile.height x tile.width x 4);
+// returning false stops before the next tile.
+using TileDone = std::function<bool(std::size_t, const Tile&, const std::vector<float>&)>;
+
+// Renders every tile of `plan` for `passes` passes each. Setting `cancel` stops within a
+// pass of the tile in progress (Cancelled); the tiles done so far have been reported.
+TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int passes,
+                        const TilePlan& plan, const TileDone& on_tile = {},
+                        const CancelFlag* cancel = nullptr);
+
+}  // namespace glslppm
