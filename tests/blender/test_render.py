@@ -305,7 +305,8 @@ def test_presets_size_photons_from_the_measured_device_speed():
               f"{expected})")
         assert settings.photons_per_pass == expected, (key, settings.photons_per_pass, expected)
 
-        renderer = native_scene.native_renderer(native, scene, settings, size, size)
+        renderer = native.Renderer(scene, native_scene.native_settings(native, settings, size,
+                                                                       size))
         try:
             renderer.run(2)  # warm-up
             before = renderer.stats()["seconds"]
