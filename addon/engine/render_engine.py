@@ -195,7 +195,7 @@ class GlslppmEngineMixin:
                     self.report_to_user('WARNING', warning)
             try:
                 self._render_passes(native, renderer, settings, width, height, view,
-                                    tile=(tile, number, count))
+                                    tile=(tile, number, count), frame=(native_data, full))
             finally:
                 renderer.close()
         return True
@@ -225,9 +225,11 @@ class GlslppmEngineMixin:
             return None
         return renderer
 
-    def _render_passes(self, native, renderer, settings, width, height, view="", tile=None):
+    def _render_passes(self, native, renderer, settings, width, height, view="", tile=None,
+                       frame=None):
         """Passes into the result: the whole width x height image, or tile = ((x, y, w, h),
-        number, count) of it, y from the top, with its share of the time limit."""
+        number, count) of it, y from the top, with its share of the time limit; frame: the
+        whole frame's (scene, settings) for a tile's farm attributes."""
         prefix, x, y, share = "", 0, 0, 1
         if tile is not None:
             (x, top, tile_width, tile_height), number, count = tile
@@ -276,7 +278,9 @@ class GlslppmEngineMixin:
                 # not this partial one, keeps stamp data): the pass indices, seed,
                 # estimator, settings and scene hash glslppm-merge checks.
                 final = self.get_result()
-                for key, value in renderer.farm_attributes().items():
+                frame_scene, frame_settings = frame or (None, None)
+                for key, value in renderer.farm_attributes(frame_scene,
+                                                           frame_settings).items():
                     final.stamp_data_add_field(key, value)
         except native.GlslppmError as error:
             self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "

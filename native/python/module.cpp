@@ -23,6 +23,7 @@
 #include "render/pppm_schedule.h"
 #include "render/tiled_render.h"
 #include "scene/scene.h"
+#include "scene/scene_hash.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
 
@@ -678,16 +679,23 @@ PYBIND11_MODULE(_glslppm, m) {
             return r.get()->run_passes(indices);
         }, py::arg("indices"),
         "PPPM: runs exactly these pass indices over the workers; returns how many ran.")
-        .def("farm_attributes", [](PyRenderer& r) {
+        .def("farm_attributes", [](PyRenderer& r, py::object frame_scene,
+                                   py::object frame_settings) {
             const std::shared_ptr<Renderer> renderer = r.get();
             RenderStats s;
+            RenderSettings settings = renderer->settings();
+            if (!frame_settings.is_none()) settings = frame_settings.cast<RenderSettings>();
+            const Scene* frame = frame_scene.is_none() ? nullptr : &frame_scene.cast<const Scene&>();
             {
                 py::gil_scoped_release release;
                 s = renderer->stats();
+                if (frame) s.scene_hash = scene_hash_hex(*frame);
             }
-            return farm_attributes(renderer->settings(), s);
-        }, "The EXR header attributes glslppm-merge reads: estimator, seed, settings, scene "
-           "hash, pass ranges and passes.")
+            return farm_attributes(settings, s);
+        }, py::arg("frame_scene") = py::none(), py::arg("frame_settings") = py::none(),
+           "The EXR header attributes glslppm-merge reads: estimator, seed, settings, scene "
+           "hash, pass ranges and passes. A tile's renderer (tile_render_inputs) is given the "
+           "whole frame's scene and settings, whose camera and size the header names.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
         .def("reset_film", [](PyRenderer& r) {
