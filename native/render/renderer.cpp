@@ -398,11 +398,33 @@ bool Renderer::set_camera(const Camera& camera) {
     if (!settings_.full_variant &&
         (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
         return false;
+    // frame_camera through a worker's own MTBVH. On the two-level path its buffers hold the
+    // TwoLevelBvh's arrays (the constructor moved them in): they are lent back to one for
+    // the call, since walking them as a one-level tree measures the wrong distances.
+    auto frame_worker_camera = [&](Gpu& g, FrameBlock& frame) {
+        if (g.instances.empty()) return frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
+        TwoLevelBvh two;
+        two.top_node_count = g.bvh.node_count;
+        auto lend = [&] {
+            two.nodes.swap(g.bvh.nodes);
+            two.links.swap(g.bvh.links);
+            two.triangles.swap(g.bvh.triangles);
+            two.normals.swap(g.bvh.normals);
+            two.uvs.swap(g.bvh.uvs);
+            two.instances.swap(g.instances);
+        };
+        lend();
+        struct GiveBack {
+            decltype(lend)& back;
+            ~GiveBack() { back(); }
+        } give_back{lend};
+        return frame_camera(camera, g.settings, PackedBvh{}, g.bounds, frame, &two);
+    };
     for (auto& w : gpus_) {
         Gpu& g = *w;
         g.thread->call([&] {
             FrameBlock frame = g.frame;
-            const float radius = frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
+            const float radius = frame_worker_camera(g, frame);
             g.frame = frame;
             g.initial_radius = radius;  // PPPM's pass radii scale from it too
             g.restart_film();
