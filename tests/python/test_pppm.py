@@ -260,3 +260,24 @@ def test_tiles_with_two_workers_give_the_one_worker_image(glslppm, scene):
     rounding = (difference <= 2e-5 * np.maximum(np.abs(whole), 1e-2)).all(axis=-1)
     assert rounding.mean() >= 0.998, (rounding.size - rounding.sum(), difference.max())
     assert abs(two[..., :3].mean() - whole[..., :3].mean()) <= 2e-4 * whole[..., :3].mean()
+
+
+def test_a_tile_names_the_whole_frame_in_its_farm_attributes(glslppm, scene):
+    """The add-on renders each band through tile_render_inputs and writes the farm
+    attributes of the whole frame (its size, its camera's scene hash), so that glslppm-merge
+    takes a tiled job's file with an untiled one's."""
+    g = glslppm
+    full = settings(g, width=48, height=48, photons_per_pass=1024,
+                    max_block_bytes=48 * 16 * 3 * 16)
+    whole = g.Renderer(scene, settings(g, width=48, height=48, photons_per_pass=1024))
+    whole.run(2)
+    expected = whole.farm_attributes()
+    whole.close()
+    band = g.plan_tiles(scene, full)["tiles"][1]
+    r = g.Renderer(*g.tile_render_inputs(scene, full, band))
+    r.run(2)
+    alone, framed = r.farm_attributes(), r.farm_attributes(scene, full)
+    r.close()
+    assert alone["glslppm.settings"].startswith("width=48;height=16;")
+    assert alone["glslppm.scene_hash"] != expected["glslppm.scene_hash"]
+    assert framed == expected
