@@ -12,6 +12,7 @@
 #include <set>
 
 #include "gl/egl_context.h"
+#include "gl/gl_thread.h"
 #include "gl/object_counts.h"
 #include "image/exr.h"
 #include "gl/shader_program.h"
@@ -900,19 +901,23 @@ PYBIND11_MODULE(_glslppm, m) {
         std::string renderer, vendor;
         {
             py::gil_scoped_release release;
-            gl::EglContext context(device);
-            vendor = context.info().vendor;
-            GLint64 value = 0;
-            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
-            largest = value;
-            if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
-                GLint kib = 0;
-                glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
-                // Mesa's llvmpipe answers with a negative number: unknown, then.
-                memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
-            }
-            software = context.info().software;
-            renderer = context.info().renderer;
+            // On a thread of its own: the caller's may have another GL context current
+            // (Blender's UI), where making ours current fails (EGL_BAD_ACCESS).
+            gl::GlThread thread(device);
+            vendor = thread.info().vendor;
+            thread.call([&] {
+                GLint64 value = 0;
+                glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
+                largest = value;
+                if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+                    GLint kib = 0;
+                    glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+                    // Mesa's llvmpipe answers with a negative number: unknown, then.
+                    memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
+                }
+            });
+            software = thread.info().software;
+            renderer = thread.info().renderer;
         }
         py::dict d;
         d["max_storage_buffer_bytes"] = largest;
