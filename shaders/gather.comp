@@ -3,7 +3,8 @@
 //   N' = N + alpha M,   R' = R sqrt(N' / (N + M)),   tau' = (tau + Phi) R'^2 / R^2.
 // With stochastic hashing a cell's survivor stands for all `count` photons of its cell:
 // E[count * [survivor within R]] is the number of that cell's photons within R, so both M
-// and Phi stay unbiased.
+// and Phi stay unbiased. With ESTIMATOR_PPPM the radius is the pass's and the update is a sum
+// of the passes' estimates instead.
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
@@ -21,7 +22,11 @@ void main() {
     float radius_after = 0.0;
     if (i < image_width * image_height) {
         vec4 stats0 = pixel_stats[2 * i + 0];
+#ifdef ESTIMATOR_PPPM
+        float r = pass_radius;
+#else
         float r = pixel_stats[2 * i + 1].x;
+#endif
         radius_after = r;
 #ifdef HAS_MICROFACET
         vec4 point = visible_points[4 * i + 0];
@@ -105,6 +110,19 @@ void main() {
                 }
 #endif
             }
+#ifdef ESTIMATOR_PPPM
+            // PPPM (Knaus and Zwicker 2011, eq. 9): this step's share of the pass's own
+            // estimate weight Phi / (pi r_i^2 N_emitted), summed over steps and passes with
+            // Kahan compensation (the compensation in the radius record's spare words).
+            if (m > 0.0) {
+                vec4 stats1 = pixel_stats[2 * i + 1];
+                precise vec3 y = weight * phi * pass_scale - stats1.yzw;
+                precise vec3 t = stats0.xyz + y;
+                stats1.yzw = (t - stats0.xyz) - y;
+                pixel_stats[2 * i + 0] = vec4(t, stats0.w + m);
+                pixel_stats[2 * i + 1] = stats1;
+            }
+#else
             if (m > 0.0) {
                 float n_old = stats0.w;
                 float n_new = n_old + sppm_alpha * m;
@@ -116,6 +134,7 @@ void main() {
                 pixel_stats[2 * i + 1].x = r_new;
                 radius_after = r_new;
             }
+#endif
         }
     }
     // The next pass's cells must hold the largest radius of any pixel: reduce in the work

@@ -38,6 +38,16 @@ void main() {
     float scattered = photon_paths[3 * i + 1].w;
 #endif
     vec3 flux = photon_paths[3 * i + 2].xyz;
+#ifdef ESTIMATOR_PPPM
+    // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
+    // photon step and is traced in its steps; one that has ended waits for the next pass.
+    if (photon_step == 0u) {
+        bounces = -1.0;
+    } else if (bounces < 0.0) {
+        photons[3 * i + 2] = vec4(0.0);
+        return;
+    }
+#endif
     if (bounces < 0.0) {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;

@@ -1,5 +1,5 @@
 // The film, one thread per pixel: L = tau / (pi R^2 N_emitted) + the emission seen
-// directly, averaged over the passes.
+// directly, averaged over the passes (PPPM: the mean of the passes' estimates).
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
@@ -14,7 +14,12 @@ void main() {
     if (i >= image_width * image_height) return;
     vec3 tau = pixel_stats[2 * i + 0].xyz;
     float r = pixel_stats[2 * i + 1].x;
+#ifdef ESTIMATOR_PPPM
+    // The sum of the passes' own estimates (gather.comp): their mean.
+    vec3 photon_light = tau * inv_passes;
+#else
     vec3 photon_light = tau * (inv_photons_emitted / (PI * r * r));
+#endif
     vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
 #ifdef FILM_TRANSPARENT
     float alpha = clamp(1.0 - direct_light[2 * i + 0].w * inv_passes, 0.0, 1.0);

@@ -32,9 +32,16 @@ def film_options(scene):
 
 def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None):
     """settings is scene.glslppm; seed_offset varies the noise per animation frame; film is
-    film_options(); device (the preferences' choice, resolved by the engine) overrides
-    settings.device."""
+    film_options(); device (the preferences' choice, resolved by the engine: an index, or a
+    list of them for one worker each) overrides settings.device."""
+    devices = device if isinstance(device, (list, tuple)) else None
+    if devices is not None:
+        device = devices[0] if devices else -1
+        devices = list(devices) if len(devices) > 1 else []
     return native.Settings(
+        estimator=settings.estimator.lower(),
+        first_pass=settings.first_pass,
+        devices=devices or [],
         **(film or {}),
         width=width, height=height,
         photons_per_pass=settings.photons_per_pass,

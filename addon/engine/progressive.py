@@ -96,6 +96,10 @@ def stats_line(schedule, stats, elapsed):
         parts.append(f"{format_rate(stats['photons_per_second'])}photons/s")
     if stats.get("mean_radius"):
         parts.append(f"radius {stats['mean_radius']:.4g}")
+    devices = stats.get("devices", [])
+    if len(devices) > 1:
+        rates = ", ".join(f"{d['passes_per_second']:.3g}" for d in devices)
+        parts.append(f"{len(devices)} devices: {rates} passes/s")
     parts.append(f"{format_duration(elapsed)} elapsed, "
                  f"{format_duration(schedule.remaining_seconds(elapsed))} left")
     return " | ".join(parts)

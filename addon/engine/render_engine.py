@@ -18,7 +18,7 @@ from ..compat import FLAT_RECT
 from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera, viewport_camera
 from ..export.frame import FrameError, render_frame
-from ..properties.preferences import render_device
+from ..properties.preferences import render_device, render_devices
 from . import memory
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_scene, native_settings
@@ -81,7 +81,8 @@ class GlslppmEngineMixin:
             viewport.count("previews")
             settings = viewport.preview_settings(settings)
         views = view_names(scene.render)
-        device = render_device(settings)
+        devices = render_devices(settings)
+        device = devices[0]
         problem = memory.refusal(
             memory.estimate(width, height, settings.photons_per_pass, len(views)),
             _device_limits(native, device), memory.host_available())
@@ -135,8 +136,9 @@ class GlslppmEngineMixin:
                           self.camera_shift_x(camera, use_spherical_stereo=spherical)))
             label = f" ({view})" if view else ""
             native_data = native_scene(native, data)
+            # Every chosen device, one worker each (PPPM); tiles too.
             full = native_settings(native, settings, width, height, scene.frame_current,
-                                   film=film, device=device)
+                                   film=film, device=devices)
             try:
                 # Decided before anything is allocated: a frame whose visible points exceed
                 # the GPU's largest storage buffer renders as bands of rows.
@@ -193,7 +195,7 @@ class GlslppmEngineMixin:
                     self.report_to_user('WARNING', warning)
             try:
                 self._render_passes(native, renderer, settings, width, height, view,
-                                    tile=(tile, number, count))
+                                    tile=(tile, number, count), frame=(native_data, full))
             finally:
                 renderer.close()
         return True
@@ -223,9 +225,11 @@ class GlslppmEngineMixin:
             return None
         return renderer
 
-    def _render_passes(self, native, renderer, settings, width, height, view="", tile=None):
+    def _render_passes(self, native, renderer, settings, width, height, view="", tile=None,
+                       frame=None):
         """Passes into the result: the whole width x height image, or tile = ((x, y, w, h),
-        number, count) of it, y from the top, with its share of the time limit."""
+        number, count) of it, y from the top, with its share of the time limit; frame: the
+        whole frame's (scene, settings) for a tile's farm attributes."""
         prefix, x, y, share = "", 0, 0, 1
         if tile is not None:
             (x, top, tile_width, tile_height), number, count = tile
@@ -270,6 +274,14 @@ class GlslppmEngineMixin:
                     self.update_result(result)
             if not abandoned:
                 film_ok = self._write_film(renderer, combined)
+                # Written into the EXR's header by Blender (the whole render's result,
+                # not this partial one, keeps stamp data): the pass indices, seed,
+                # estimator, settings and scene hash glslppm-merge checks.
+                final = self.get_result()
+                frame_scene, frame_settings = frame or (None, None)
+                for key, value in renderer.farm_attributes(frame_scene,
+                                                           frame_settings).items():
+                    final.stamp_data_add_field(key, value)
         except native.GlslppmError as error:
             self.report_to_user('ERROR', f"rendering failed after {schedule.done} passes: "
                                 f"{error}")

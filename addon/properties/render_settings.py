@@ -63,6 +63,18 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/direct_light.md)"),
                    ('PHOTONS', "Photons", "All light from photons, as in the paper: shadows "
                     "blurred by the gather radius"))),
+        "estimator": EnumProperty(
+            name="Estimator", default='SPPM',
+            items=(('SPPM', "SPPM", "Stochastic progressive photon mapping: each pixel's "
+                    "radius shrinks with its own photons (passes run in order)"),
+                   ('PPPM', "PPPM", "Probabilistic progressive photon mapping: a radius per "
+                    "pass index, so passes run on several GPUs and farm machines and merge "
+                    "exactly (glslppm-merge)"))),
+        "first_pass": IntProperty(
+            name="First Pass", default=0, min=0, max=INT_MAX,
+            description="PPPM: the pass offset, the index of the first pass this render "
+                        "runs; farm job k of n passes each sets k * n (glslppm-merge joins "
+                        "the files)"),
         "glossy_threshold": FloatProperty(
             name="Glossy Threshold", default=0.2, min=0.0, max=1.0, precision=2,
             description="Glossy and glass lobes smoother than this roughness are followed "

@@ -33,6 +33,9 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "time_limit", text="Time Limit (s)")
         column.prop(settings, "direct_light")
         column.prop(settings, "glossy_threshold")
+        column.prop(settings, "estimator")
+        if settings.estimator == 'PPPM':
+            column.prop(settings, "first_pass")
         column.prop(settings, "seed")
         column = layout.column(heading="Viewport")
         column.prop(settings, "viewport_passes", text="Passes")

@@ -47,6 +47,7 @@ struct ConvergeOptions {
     std::vector<HashMode> hashes = {HashMode::Stochastic};
     std::vector<RngKind> rngs = {RngKind::Pcg};
     std::vector<DirectLight> directs = {RenderSettings{}.direct_light};
+    std::vector<Estimator> estimators = {RenderSettings{}.estimator};
     std::vector<float> glossy_thresholds = {RenderSettings{}.glossy_threshold};
     std::string reference;  // default: references/ beside the binary
     int reference_passes = 1024;
@@ -291,6 +292,7 @@ int usage() {
         "usage: glslppm-bench converge [--scene S] [--width W --height H] [--passes K]\n"
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
         "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,photons]\n"
+        "       [--estimator sppm,pppm]\n"
         "       [--glossy-threshold 0,0.2,0.5] (roughness below which lobes are followed)\n"
         "       [--fit-from P]\n"
         "       [--reference X.exr] [--reference-passes R] [--reference-photons N]\n"
@@ -333,6 +335,8 @@ bool parse(int argc, char** argv, ConvergeOptions& o) {
             o.rngs = parse_list<RngKind>(v, parse_rng_kind);
         else if (a == "--direct")
             o.directs = parse_list<DirectLight>(v, parse_direct_light);
+        else if (a == "--estimator")
+            o.estimators = parse_list<Estimator>(v, parse_estimator);
         else if (a == "--glossy-threshold")
             o.glossy_thresholds = parse_list<float>(v, parse_float);
         else if (a == "--reference")
@@ -398,6 +402,7 @@ void print_json(const ConvergeOptions& o, const Reference& ref, const ImageError
                              {"hash", to_string(s.hash)},
                              {"rng", to_string(s.rng)},
                              {"direct_light", to_string(s.direct_light)},
+                             {"estimator", to_string(s.estimator)},
                              {"glossy_threshold", s.glossy_threshold},
                              {"slope", run.slope},
                              {"theoretical_slope", theoretical_slope(s.alpha)},
@@ -419,15 +424,18 @@ void print_table(const ConvergeOptions& o, const Reference& ref, const ImageErro
     if (cross)
         std::printf("reference against %s: RMSE %.5f, relative MSE %.5f, mean bias %+.5f\n",
                     o.cross_check.c_str(), cross->rmse, cross->rel_mse, cross->mean_bias);
-    std::printf("%6s %9s %7s %10s %5s %8s %8s %8s %10s %10s %10s %10s\n", "alpha", "photons",
-                "radius", "hash", "rng", "direct", "slope", "theory", "passes", "seconds", "RMSE",
-                "mean bias");
+    std::printf("%6s %9s %7s %10s %5s %8s %5s %6s %8s %8s %10s %10s %10s %10s\n", "alpha",
+                "photons", "radius", "hash", "rng", "direct", "est", "glossy", "slope", "theory",
+                "passes", "seconds", "RMSE", "mean bias");
     for (const Run& run : runs) {
         const Point& last = run.points.back();
-        std::printf("%6.3f %9u %7.3g %10s %5s %8s %8.3f %8.3f %10d %10.3f %10.5f %+10.5f\n",
+        std::printf("%6.3f %9u %7.3g %10s %5s %8s %5s %6.3g %8.3f %8.3f %10d %10.3f %10.5f "
+                    "%+10.5f\n",
                     run.settings.alpha, run.settings.photons_per_pass, run.radius_scale,
                     to_string(run.settings.hash).c_str(), to_string(run.settings.rng).c_str(),
-                    to_string(run.settings.direct_light).c_str(), run.slope,
+                    to_string(run.settings.direct_light).c_str(),
+                    to_string(run.settings.estimator).c_str(), run.settings.glossy_threshold,
+                    run.slope,
                     theoretical_slope(run.settings.alpha), last.passes, last.seconds,
                     last.error.rmse, last.error.mean_bias);
     }
@@ -482,19 +490,23 @@ int bench_converge(int argc, char** argv) {
                     for (HashMode hash : o.hashes)
                         for (RngKind rng : o.rngs)
                             for (DirectLight direct : o.directs)
-                            for (float glossy : o.glossy_thresholds) {
-                                RenderSettings s = probe;
-                                s.glossy_threshold = glossy;
-                                s.photons_per_pass = photons;
-                                s.alpha = alpha;
-                                s.initial_radius = static_cast<float>(scale * automatic);
-                                s.hash = hash;
-                                s.rng = rng;
-                                s.direct_light = direct;
-                                s.seed = seed++;
-                                runs.push_back(converge_run(scene, s, scale, o, ref.image));
-                                if (!o.json) std::fprintf(stderr, "  run %zu done\n", runs.size());
-                            }
+                                for (Estimator estimator : o.estimators)
+                                    for (float glossy : o.glossy_thresholds) {
+                                        RenderSettings s = probe;
+                                        s.glossy_threshold = glossy;
+                                        s.photons_per_pass = photons;
+                                        s.alpha = alpha;
+                                        s.initial_radius = static_cast<float>(scale * automatic);
+                                        s.hash = hash;
+                                        s.rng = rng;
+                                        s.direct_light = direct;
+                                        s.estimator = estimator;
+                                        s.seed = seed++;
+                                        validate(s);  // pppm with the paper's generator: an error
+                                        runs.push_back(converge_run(scene, s, scale, o, ref.image));
+                                        if (!o.json)
+                                            std::fprintf(stderr, "  run %zu done\n", runs.size());
+                                    }
         if (o.json)
             print_json(o, ref, cross, cross_regions, automatic, runs, probe_stats.renderer);
         else

@@ -1,4 +1,4 @@
-// glslppm-bench passes: end-to-end SPPM throughput on a benchmark scene (--scene, default the
+// glslppm-bench passes: end-to-end throughput (SPPM or PPPM, one or several devices) on a benchmark scene (--scene, default the
 // built-in Cornell box).
 #include <algorithm>
 #include <chrono>
@@ -56,6 +56,18 @@ int bench_passes(int argc, char** argv) {
         timed.run(profiled_passes);
         const RenderStats st = timed.stats();
         const double ms = 1e3 / profiled_passes;
+        // Each worker's passes and passes per second over the timed passes alone.
+        nlohmann::json devices = nlohmann::json::array();
+        for (std::size_t k = 0; k < after.devices.size(); ++k) {
+            const DeviceStats& a = after.devices[k];
+            const DeviceStats& b = before.devices[k];
+            const double t = a.seconds - b.seconds;
+            devices.push_back({{"device", a.device},
+                               {"renderer", a.renderer},
+                               {"passes", a.passes - b.passes},
+                               {"seconds", t},
+                               {"passes_per_second", t > 0 ? double(a.passes - b.passes) / t : 0.0}});
+        }
         if (json) {
             const nlohmann::json out = {
                 {"bench", "passes"},
@@ -66,6 +78,8 @@ int bench_passes(int argc, char** argv) {
                 {"hash", to_string(settings.hash)},
                 {"rng", to_string(settings.rng)},
                 {"direct_light", to_string(settings.direct_light)},
+                {"estimator", to_string(settings.estimator)},
+                {"max_depth", settings.max_depth},
                 {"passes", passes},
                 {"seconds", seconds},
                 {"passes_per_second", passes / seconds},
@@ -88,6 +102,7 @@ int bench_passes(int argc, char** argv) {
                 {"setup_seconds", setup_seconds},
                 {"renderer", after.renderer},
                 {"variant", after.variant},
+                {"devices", devices},
             };
             std::printf("%s\n", out.dump().c_str());
         } else {
@@ -101,8 +116,13 @@ int bench_passes(int argc, char** argv) {
                         after.instancing.c_str(), after.instancing_reason.c_str(),
                         after.instances, after.instanced_triangles, after.triangles,
                         after.bvh_seconds, after.gpu_bytes, setup_seconds);
-            std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s\n", passes / seconds,
-                        photons / seconds * 1e-6, rays / seconds * 1e-6);
+            std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s (%s)\n", passes / seconds,
+                        photons / seconds * 1e-6, rays / seconds * 1e-6,
+                        to_string(settings.estimator).c_str());
+            for (const auto& d : devices)
+                std::printf("  device %d: %llu passes, %.2f passes/s\n", d["device"].get<int>(),
+                            d["passes"].get<unsigned long long>(),
+                            d["passes_per_second"].get<double>());
             std::printf("  per pass: eye %.3f ms, photon %.3f ms, hash %.3f ms, gather %.3f ms\n",
                         st.eye_seconds * ms, st.photon_seconds * ms, st.hash_seconds * ms,
                         st.gather_seconds * ms);

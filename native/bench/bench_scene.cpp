@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "gl/device_list.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
 #include "scenes/instances_scene.h"
@@ -169,7 +170,13 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     else if (a == "--hash") settings.hash = parse_hash_mode(text());
     else if (a == "--rng") settings.rng = parse_rng_kind(text());
     else if (a == "--direct") settings.direct_light = parse_direct_light(text());
-    else if (a == "--device") settings.device = static_cast<int>(number());
+    else if (a == "--device") {
+        // "0,1" or "all": one worker per device (estimator pppm).
+        const std::vector<int> devices = gl::parse_device_list(text());
+        settings.devices = devices.size() > 1 ? devices : std::vector<int>{};
+        settings.device = devices[0];
+    }
+    else if (a == "--estimator") settings.estimator = parse_estimator(text());
     else if (a == "--scene") scene_spec = text();
     else if (a == "--instancing") settings.instancing = parse_instancing(text());
     else return false;

@@ -36,7 +36,8 @@ double option_number(const std::string& option, int argc, char** argv, int& i);
 long long option_integer(const std::string& option, int argc, char** argv, int& i);
 
 // Reads one option that every end-to-end benchmark shares (--width, --height, --photons,
-// --hash, --rng, --direct, --device, --scene, --instancing) at argv[i], advancing i past its value; false when
+// --hash, --rng, --direct, --device (N, N,M,... or all), --estimator, --scene, --instancing) at
+// argv[i], advancing i past its value; false when
 // argv[i] is none of them.
 bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings,
                          std::string& scene_spec);

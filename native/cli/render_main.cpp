@@ -6,15 +6,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "gl/device_list.h"
 #include "image/exr.h"
 #include "image/image_file.h"
 #include "loaders/scene_file.h"
+#include "render/farm_merge.h"
 #include "render/renderer.h"
 #include "render/tiled_render.h"
 #include "scenes/cornell_box.h"
@@ -63,7 +66,11 @@ std::string usage() {
         "                            (default %s; docs/direct_light.md says why)\n"
         "  --instancing auto|two-level|flattened  how instances are traced (default %s;\n"
         "                            docs/instancing.md)\n"
-        "  --device N                EGL device index (default $GLSLPPM_DEVICE or the first GPU)\n"
+        "  --device N|N,M,...|all    EGL device index (default $GLSLPPM_DEVICE or the first GPU);\n"
+        "                            several (or every GPU: all) run one worker each (pppm)\n"
+        "  --estimator sppm|pppm     progressive per-pixel radii (SPPM) or a radius per pass\n"
+        "                            index whose passes merge anywhere (PPPM; default %s)\n"
+        "  --first-pass K            pppm: run passes K, K+1, ... (a farm job's share)\n"
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
         "                            camera gets one that frames the whole scene)\n"
@@ -78,6 +85,7 @@ std::string usage() {
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
         to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
+        to_string(d.estimator).c_str(),
         static_cast<unsigned long long>(d.seed));
     return text;
 }
@@ -128,7 +136,13 @@ Options parse(int argc, char** argv) {
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
         else if (a == "--instancing") o.settings.instancing = parse_instancing(value());
-        else if (a == "--device") o.settings.device = static_cast<int>(number());
+        else if (a == "--device") {
+            const std::vector<int> devices = gl::parse_device_list(value());
+            o.settings.devices = devices.size() > 1 ? devices : std::vector<int>{};
+            o.settings.device = devices[0];
+        }
+        else if (a == "--estimator") o.settings.estimator = parse_estimator(value());
+        else if (a == "--first-pass") o.settings.first_pass = static_cast<std::uint64_t>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--max-block-bytes") o.settings.max_block_bytes = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
@@ -168,6 +182,15 @@ Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
     if (o.has_environment_color) scene.environment = o.environment_color;
     for (const std::string& w : warnings) std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
     return scene;
+}
+
+// Each worker's device and passes per second.
+nlohmann::json devices_json(const RenderStats& s) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const DeviceStats& d : s.devices)
+        out.push_back({{"device", d.device}, {"renderer", d.renderer}, {"passes", d.passes},
+                       {"seconds", d.seconds}, {"passes_per_second", d.passes_per_second}});
+    return out;
 }
 
 void progress(double fraction, const RenderStats& s) {
@@ -240,7 +263,8 @@ int main(int argc, char** argv) {
         }
         if (!o.out.empty()) {
             FloatImage image{o.settings.width, o.settings.height, std::move(film)};
-            write_exr(o.out, image,
+            std::map<std::string, std::string> attributes = farm_attributes(o.settings, s);
+            attributes.insert(
                       {{"passes", std::to_string(s.passes)},
                        {"photons_emitted", std::to_string(s.photons_emitted)},
                        {"seconds", std::to_string(s.seconds)},
@@ -253,6 +277,7 @@ int main(int argc, char** argv) {
                        {"max_depth", std::to_string(o.settings.max_depth)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
+            write_exr(o.out, image, attributes);
         }
         if (o.json) {
             const nlohmann::json out = {
@@ -272,6 +297,10 @@ int main(int argc, char** argv) {
                 {"renderer", s.renderer},
                 {"variant", s.variant},
                 {"direct_light", s.direct_light},
+                {"estimator", s.estimator},
+                {"pass_ranges", format_pass_ranges(s.pass_ranges)},
+                {"scene_hash", s.scene_hash},
+                {"devices", devices_json(s)},
                 {"instancing", s.instancing},
                 {"instances", s.instances},
                 {"instanced_triangles", s.instanced_triangles},

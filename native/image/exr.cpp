@@ -55,9 +55,12 @@ FloatImage read_exr(const std::string& path, std::map<std::string, std::string>*
         if (attributes) {
             for (auto it = file.header().begin(); it != file.header().end(); ++it) {
                 const std::string name = it.name();
-                if (name.rfind("glslppm/", 0) != 0) continue;
+                // Ours under "glslppm/"; the farm attributes ("glslppm.seed", ...) as they
+                // are, also from files Blender wrote (the add-on's render metadata).
+                const bool ours = name.rfind("glslppm/", 0) == 0;
+                if (!ours && name.rfind("glslppm.", 0) != 0) continue;
                 if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
-                    (*attributes)[name.substr(8)] = s->value();
+                    (*attributes)[ours ? name.substr(8) : name] = s->value();
             }
         }
         return image;

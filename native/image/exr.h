@@ -18,7 +18,8 @@ struct FloatImage {
 void write_exr(const std::string& path, const FloatImage& image,
                const std::map<std::string, std::string>& attributes = {});
 
-// Reads R, G, B, A (A = 1 where missing) and the header's string attributes.
+// Reads R, G, B, A (A = 1 where missing) and the header's string attributes: ours (written
+// under "glslppm/", returned without it) and the farm attributes "glslppm.*" as they are.
 FloatImage read_exr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr);
 
 }  // namespace glslppm

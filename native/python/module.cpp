@@ -12,14 +12,19 @@
 #include <set>
 
 #include "gl/egl_context.h"
+#include "gl/gl_thread.h"
 #include "gl/object_counts.h"
 #include "image/exr.h"
 #include "gl/shader_program.h"
 #include "python/loaders_module.h"
 #include "render/instancing.h"
 #include "render/renderer.h"
+#include "render/farm_merge.h"
+#include "render/film_merge.h"
+#include "render/pppm_schedule.h"
 #include "render/tiled_render.h"
 #include "scene/scene.h"
+#include "scene/scene_hash.h"
 #include "scenes/caustic_scene.h"
 #include "scenes/cornell_box.h"
 
@@ -370,6 +375,23 @@ py::dict stats_dict(const RenderStats& s) {
     d["renderer"] = s.renderer;
     d["variant"] = s.variant;
     d["direct_light"] = s.direct_light;
+    d["estimator"] = s.estimator;
+    d["scene_hash"] = s.scene_hash;
+    d["radius_floor"] = s.radius_floor;
+    py::list ranges;
+    for (const auto& [first, end] : s.pass_ranges) ranges.append(py::make_tuple(first, end));
+    d["pass_ranges"] = ranges;
+    py::list devices;
+    for (const DeviceStats& ds : s.devices) {
+        py::dict e;
+        e["device"] = ds.device;
+        e["renderer"] = ds.renderer;
+        e["passes"] = ds.passes;
+        e["seconds"] = ds.seconds;
+        e["passes_per_second"] = ds.passes_per_second;
+        devices.append(e);
+    }
+    d["devices"] = devices;
     d["triangles"] = s.triangles;
     d["degenerate_dropped"] = s.degenerate_dropped;
     d["instancing"] = s.instancing;
@@ -576,7 +598,9 @@ PYBIND11_MODULE(_glslppm, m) {
                          bool profile, bool full_variant, int max_texture_size,
                          bool transparent, bool transparent_glass,
                          const std::string& direct_light, float glossy_threshold,
-                         const std::string& instancing, std::uint64_t max_block_bytes) {
+                         const std::string& estimator, std::vector<int> devices,
+                         std::uint64_t first_pass, const std::string& instancing,
+                         std::uint64_t max_block_bytes) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -597,6 +621,9 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.transparent = transparent;
                  s.transparent_glass = transparent_glass;
                  s.glossy_threshold = glossy_threshold;
+                 s.estimator = parse_estimator(estimator);
+                 s.devices = std::move(devices);
+                 s.first_pass = first_pass;
                  s.instancing = parse_instancing(instancing);
                  s.max_block_bytes = max_block_bytes;
                  validate(s);
@@ -615,12 +642,17 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("transparent_glass") = defaults.transparent_glass,
              py::arg("direct_light") = to_string(defaults.direct_light),
              py::arg("glossy_threshold") = defaults.glossy_threshold,
+             py::arg("estimator") = to_string(defaults.estimator),
+             py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass,
              py::arg("instancing") = to_string(defaults.instancing),
              py::arg("max_block_bytes") = defaults.max_block_bytes)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)
-        .def_readonly("radius_scale", &RenderSettings::radius_scale);
+        .def_readonly("radius_scale", &RenderSettings::radius_scale)
+        .def_property_readonly("estimator", [](const RenderSettings& s) { return to_string(s.estimator); })
+        .def_readonly("devices", &RenderSettings::devices)
+        .def_readonly("first_pass", &RenderSettings::first_pass);
 
     // Set from any thread while a Renderer is being constructed with it: the construction
     // (BVH build, GL set-up) stops within milliseconds and raises Cancelled.
@@ -643,6 +675,28 @@ PYBIND11_MODULE(_glslppm, m) {
             return r.get()->run(passes);
         }, py::arg("passes") = 1,
         "Runs that many passes; returns how many ran (fewer after cancel() or close()).")
+        .def("run_passes", [](PyRenderer& r, std::vector<std::uint64_t> indices) {
+            py::gil_scoped_release release;
+            return r.get()->run_passes(indices);
+        }, py::arg("indices"),
+        "PPPM: runs exactly these pass indices over the workers; returns how many ran.")
+        .def("farm_attributes", [](PyRenderer& r, py::object frame_scene,
+                                   py::object frame_settings) {
+            const std::shared_ptr<Renderer> renderer = r.get();
+            RenderStats s;
+            RenderSettings settings = renderer->settings();
+            if (!frame_settings.is_none()) settings = frame_settings.cast<RenderSettings>();
+            const Scene* frame = frame_scene.is_none() ? nullptr : &frame_scene.cast<const Scene&>();
+            {
+                py::gil_scoped_release release;
+                s = renderer->stats();
+                if (frame) s.scene_hash = scene_hash_hex(*frame);
+            }
+            return farm_attributes(settings, s);
+        }, py::arg("frame_scene") = py::none(), py::arg("frame_settings") = py::none(),
+           "The EXR header attributes glslppm-merge reads: estimator, seed, settings, scene "
+           "hash, pass ranges and passes. A tile's renderer (tile_render_inputs) is given the "
+           "whole frame's scene and settings, whose camera and size the header names.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
         .def("reset_film", [](PyRenderer& r) {
@@ -802,6 +856,32 @@ PYBIND11_MODULE(_glslppm, m) {
         write_exr(path, image, attributes);
     }, py::arg("path"), py::arg("rgba"), py::arg("attributes") = std::map<std::string, std::string>{});
 
+    m.def("merge_films", [](const std::vector<py::array_t<float, py::array::c_style | py::array::forcecast>>& films,
+                            const std::vector<std::uint64_t>& passes) {
+        if (films.empty()) throw py::value_error("films: at least one is needed");
+        std::vector<std::vector<float>> copies;
+        for (const auto& f : films) copies.emplace_back(f.data(), f.data() + f.size());
+        std::vector<const std::vector<float>*> views;
+        for (const auto& c : copies) views.push_back(&c);
+        const std::vector<float> merged = merge_films(views, passes);
+        py::array_t<float> out(films[0].request().shape);
+        std::memcpy(out.mutable_data(), merged.data(), merged.size() * sizeof(float));
+        return out;
+    }, py::arg("films"), py::arg("passes"),
+       "PPPM films, each the mean of its own passes, merged: sum passes[k] films[k] / sum passes.");
+    m.def("merge_farm_files", [](const std::vector<std::string>& paths, const std::string& out) {
+        try {
+            py::gil_scoped_release release;
+            return merge_farm_files(paths, out);
+        } catch (const FarmMergeError& e) {
+            throw py::value_error(e.what());
+        }
+    }, py::arg("paths"), py::arg("out"),
+       "glslppm-merge: merges PPPM renders of disjoint pass sets into out; ValueError naming "
+       "the file and field when they do not belong together. Returns out's attributes.");
+    m.def("pppm_pass_radius", &pppm_pass_radius, py::arg("initial_radius"), py::arg("floor"),
+          py::arg("pass_index"), py::arg("alpha"),
+          "PPPM's radius of a pass: initial_radius s(i), never below floor.");
     m.def("gl_object_counts", [] {
         const gl::GlObjectCounts c = gl::gl_object_counts();
         py::dict d;
@@ -818,36 +898,54 @@ PYBIND11_MODULE(_glslppm, m) {
         // (GL_NVX_gpu_memory_info; 0 where unknown; software renderers use host memory).
         std::int64_t largest = 0, memory = 0;
         bool software = false;
-        std::string renderer;
+        std::string renderer, vendor;
         {
             py::gil_scoped_release release;
-            gl::EglContext context(device);
-            GLint64 value = 0;
-            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
-            largest = value;
-            if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
-                GLint kib = 0;
-                glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
-                // Mesa's llvmpipe answers with a negative number: unknown, then.
-                memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
-            }
-            software = context.info().software;
-            renderer = context.info().renderer;
+            // On a thread of its own: the caller's may have another GL context current
+            // (Blender's UI), where making ours current fails (EGL_BAD_ACCESS).
+            gl::GlThread thread(device);
+            vendor = thread.info().vendor;
+            thread.call([&] {
+                GLint64 value = 0;
+                glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
+                largest = value;
+                if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+                    GLint kib = 0;
+                    glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+                    // Mesa's llvmpipe answers with a negative number: unknown, then.
+                    memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
+                }
+            });
+            software = thread.info().software;
+            renderer = thread.info().renderer;
         }
         py::dict d;
         d["max_storage_buffer_bytes"] = largest;
         d["memory_bytes"] = memory;
         d["software"] = software;
         d["renderer"] = renderer;
+        d["vendor"] = vendor;
         return d;
     }, py::arg("device") = -1,
        "Limits of an EGL device: max_storage_buffer_bytes, memory_bytes (0: unknown), "
-       "software, renderer.");
+       "software, renderer, vendor.");
     m.def("list_devices", [] {
         py::list out;
         for (const auto& d : gl::list_devices()) out.append(py::str(d.name));
         return out;
     });
+    m.def("describe_devices", [] {
+        py::list out;
+        for (const auto& d : gl::list_devices()) {
+            py::dict e;
+            e["index"] = d.index;
+            e["name"] = d.name;
+            e["software"] = d.software;
+            out.append(e);
+        }
+        return out;
+    }, "The EGL devices without opening them: index, name (DRM node, CUDA device or "
+       "software) and whether it is a software renderer.");
 
     bind_loaders(m);  // load_scene, load_texture, scene_contents (python/loaders_module.cpp)
 }

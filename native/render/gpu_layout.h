@@ -53,6 +53,12 @@ struct FrameBlock {
     std::uint32_t frame_first_pixel = 0;
     std::uint32_t frame_width = 0;
     std::uint32_t frame_pixels = 0;
+    // PPPM (ESTIMATOR_PPPM): this pass's radius r_1 s(i), its estimate's factor
+    // 1 / (pi r_i^2 N_emitted), and the photon step within the pass (0 starts every path).
+    float pass_radius = 0.0f;
+    float pass_scale = 0.0f;
+    std::uint32_t photon_step = 0;
+    std::uint32_t padding0 = 0;  // std140 rounds the block to 16 bytes
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -82,8 +88,13 @@ static_assert(offsetof(FrameBlock, environment_cdf_width) == 248);
 static_assert(offsetof(FrameBlock, environment_cdf_height) == 252);
 static_assert(offsetof(FrameBlock, glossy_threshold) == 256);
 static_assert(offsetof(FrameBlock, frame_first_pixel) == 260);
+static_assert(offsetof(FrameBlock, frame_width) == 264);
 static_assert(offsetof(FrameBlock, frame_pixels) == 268);
-static_assert(sizeof(FrameBlock) == 272);
+static_assert(offsetof(FrameBlock, pass_radius) == 272);
+static_assert(offsetof(FrameBlock, pass_scale) == 276);
+static_assert(offsetof(FrameBlock, photon_step) == 280);
+static_assert(offsetof(FrameBlock, padding0) == 284);
+static_assert(sizeof(FrameBlock) == 288);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -21,6 +23,7 @@
 #include "render/emitters.h"
 #include "render/gpu_layout.h"
 #include "render/instancing.h"
+#include "render/pppm_schedule.h"
 #include "render/renderer.h"
 #include "render/texture_atlas.h"
 #include "render/tiled_render.h"
@@ -57,7 +60,12 @@ struct Renderer::Gpu {
     gl::Defines defines;
     std::string variant;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
+    // PPPM: photon steps stored side by side before one hash and gather, and each step's
+    // slot in the photon buffer (photon_threads rounded up to 16); SPPM: 1 and photon_threads.
+    std::uint32_t steps_per_gather = 1, photon_slot = 0;
     std::uint64_t passes = 0;
+    std::vector<std::uint64_t> pass_indices;  // PPPM: the indices this worker ran
+    int device = -1;
     double seconds = 0.0;
     std::atomic<bool> cancel{false};
     const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
@@ -198,11 +206,12 @@ struct Renderer::Gpu {
         }
     }
 
-    void set_rng_seed(const gl::ComputeProgram& program, std::uint32_t stage) {
+    void set_rng_seed(const gl::ComputeProgram& program, std::uint64_t pass_index,
+                      std::uint32_t stage) {
         const GLint location = program.uniform("u_rng_seed");
         if (location >= 0) {
             program.use();
-            glUniform1ui(location, mix_seed(settings.seed, passes, stage));
+            glUniform1ui(location, mix_seed(settings.seed, pass_index, stage));
         }
     }
 
@@ -215,20 +224,80 @@ struct Renderer::Gpu {
         if (settings.profile) glQueryCounter(queries[stage], GL_TIMESTAMP);
     }
 
-    void run_pass() {
+    // PPPM: pass `pass_index`'s radius r_1 s(i), its estimate's factor and the hash cells
+    // of that radius, from the index alone.
+    void begin_pppm_pass(std::uint64_t pass_index) {
+        const float r = pppm_pass_radius(initial_radius, frame.radius_floor, pass_index,
+                                         settings.alpha);
+        frame.pass_radius = r;
+        // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
+        frame.pass_scale = static_cast<float>(
+            1.0 / (3.14159265358979323846 * double(r) * double(r) * double(photon_threads)));
+        const std::uint32_t bits = std::bit_cast<std::uint32_t>(r);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, offsetof(Counters, cell_size_bits), 4, &bits);
+    }
+
+    // One pass as its stages. SPPM: pass_index is the count of passes run before. PPPM: any
+    // index; the photon paths are traced in max_depth steps, stored side by side and hashed
+    // and gathered steps_per_gather at a time.
+    void run_pass(std::uint64_t pass_index) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
-        frame.pass_index = static_cast<std::uint32_t>(passes);
+        const bool pppm = settings.estimator == Estimator::Pppm;
+        frame.pass_index = static_cast<std::uint32_t>(pass_index);
+        frame.photon_step = 0;
+        if (pppm) begin_pppm_pass(pass_index);
         upload_frame();
 
         mark(0);
-        set_rng_seed(*eye, 0);
+        set_rng_seed(*eye, pass_index, 0);
         dispatch(*eye, pixels);
         if (settings.profile) glMemoryBarrier(ssbo);
         mark(1);
-        set_rng_seed(*photon, 1);
-        dispatch(*photon, photon_threads);
-        glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
-        mark(2);
+        const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_depth) : 1u;
+        const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot) * 3 * 16;
+        for (std::uint32_t step = 0; step < steps; ++step) {
+            const std::uint32_t slot = step % steps_per_gather;
+            if (step > 0) {
+                frame.photon_step = step;
+                upload_frame();
+            }
+            if (pppm)
+                glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, photons,
+                                  slot * slot_bytes, slot_bytes);
+            set_rng_seed(*photon, pass_index, 1u + (step << 8));
+            dispatch(*photon, photon_threads);
+            glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+            if (step == 0) mark(2);
+            if (slot + 1 < steps_per_gather && step + 1 < steps) continue;
+            if (!pppm) {
+                hash_and_gather(true, photon_threads);
+                continue;
+            }
+            // The steps stored so far, hashed and gathered as one set of photons.
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, photons);
+            const std::uint32_t stored = (slot + 1) * photon_slot;
+            frame.photon_threads = stored;
+            upload_frame();
+            hash_and_gather(step + 1 == steps_per_gather || step + 1 == steps, stored);
+            frame.photon_threads = photon_threads;
+            upload_frame();
+        }
+        end_pass->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(ssbo);
+        mark(4);
+        ++passes;
+        if (settings.profile) {
+            GLuint64 t[5];
+            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
+            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+        }
+    }
+
+    void hash_and_gather(bool mark_stages, std::uint32_t stored) {
+        const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
 
         // Empty cells: key "infinite", no photons.
         const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
@@ -237,7 +306,7 @@ struct Renderer::Gpu {
         glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                           settings.hash == HashMode::Exact ? empty_exact : empty_stochastic);
         glMemoryBarrier(ssbo);
-        dispatch(*hash_a, photon_threads);
+        dispatch(*hash_a, stored);
         glMemoryBarrier(ssbo);
         if (settings.hash == HashMode::Exact) {
             const std::uint32_t blocks = hash_cells / 1024u;
@@ -251,21 +320,27 @@ struct Renderer::Gpu {
             glDispatchCompute(blocks, 1, 1);
             glMemoryBarrier(ssbo);
         }
-        dispatch(*hash_b, photon_threads);
+        dispatch(*hash_b, stored);
         glMemoryBarrier(ssbo);
-        mark(3);
+        if (mark_stages) mark(3);
         dispatch(*gather, pixels);
         glMemoryBarrier(ssbo);
-        end_pass->use();
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(ssbo);
-        mark(4);
-        ++passes;
-        if (settings.profile) {
-            GLuint64 t[5];
-            for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(queries[k], GL_QUERY_RESULT, &t[k]);
-            for (int k = 0; k < 4; ++k) stage_seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
-        }
+    }
+
+    // The film of this worker's passes (their mean), read back.
+    std::vector<float> resolve_film() {
+        std::vector<float> out(std::size_t(pixels) * 4, 0.0f);
+        const Counters c = read_counters();
+        const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+        frame.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+        frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        upload_frame();
+        dispatch(*resolve, pixels);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, film);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
+                           out.data());
+        return out;
     }
 
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius
@@ -292,6 +367,7 @@ struct Renderer::Gpu {
         glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(start), &start);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         passes = 0;
+        pass_indices.clear();  // PPPM: a restarted film has run no pass index
         seconds = 0.0;
         std::fill(std::begin(stage_seconds), std::end(stage_seconds), 0.0);
     }

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
+#include <optional>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
@@ -25,57 +27,87 @@
 #include "render/scene_preparation.h"
 #include "render/texture_atlas.h"
 #include "render/rng_seed.h"
+#include "render/film_merge.h"
+#include "render/pppm_schedule.h"
+#include "scene/scene_hash.h"
 #include "scene/scene_validation.h"
 
 namespace glslppm {
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
-    : settings_(settings), gpu_(std::make_unique<Gpu>()) {
-    Gpu& g = *gpu_;
-    g.settings = settings;
-    g.setup_cancel = cancel;
-
+    : settings_(settings), next_pass_(settings.first_pass) {
     PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
-    g.bvh = std::move(prepared.bvh);
-    g.instancing = prepared.instancing;
-    g.instance_count = scene.instances.size();
     if (prepared.two_level) {
         // The same buffers carry the two-level tree (bvh/two_level_bvh.h): the top tree's node
         // count is what the traversal starts from.
         TwoLevelBvh& two = *prepared.two_level;
-        g.bvh.nodes = std::move(two.nodes);
-        g.bvh.links = std::move(two.links);
-        g.bvh.triangles = std::move(two.triangles);
-        g.bvh.normals = std::move(two.normals);
-        g.bvh.uvs = std::move(two.uvs);
-        g.bvh.node_count = two.top_node_count;
-        g.instances = std::move(two.instances);
-        BvhStats& st = g.bvh.stats;
+        PackedBvh& bvh = prepared.bvh;
+        bvh.nodes = std::move(two.nodes);
+        bvh.links = std::move(two.links);
+        bvh.triangles = std::move(two.triangles);
+        bvh.normals = std::move(two.normals);
+        bvh.uvs = std::move(two.uvs);
+        bvh.node_count = two.top_node_count;
+        BvhStats& st = bvh.stats;
         st.triangles = two.stats.mesh_triangles;
         st.build_seconds += two.stats.bottom_seconds + two.stats.top_seconds;
         st.bytes_total = two.stats.bytes_total;
         st.bytes_per_triangle =
             st.triangles ? static_cast<double>(st.bytes_total) / static_cast<double>(st.triangles) : 0.0;
     }
+    std::vector<glm::vec4> instances;  // two-level instance records, else empty
+    if (prepared.two_level) instances = std::move(prepared.two_level->instances);
+    scene_hash_without_camera_ = scene_hash_without_camera(scene, cancel);
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
+    const std::vector<int> devices =
+        settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
+    try {
+        for (std::size_t k = 0; k < devices.size(); ++k) {
+            gpus_.push_back(std::make_unique<Gpu>());
+            // The last worker takes the BVH (one or two levels); the others copy it.
+            Gpu& g = *gpus_.back();
+            if (k + 1 == devices.size()) {
+                g.bvh = std::move(prepared.bvh);
+                g.instances = std::move(instances);
+            } else {
+                g.bvh = prepared.bvh;
+                g.instances = instances;
+            }
+            g.instancing = prepared.instancing;
+            g.instance_count = scene.instances.size();
+            set_up(g, devices[k], scene, settings, prepared, cancel);
+        }
+    } catch (...) {
+        for (auto& g : gpus_)
+            if (g->thread) g->thread->call([&] { g->release(); });
+        throw;
+    }
+}
+
+// One worker: its context on `device`, the programs, the buffers (g.bvh, g.instances and
+// g.instancing already set).
+void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
+                      const PreparedScene& prepared, const CancelFlag* cancel) {
+    g.setup_cancel = cancel;
+    g.settings = settings;
+    g.device = device;
     g.bounds = prepared.bounds;
-    g.emitters = std::move(prepared.emitters);
+    g.emitters = prepared.emitters;
     g.frame = prepared.frame;
-    g.defines = std::move(prepared.defines);
-    g.variant = std::move(prepared.variant);
+    g.defines = prepared.defines;
+    g.variant = prepared.variant;
     g.pixels = prepared.pixels;
     g.photon_threads = prepared.photon_threads;
     g.hash_cells = prepared.hash_cells;
     g.initial_radius = prepared.initial_radius;
-    g.warnings = std::move(prepared.warnings);
+    g.warnings = prepared.warnings;
     g.geometry_triangles = prepared.geometry.mesh.triangles.size();
     g.material_count = prepared.geometry.materials.size();
     g.textures_used = prepared.textures.used;
-    const SceneGeometry& geometry = prepared.geometry;
     const TextureUse& use = prepared.textures;
     const EnvironmentMap* environment = prepared.environment.get();
-    const float radius = prepared.initial_radius;
 
     throw_if_cancelled(cancel);
-    g.thread = std::make_unique<gl::GlThread>(settings.device);
+    g.thread = std::make_unique<gl::GlThread>(g.device);
     g.thread->call([&] {
         try {
             const auto compile_start = std::chrono::steady_clock::now();
@@ -171,21 +203,39 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
             // Visible points, pixel statistics, direct light, film.
             g.gpu_bytes_per_pixel = (point_vec4s + 2 + 2 + 1) * 16;
             g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
+            // Their first contents: restart_film() below, as at every restart.
             g.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr,
                                           "pixel statistics");
             g.direct_light = g.make_buffer(BINDING_DIRECT_LIGHT, px * 2 * 16, nullptr,
                                            "direct light");
             g.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * 3 * 16, nullptr,
                                            "photon paths");
-            const std::vector<glm::vec4> no_photons(ph * 3, glm::vec4(0.0f));
-            g.photons = g.make_buffer(BINDING_PHOTONS, bytes(no_photons), no_photons.data(),
-                                      "photons");
+            // PPPM: the photon steps of a pass are stored side by side and hashed and
+            // gathered together, as many as fit in a storage buffer of at most 1 GiB; SPPM
+            // stores one step. Each step's slot is rounded up to 16 photons (offset
+            // alignment); the padding stays zero, "not stored".
+            g.photon_slot = settings.estimator == Estimator::Pppm ? (ph + 15) / 16 * 16 : ph;
+            if (settings.estimator == Estimator::Pppm) {
+                GLint64 largest = 0;
+                glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
+                const std::size_t cap = std::min<std::size_t>(
+                    largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30,
+                    std::size_t(1) << 30);
+                g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
+                    cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(settings.max_depth)));
+            }
+            const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
+            g.require_fits(stored * 3 * 16, "photons");
+            g.photons = g.make_buffer(BINDING_PHOTONS, stored * 3 * 16, nullptr, "photons");
+            const GLuint zero[4] = {0, 0, 0, 0};
+            glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
+                              GL_UNSIGNED_INT, zero);
             if (settings.rng == RngKind::Paper) {
                 const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
                 g.make_buffer(BINDING_RNG_STATES, bytes(seeds), seeds.data(), "generator states");
             }
             g.hash = g.make_buffer(BINDING_HASH_CELLS, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
-            const std::size_t sorted = exact ? ph + g.hash_cells / 1024 : 1;
+            const std::size_t sorted = exact ? stored + g.hash_cells / 1024 : 1;
             g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
@@ -201,15 +251,33 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
 }
 
 Renderer::~Renderer() {
-    if (!gpu_ || !gpu_->thread) return;
-    gpu_->cancel = true;  // a run in progress stops after its current pass
-    gpu_->thread->call([this] { gpu_->release(); });
+    for (auto& g : gpus_) g->cancel = true;  // runs in progress stop after their current pass
+    for (auto& g : gpus_)
+        if (g->thread) g->thread->call([&] { g->release(); });
 }
 
-void Renderer::cancel() { gpu_->cancel = true; }
+void Renderer::cancel() {
+    for (auto& g : gpus_) g->cancel = true;
+}
 
 int Renderer::run(int passes) {
-    Gpu& g = *gpu_;
+    if (settings_.estimator == Estimator::Pppm) {
+        // The next indices, past any that run_passes() already ran.
+        std::vector<std::uint64_t> ran_before;
+        for (const auto& g : gpus_)
+            ran_before.insert(ran_before.end(), g->pass_indices.begin(), g->pass_indices.end());
+        std::sort(ran_before.begin(), ran_before.end());
+        std::vector<std::uint64_t> indices;
+        for (std::uint64_t i = next_pass_; indices.size() < static_cast<std::size_t>(std::max(passes, 0)); ++i)
+            if (!std::binary_search(ran_before.begin(), ran_before.end(), i)) indices.push_back(i);
+        const int done = run_workers(indices);
+        // A cancelled run leaves the indices it did not reach for the next one.
+        std::vector<std::uint64_t> ran;
+        for (const auto& g : gpus_) ran.insert(ran.end(), g->pass_indices.begin(), g->pass_indices.end());
+        for (std::uint64_t i : ran) next_pass_ = std::max(next_pass_, i + 1);
+        return done;
+    }
+    Gpu& g = *gpus_[0];
     // Runs queue on the GL thread one after another (two callers never interleave); the
     // time counted is this run's own, measured on that thread.
     return g.thread->call([&] {
@@ -217,7 +285,7 @@ int Renderer::run(int passes) {
         g.cancel = false;
         int done = 0;
         for (; done < passes && !g.cancel; ++done) {
-            g.run_pass();
+            g.run_pass(g.passes);
             // Let a cancel or a film read in between interrupt long runs (the GPU queue is
             // flushed every few passes so that a cancel takes effect quickly).
             if ((done & 7) == 7) glFlush();
@@ -228,64 +296,187 @@ int Renderer::run(int passes) {
     });
 }
 
+int Renderer::run_passes(const std::vector<std::uint64_t>& indices) {
+    if (settings_.estimator != Estimator::Pppm)
+        throw std::invalid_argument("run_passes: needs estimator pppm (SPPM's passes run in order)");
+    std::vector<std::uint64_t> sorted = indices;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 1; k < sorted.size(); ++k)
+        if (sorted[k] == sorted[k - 1])
+            throw std::invalid_argument("run_passes: pass " + std::to_string(sorted[k]) +
+                                        " is listed twice");
+    for (const auto& g : gpus_)
+        for (std::uint64_t i : g->pass_indices)
+            if (std::binary_search(sorted.begin(), sorted.end(), i))
+                throw std::invalid_argument("run_passes: pass " + std::to_string(i) +
+                                            " has already been run by this renderer");
+    return run_workers(indices);
+}
+
+// Each worker takes the next index from a shared counter when its GPU has caught up to one
+// pass behind, so a faster device takes more passes. One worker runs on its own thread;
+// several each on theirs, at once.
+int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
+    std::atomic<std::size_t> next{0};
+    auto work = [&](Gpu& g) {
+        return g.thread->call([&] {
+            const auto start = std::chrono::steady_clock::now();
+            g.cancel = false;
+            int done = 0;
+            GLsync in_flight = nullptr;
+            while (!g.cancel) {
+                const std::size_t k = next.fetch_add(1);
+                if (k >= indices.size()) break;
+                g.run_pass(indices[k]);
+                g.pass_indices.push_back(indices[k]);
+                ++done;
+                // At most two passes queued: the counter then deals by the GPUs' own speed.
+                GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+                if (in_flight) {
+                    glClientWaitSync(in_flight, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
+                    glDeleteSync(in_flight);
+                }
+                in_flight = fence;
+                glFlush();
+            }
+            if (in_flight) glDeleteSync(in_flight);
+            glFinish();
+            g.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            return done;
+        });
+    };
+    const auto start = std::chrono::steady_clock::now();
+    int done = 0;
+    if (gpus_.size() == 1) {
+        done = work(*gpus_[0]);
+    } else {
+        std::vector<std::future<int>> runs;
+        for (auto& g : gpus_) runs.push_back(std::async(std::launch::async, work, std::ref(*g)));
+        std::exception_ptr failure;
+        for (auto& r : runs) {
+            try {
+                done += r.get();
+            } catch (...) {
+                if (!failure) failure = std::current_exception();
+                cancel();
+            }
+        }
+        if (failure) std::rethrow_exception(failure);
+    }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return done;
+}
+
+// The viewport's restarts apply to every worker, each on its own GL thread. PPPM: the pass
+// indices start again from settings.first_pass (a restarted film has run none).
+void Renderer::restart_passes() {
+    next_pass_ = settings_.first_pass;
+    seconds_ = 0.0;
+}
+
 void Renderer::reset_film() {
-    Gpu& g = *gpu_;
-    g.thread->call([&] {
-        g.restart_film();
-        ++g.film_resets;
-    });
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            g.restart_film();
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
 }
 
 bool Renderer::set_camera(const Camera& camera) {
-    Gpu& g = *gpu_;
     validate_camera(camera);
     // The programs were specialized for the projection and for depth of field.
+    const Gpu& first = *gpus_[0];
     const auto has = [&](const char* define) {
-        return std::any_of(g.defines.begin(), g.defines.end(),
+        return std::any_of(first.defines.begin(), first.defines.end(),
                            [&](const auto& d) { return d.first == define; });
     };
     const bool orthographic = camera.projection == Projection::Orthographic;
     const bool depth_of_field = !orthographic && camera.aperture_radius > 0.0f;
-    if (!g.settings.full_variant &&
+    if (!settings_.full_variant &&
         (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
         return false;
-    return g.thread->call([&] {
-        FrameBlock frame = g.frame;
-        const float radius = frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
-        g.frame = frame;
-        g.initial_radius = radius;
-        g.restart_film();
-        ++g.camera_updates;
-        ++g.film_resets;
-        return true;
-    });
+    // frame_camera through a worker's own MTBVH. On the two-level path its buffers hold the
+    // TwoLevelBvh's arrays (the constructor moved them in): they are lent back to one for
+    // the call, since walking them as a one-level tree measures the wrong distances.
+    auto frame_worker_camera = [&](Gpu& g, FrameBlock& frame) {
+        if (g.instances.empty()) return frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
+        TwoLevelBvh two;
+        two.top_node_count = g.bvh.node_count;
+        auto lend = [&] {
+            two.nodes.swap(g.bvh.nodes);
+            two.links.swap(g.bvh.links);
+            two.triangles.swap(g.bvh.triangles);
+            two.normals.swap(g.bvh.normals);
+            two.uvs.swap(g.bvh.uvs);
+            two.instances.swap(g.instances);
+        };
+        lend();
+        struct GiveBack {
+            decltype(lend)& back;
+            ~GiveBack() { back(); }
+        } give_back{lend};
+        return frame_camera(camera, g.settings, PackedBvh{}, g.bounds, frame, &two);
+    };
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            FrameBlock frame = g.frame;
+            const float radius = frame_worker_camera(g, frame);
+            g.frame = frame;
+            g.initial_radius = radius;  // PPPM's pass radii scale from it too
+            g.restart_film();
+            ++g.camera_updates;
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, camera));
+    return true;
 }
 
 bool Renderer::update_tables(const Scene& scene) {
-    Gpu& g = *gpu_;
-    return g.thread->call([&] {
-        PreparedScene p = prepare_scene(scene, g.settings, kLocalSize, nullptr, &g.bvh);
-        if (p.geometry.mesh.triangles.size() != g.geometry_triangles ||
-            p.geometry.materials.size() != g.material_count ||
-            p.variant != g.variant || p.defines != g.defines || p.textures.used != g.textures_used ||
-            p.environment)
-            return false;
-        g.replace_buffer(g.materials, p.material_records.size() * sizeof(glm::vec4),
-                         p.material_records.data(), "materials");
-        g.emitters = std::move(p.emitters);
-        g.replace_buffer(g.emitter_records, g.emitters.records.size() * sizeof(g.emitters.records[0]),
-                         g.emitters.records.data(), "lights");
-        g.frame = p.frame;
-        g.initial_radius = p.initial_radius;
-        g.restart_film();
-        ++g.table_updates;
-        ++g.film_resets;
-        return true;
+    // Prepared once, on the first worker's thread (its BVH, no run in between); every worker
+    // then takes the same tables.
+    Gpu& first = *gpus_[0];
+    std::optional<PreparedScene> prepared;
+    const bool same = first.thread->call([&] {
+        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr, &first.bvh));
+        const PreparedScene& p = *prepared;
+        return p.geometry.mesh.triangles.size() == first.geometry_triangles &&
+               p.geometry.materials.size() == first.material_count && p.variant == first.variant &&
+               p.defines == first.defines && p.textures.used == first.textures_used &&
+               !p.environment;
     });
+    if (!same) return false;
+    const PreparedScene& p = *prepared;
+    for (auto& w : gpus_) {
+        Gpu& g = *w;
+        g.thread->call([&] {
+            g.replace_buffer(g.materials, p.material_records.size() * sizeof(glm::vec4),
+                             p.material_records.data(), "materials");
+            g.emitters = p.emitters;
+            g.replace_buffer(g.emitter_records,
+                             g.emitters.records.size() * sizeof(g.emitters.records[0]),
+                             g.emitters.records.data(), "lights");
+            g.frame = p.frame;
+            g.initial_radius = p.initial_radius;
+            g.restart_film();
+            ++g.table_updates;
+            ++g.film_resets;
+        });
+    }
+    restart_passes();
+    // The farm attributes describe the new scene.
+    scene_hash_without_camera_ = scene_hash_without_camera(scene);
+    scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
+    return true;
 }
 
 void Renderer::debug_set_photons_emitted(std::uint64_t count) {
-    Gpu& g = *gpu_;
+    Gpu& g = *gpus_[0];
     g.thread->call([&] {
         const std::uint32_t words[2] = {static_cast<std::uint32_t>(count),
                                         static_cast<std::uint32_t>(count >> 32)};
@@ -297,25 +488,26 @@ void Renderer::debug_set_photons_emitted(std::uint64_t count) {
 }
 
 std::vector<float> Renderer::film() {
-    Gpu& g = *gpu_;
-    std::vector<float> out(std::size_t(g.pixels) * 4, 0.0f);
-    g.thread->call([&] {
-        const Counters c = g.read_counters();
-        const std::uint64_t emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
-        g.frame.inv_passes = g.passes ? 1.0f / static_cast<float>(g.passes) : 0.0f;
-        g.frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
-        g.upload_frame();
-        g.dispatch(*g.resolve, g.pixels);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.film);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
-                           out.data());
-    });
-    return out;
+    if (gpus_.size() == 1) {
+        Gpu& g = *gpus_[0];
+        return g.thread->call([&] { return g.resolve_film(); });
+    }
+    // Each worker's film is the mean of its passes; merged by their counts.
+    std::vector<std::vector<float>> films;
+    std::vector<std::uint64_t> passes;
+    for (auto& g : gpus_) {
+        g->thread->call([&] {
+            films.push_back(g->resolve_film());
+            passes.push_back(g->passes);
+        });
+    }
+    std::vector<const std::vector<float>*> views;
+    for (const auto& f : films) views.push_back(&f);
+    return merge_films(views, passes);
 }
 
 std::vector<float> Renderer::photons() {
-    Gpu& g = *gpu_;
+    Gpu& g = *gpus_[0];
     std::vector<float> out(std::size_t(g.photon_threads) * 12, 0.0f);
     g.thread->call([&] {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -327,35 +519,65 @@ std::vector<float> Renderer::photons() {
 }
 
 RenderStats Renderer::stats() {
-    Gpu& g = *gpu_;
     RenderStats s;
     std::vector<glm::vec2> radius_stats(kRadiusStatsThreads);
-    Counters c{};
-    g.thread->call([&] {
-        // One consistent snapshot: runs change these on this thread only.
-        s.passes = g.passes;
-        s.seconds = g.seconds;
-        c = g.read_counters();
-        // The radii reduced on the GPU: a few KiB read back, not every pixel's statistics.
-        g.radius_reduce->use();
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.radius_stats);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                           static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
-                           radius_stats.data());
-    });
-    double sum = 0.0, largest = 0.0;
-    for (const glm::vec2& t : radius_stats) {
-        sum += t.x;
-        largest = std::max(largest, static_cast<double>(t.y));
+    std::vector<std::uint64_t> indices;
+    const bool pppm = settings_.estimator == Estimator::Pppm;
+    for (std::size_t k = 0; k < gpus_.size(); ++k) {
+        Gpu& w = *gpus_[k];
+        DeviceStats d;
+        Counters c{};
+        w.thread->call([&] {
+            // One consistent snapshot: runs change these on this thread only.
+            d.passes = w.passes;
+            d.seconds = w.seconds;
+            c = w.read_counters();
+            if (pppm) {
+                indices.insert(indices.end(), w.pass_indices.begin(), w.pass_indices.end());
+            } else {
+                // The radii reduced on the GPU: a few KiB read back, not every pixel's
+                // statistics.
+                w.radius_reduce->use();
+                glDispatchCompute(1, 1, 1);
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                glBindBuffer(GL_SHADER_STORAGE_BUFFER, w.radius_stats);
+                glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                                   static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
+                                   radius_stats.data());
+            }
+        });
+        d.device = w.thread->info().device_index;
+        d.renderer = w.thread->info().renderer;
+        d.passes_per_second = d.seconds > 0 ? static_cast<double>(d.passes) / d.seconds : 0.0;
+        s.passes += d.passes;
+        s.photons_emitted += Gpu::total(c.emitted_lo, c.emitted_hi);
+        s.rays += Gpu::total(c.rays_lo, c.rays_hi);
+        s.devices.push_back(d);
     }
-    s.photons_emitted = Gpu::total(c.emitted_lo, c.emitted_hi);
-    s.rays = Gpu::total(c.rays_lo, c.rays_hi);
-    s.photons_per_second = g.seconds > 0 ? static_cast<double>(s.photons_emitted) / g.seconds : 0;
-    s.rays_per_second = g.seconds > 0 ? static_cast<double>(s.rays) / g.seconds : 0;
-    s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
-    s.max_radius = largest;
+    Gpu& g = *gpus_[0];
+    s.seconds = gpus_.size() == 1 ? g.seconds : seconds_;
+    s.photons_per_second = s.seconds > 0 ? static_cast<double>(s.photons_emitted) / s.seconds : 0;
+    s.rays_per_second = s.seconds > 0 ? static_cast<double>(s.rays) / s.seconds : 0;
+    s.radius_floor = g.frame.radius_floor;
+    s.estimator = to_string(settings_.estimator);
+    s.scene_hash = scene_hash_;
+    if (pppm) {
+        // Every pixel has the pass's radius: that of the latest pass index run.
+        s.pass_ranges = pass_ranges(indices);
+        const std::uint64_t last = s.pass_ranges.empty() ? settings_.first_pass
+                                                         : s.pass_ranges.back().second - 1;
+        s.mean_radius = s.max_radius = pppm_pass_radius(g.initial_radius, g.frame.radius_floor,
+                                                        last, settings_.alpha);
+    } else {
+        double sum = 0.0, largest = 0.0;
+        for (const glm::vec2& t : radius_stats) {
+            sum += t.x;
+            largest = std::max(largest, static_cast<double>(t.y));
+        }
+        s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
+        s.max_radius = largest;
+        if (s.passes) s.pass_ranges.push_back({0, s.passes});
+    }
     s.initial_radius = g.initial_radius;
     s.renderer = g.thread->info().renderer;
     s.variant = g.variant;
@@ -369,7 +591,7 @@ RenderStats Renderer::stats() {
     s.emitters = g.emitters.count;
     s.bvh_seconds = g.bvh.stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
-    s.gpu_bytes = g.gpu_bytes;
+    for (const auto& w : gpus_) s.gpu_bytes += w->gpu_bytes;
     s.gpu_bytes_per_pixel = g.gpu_bytes_per_pixel;
     s.eye_seconds = g.stage_seconds[0];
     s.photon_seconds = g.stage_seconds[1];

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/settings.h"
@@ -13,6 +14,17 @@
 #include "scene/scene.h"
 
 namespace glslppm {
+
+struct PreparedScene;  // render/scene_preparation.h
+
+// One worker's share of a render: the EGL device it ran on and its passes.
+struct DeviceStats {
+    int device = -1;                    // EGL device index (-1: surfaceless or the default)
+    std::string renderer;               // GL_RENDERER
+    std::uint64_t passes = 0;
+    double seconds = 0.0;               // time this worker spent running passes
+    double passes_per_second = 0.0;
+};
 
 struct RenderStats {
     std::uint64_t passes = 0;
@@ -27,6 +39,12 @@ struct RenderStats {
     std::string renderer;               // GL_RENDERER
     std::string variant;                // the feature set the programs were compiled with
     std::string direct_light;           // "sampled" or "photons" (RenderSettings::direct_light)
+    std::string estimator;              // "sppm" or "pppm"
+    double radius_floor = 0.0;          // radii never shrink below it (scene-relative)
+    // The pass indices run, as sorted half-open ranges [first, end) (pppm: any set).
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> pass_ranges;
+    std::vector<DeviceStats> devices;   // one per worker
+    std::string scene_hash;             // scene/scene_hash.h, 16 hex digits
     std::size_t triangles = 0;  // distinct: each instanced mesh counted once
     std::size_t degenerate_dropped = 0;
     // How instances were traced ("none", "two-level", "flattened"), why, how many, and the
@@ -69,16 +87,22 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Runs `passes` SPPM passes and waits for the GPU to finish them; returns how many ran
-    // (fewer when cancel() was called meanwhile).
+    // Runs `passes` passes and waits for the GPU to finish them; returns how many ran
+    // (fewer when cancel() was called meanwhile). PPPM: the next pass indices from
+    // settings.first_pass on (skipping any run_passes() ran), dealt to the workers as they
+    // become free.
     int run(int passes);
+    // PPPM only: runs exactly these pass indices (none run before by this renderer:
+    // std::invalid_argument), dealt to the workers as they become free.
+    int run_passes(const std::vector<std::uint64_t>& indices);
     // Stops a run in progress after its current pass; safe from any thread.
     void cancel();
     // Tests only: sets the 64-bit count of photon paths started, so that a short test can
     // carry it past 2^32.
     void debug_set_photons_emitted(std::uint64_t count);
     // Starts the image again: no passes, every pixel's radius back to the initial one, the
-    // photon paths and 64-bit counts restarted. Scene, MTBVH and programs stay.
+    // photon paths and 64-bit counts restarted, on every worker; PPPM: run() starts again
+    // from settings.first_pass. Scene, MTBVH and programs stay.
     void reset_film();
     // Looks through another camera at the same image size, then reset_film(); no MTBVH
     // build, no upload but the frame constants. Returns false and changes nothing when the
@@ -91,7 +115,8 @@ public:
     // (a new kind of material or light, another texture, an environment map) or the
     // geometry's size differs: build a new Renderer then.
     bool update_tables(const Scene& scene);
-    // Linear RGBA, height x width x 4 floats, row 0 at the top.
+    // Linear RGBA, height x width x 4 floats, row 0 at the top. With several workers, their
+    // films merged (render/film_merge.h).
     std::vector<float> film();
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
@@ -101,8 +126,17 @@ public:
 
 private:
     struct Gpu;
+    static void set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
+                       const PreparedScene& prepared, const CancelFlag* cancel);
+    int run_workers(const std::vector<std::uint64_t>& indices);
+    void restart_passes();  // after a restart of every worker's film
+
     RenderSettings settings_;
-    std::unique_ptr<Gpu> gpu_;
+    std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
+    std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
+    double seconds_ = 0.0;                    // wall time of runs with several workers
+    std::uint64_t scene_hash_without_camera_ = 0;  // scene/scene_hash.h
+    std::string scene_hash_;                        // with the current camera
 };
 
 }  // namespace glslppm

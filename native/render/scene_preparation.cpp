@@ -408,6 +408,10 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     features.push_back("rng=" + to_string(settings.rng));
     features.push_back("hash=" + to_string(settings.hash));
     features.push_back("direct=" + to_string(settings.direct_light));
+    if (settings.estimator == Estimator::Pppm) {
+        p.defines.push_back({"ESTIMATOR_PPPM", "1"});
+        features.push_back("estimator=pppm");
+    }
     for (const std::string& f : features) p.variant += (p.variant.empty() ? "" : ",") + f;
 
     // Sizes and the frame constants.

@@ -24,6 +24,12 @@ DirectLight parse_direct_light(const std::string& name) {
                                 "' is not a direct-light mode (sampled, photons)");
 }
 
+Estimator parse_estimator(const std::string& name) {
+    if (name == "sppm") return Estimator::Sppm;
+    if (name == "pppm") return Estimator::Pppm;
+    throw std::invalid_argument("estimator: '" + name + "' is not an estimator (sppm, pppm)");
+}
+
 Instancing parse_instancing(const std::string& name) {
     if (name == "auto") return Instancing::Auto;
     if (name == "two-level") return Instancing::TwoLevel;
@@ -42,6 +48,9 @@ std::string to_string(HashMode mode) { return mode == HashMode::Exact ? "exact" 
 std::string to_string(RngKind kind) { return kind == RngKind::Pcg ? "pcg" : "paper"; }
 std::string to_string(DirectLight direct) {
     return direct == DirectLight::Sampled ? "sampled" : "photons";
+}
+std::string to_string(Estimator estimator) {
+    return estimator == Estimator::Pppm ? "pppm" : "sppm";
 }
 
 void validate(const RenderSettings& s) {
@@ -64,6 +73,21 @@ void validate(const RenderSettings& s) {
         fail("max_depth: " + std::to_string(s.max_depth) + " is outside 1..1024");
     if (s.leaf_size < 1 || s.leaf_size > 64)
         fail("leaf_size: " + std::to_string(s.leaf_size) + " is outside 1..64");
+    if (s.estimator == Estimator::Pppm && s.rng == RngKind::Paper)
+        fail("estimator: pppm needs rng pcg (the paper's generator carries its state from "
+             "one pass to the next, so a pass could not be run on its own)");
+    if (s.estimator == Estimator::Sppm && s.devices.size() > 1)
+        fail("devices: several devices need estimator pppm (SPPM's passes depend on each "
+             "other and cannot be split)");
+    if (s.estimator == Estimator::Sppm && s.first_pass != 0)
+        fail("first_pass: only estimator pppm can start at a pass other than 0");
+    if (s.first_pass > (std::uint64_t(1) << 52))
+        fail("first_pass: " + std::to_string(s.first_pass) + " is above 2^52");
+    for (std::size_t k = 0; k < s.devices.size(); ++k) {
+        if (s.devices[k] < 0)
+            fail("devices[" + std::to_string(k) + "]: " + std::to_string(s.devices[k]) +
+                 " is not a device index");
+    }
 }
 
 }  // namespace glslppm

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace glslppm {
 
@@ -12,6 +13,12 @@ enum class RngKind { Paper, Pcg };
 // (photons then carry only light that has scattered at least once), or photons alone, as in
 // Hachisuka 2015.
 enum class DirectLight { Sampled, Photons };
+// How passes combine. SPPM (Hachisuka and Jensen 2009) shrinks each pixel's radius from its
+// own photon count, so pass k+1 depends on pass k. PPPM (Knaus and Zwicker 2011) gives pass i
+// the radius r_1 s(i) and its own estimate, seeded by (seed, i) alone: the image is the mean
+// of the passes' estimates, so any set of pass indices can run on any device or machine and
+// the means merge exactly (render/film_merge.h).
+enum class Estimator { Sppm, Pppm };
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.
 enum class Instancing { Auto, TwoLevel, Flattened };
@@ -36,6 +43,10 @@ struct RenderSettings {
     // docs/direct_light.md: less error at equal time.
     DirectLight direct_light = DirectLight::Sampled;
     int device = -1;              // EGL device index; -1: $GLSLPPM_DEVICE or the first GPU
+    // Several EGL devices, one worker each (pppm only); empty: `device` alone.
+    std::vector<int> devices;
+    Estimator estimator = Estimator::Sppm;
+    std::uint64_t first_pass = 0;  // pppm: run() continues from this pass index
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)
     bool profile = false;         // time each stage with GL timer queries (waits every pass)
@@ -57,10 +68,12 @@ struct RenderSettings {
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
+Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm"
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);
 std::string to_string(RngKind kind);
 std::string to_string(DirectLight direct);
+std::string to_string(Estimator estimator);
 std::string to_string(Instancing instancing);
 
 // Throws std::invalid_argument naming the setting when one is out of range.

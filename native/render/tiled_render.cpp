@@ -8,6 +8,7 @@
 
 #include "gl/gl_thread.h"
 #include "render/scene_preparation.h"
+#include "scene/scene_hash.h"
 
 namespace glslppm {
 
@@ -54,15 +55,23 @@ TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
     // native/render/renderer.cpp allocates them.
     const std::size_t point_bytes = (microfacet ? 4 : 3) * 16;
     const std::size_t pixel_bytes = point_bytes + (2 + 2 + 1) * 16;
-    // Asked on a GL thread of its own, as every renderer's context lives: the calling
-    // thread may hold the host application's context (Blender's UI), which an EGL context
-    // made current there would disturb (EGL_BAD_ACCESS).
-    gl::GlThread thread(settings.device);
-    const std::int64_t largest = thread.call([] {
-        GLint64 value = 0;
-        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
-        return static_cast<std::int64_t>(value);
-    });
+    // With several workers (settings.devices) every device holds the whole tile: the
+    // smallest of their limits.
+    const std::vector<int> devices =
+        settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
+    std::int64_t largest = 0;
+    for (int device : devices) {
+        // On a thread of its own, as the renderer's contexts are: the caller's thread may
+        // have another GL context current (Blender's UI), and making ours current there
+        // fails (EGL_BAD_ACCESS).
+        gl::GlThread thread(device);
+        const GLint64 value = thread.call([] {
+            GLint64 v = 0;
+            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &v);
+            return v;
+        });
+        if (value > 0) largest = largest > 0 ? std::min<std::int64_t>(largest, value) : value;
+    }
     return plan_tiles(settings.width, settings.height, point_bytes, pixel_bytes,
                       capped_block_bytes(largest, settings));
 }
@@ -129,6 +138,12 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
             sum.programs_reused += s.programs_reused;
             sum.gpu_bytes = std::max(sum.gpu_bytes, s.gpu_bytes);
             sum.max_radius = std::max(sum.max_radius, s.max_radius);
+            // Every tile runs the same pass indices (the same pass_ranges) on the same
+            // workers: their passes and times add up.
+            for (std::size_t k = 0; k < sum.devices.size() && k < s.devices.size(); ++k) {
+                sum.devices[k].passes += s.devices[k].passes;
+                sum.devices[k].seconds += s.devices[k].seconds;
+            }
         }
         // The mean radius weighted by each tile's pixels.
         const double share =
@@ -142,6 +157,10 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
     sum.gpu_bytes_per_pixel = plan.gpu_bytes_per_pixel;
     sum.photons_per_second = sum.seconds > 0 ? double(sum.photons_emitted) / sum.seconds : 0.0;
     sum.rays_per_second = sum.seconds > 0 ? double(sum.rays) / sum.seconds : 0.0;
+    for (DeviceStats& d : sum.devices)
+        d.passes_per_second = d.seconds > 0 ? double(d.passes) / d.seconds : 0.0;
+    // The whole frame's camera, not the first tile's window (farm_attributes).
+    if (!single) sum.scene_hash = scene_hash_hex(scene, cancel);
     return out;
 }
 

@@ -37,6 +37,11 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     uint frame_first_pixel;       // the image's first pixel in the whole frame (regions, tiles)
     uint frame_width;             // the whole frame's width
     uint frame_pixels;            // the whole frame's pixel count
+    // PPPM (ESTIMATOR_PPPM): this pass's radius r_1 s(i), its estimate's factor
+    // 1 / (pi r_i^2 N_emitted), and the photon step within the pass (0 starts every path).
+    float pass_radius;
+    float pass_scale;
+    uint photon_step;
 };
 
 const float PI = 3.14159265358979;

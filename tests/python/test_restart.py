@@ -13,9 +13,10 @@ from scenes import shape_quad
 PASSES = 4
 
 
-def box_scene(g, camera, wall=(0.75, 0.25, 0.25), lights=None, extra_kind=None):
+def box_scene(g, camera, wall=(0.75, 0.25, 0.25), lights=None, extra_kind=None, roughness=0.0):
     """A floor, a back wall and a left wall under a point light; the left wall's colour,
-    the lights and the camera vary; extra_kind adds a small quad of that material kind."""
+    the lights and the camera vary; extra_kind adds a small quad of that material kind (of
+    that roughness)."""
     parts = [
         (shape_quad((-1, 0, -1), (-1, 0, 1), (1, 0, 1), (1, 0, -1)), 0),
         (shape_quad((-1, 0, -1), (1, 0, -1), (1, 2, -1), (-1, 2, -1)), 0),
@@ -26,7 +27,7 @@ def box_scene(g, camera, wall=(0.75, 0.25, 0.25), lights=None, extra_kind=None):
     if extra_kind is not None:
         parts.append((shape_quad((0.2, 0.01, 0.2), (0.2, 0.01, 0.4), (0.4, 0.01, 0.4),
                                  (0.4, 0.01, 0.2)), 2))
-        materials.append(g.Material(extra_kind, color=(0.9, 0.9, 0.9)))
+        materials.append(g.Material(extra_kind, color=(0.9, 0.9, 0.9), roughness=roughness))
     positions, normals, triangles, ids, base = [], [], [], [], 0
     for (p, n, t), m in parts:
         positions.append(p)
@@ -97,6 +98,56 @@ def test_update_tables_renders_what_a_new_renderer_of_the_edited_scene_renders(g
     # The left wall (left third of the image) turned green.
     left = after[:, :12, :3].reshape(-1, 3).mean(axis=0)
     assert left[1] > 2.0 * left[0], left
+
+
+def test_pppm_restarts_every_worker_and_its_pass_indices(glslppm):
+    """Two PPPM workers with a rough conductor (microfacet visible points): set_camera and
+    update_tables restart both workers' films, the pass indices start again from first_pass,
+    and the merged image equals one worker's of a new renderer of the changed scene (a PPPM
+    pass depends on its index alone). The farm attributes' scene hash follows the changes."""
+    g = glslppm
+
+    def pppm(**extra):
+        return g.Settings(width=48, height=36, photons_per_pass=4096, seed=7, max_depth=8,
+                          estimator="pppm", first_pass=3, **extra)
+
+    def scene(camera, **extra):
+        return box_scene(g, camera, extra_kind="conductor", roughness=0.5, **extra)
+
+    def fresh(changed):
+        renderer = g.Renderer(changed, pppm())
+        renderer.run(passes=PASSES)
+        film, attributes = renderer.film(), renderer.farm_attributes()
+        renderer.close()
+        return film, attributes["glslppm.scene_hash"]
+
+    probe = g.Renderer(scene(camera_a(g)), pppm())
+    device = probe.stats()["devices"][0]["device"]
+    assert "microfacet" in probe.stats()["variant"].split(",")
+    probe.close()
+    renderer = g.Renderer(scene(camera_a(g)), pppm(devices=[device, device]))
+    renderer.run(passes=PASSES)
+    assert renderer.set_camera(camera_b(g)) is True
+    stats = renderer.stats()
+    assert stats["passes"] == 0 and stats["pass_ranges"] == [] and stats["film_resets"] == 1
+    renderer.run(passes=PASSES)
+    stats = renderer.stats()
+    assert stats["pass_ranges"] == [(3, 3 + PASSES)]
+    assert sum(d["passes"] for d in stats["devices"]) == PASSES
+    expected, expected_hash = fresh(scene(camera_b(g)))
+    assert np.abs(renderer.film() - expected).max() <= 1e-5 * max(1.0, float(expected.max()))
+    assert renderer.farm_attributes()["glslppm.scene_hash"] == expected_hash
+
+    green = scene(camera_a(g), wall=(0.1, 0.8, 0.1),
+                  lights=[g.Light("point", power=60.0, position=(0.3, 1.5, 0.0))])
+    assert renderer.update_tables(green) is True
+    renderer.run(passes=PASSES)
+    stats = renderer.stats()
+    assert stats["pass_ranges"] == [(3, 3 + PASSES)] and stats["table_updates"] == 1
+    expected, expected_hash = fresh(green)
+    assert np.abs(renderer.film() - expected).max() <= 1e-5 * max(1.0, float(expected.max()))
+    assert renderer.farm_attributes()["glslppm.scene_hash"] == expected_hash
+    renderer.close()
 
 
 def test_restarts_that_need_other_programs_or_geometry_change_nothing(glslppm):
