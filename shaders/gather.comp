@@ -49,7 +49,7 @@ void main() {
             vec3 n = visible_points[3 * i + 1].xyz;
             vec3 weight = visible_points[3 * i + 2].xyz;
 #endif
-            float cell_size = uintBitsToFloat(cell_size_bits);
+            float cell_size = hash_cell_size();
             ivec3 center = grid_cell(point.xyz, cell_size);
             float r2 = r * r;
             float m = 0.0;

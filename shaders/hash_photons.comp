@@ -11,11 +11,26 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"
 
+#if defined(PHASE_CLEAR)
+// One thread per cell: empty (stochastic: key "infinite", no photons; exact: no photons).
+// A dispatch rather than glClearBufferData, so that a pass orders it after the last pass's
+// shader writes with a storage barrier alone: the buffer-update barrier a clear needs made
+// the NVIDIA driver wait on the host for the GPU every pass.
+void main() {
+    uint i = thread_index();
+    if (i >= hash_cell_count) return;
+#if defined(HASH_EXACT)
+    hash_cells[i] = uvec4(0u);
+#else
+    hash_cells[i] = uvec4(0xFFFFFFFFu, 0u, 0u, 0u);
+#endif
+}
+#else
 void main() {
     uint i = thread_index();
     if (i >= photon_threads || photons[3 * i + 2].w == 0.0) return;
     vec4 pk = photons[3 * i + 0];
-    uint h = grid_hash(grid_cell(pk.xyz, uintBitsToFloat(cell_size_bits)));
+    uint h = grid_hash(grid_cell(pk.xyz, hash_cell_size()));
 #if defined(PHASE_INSERT)
     atomicMin(hash_cells[h].x, floatBitsToUint(pk.w));
     atomicAdd(hash_cells[h].y, 1u);
@@ -30,3 +45,4 @@ void main() {
 #error "hash_photons.comp needs a PHASE_ define"
 #endif
 }
+#endif

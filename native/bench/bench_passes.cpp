@@ -2,8 +2,10 @@
 // built-in Cornell box).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +21,9 @@ int bench_passes(int argc, char** argv) {
     settings.photons_per_pass = 262144;
     int passes = 64, warmup = 4;
     bool json = false;
+    // Several devices (PPPM): also run the same passes on the first device alone, and
+    // report its passes/s (the scaling) and how far the merged film is from its film.
+    bool against_one_device = false;
     std::string scene_spec = "cornell";
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
@@ -27,6 +32,7 @@ int bench_passes(int argc, char** argv) {
         if (a == "--passes") passes = static_cast<int>(next());
         else if (a == "--warmup") warmup = static_cast<int>(next());
         else if (a == "--json") json = true;
+        else if (a == "--against-one-device") against_one_device = true;
         else {
             std::fprintf(stderr, "glslppm-bench passes: unknown option %s\n", a.c_str());
             return 2;
@@ -66,7 +72,37 @@ int bench_passes(int argc, char** argv) {
                                {"renderer", a.renderer},
                                {"passes", a.passes - b.passes},
                                {"seconds", t},
+                               {"submit_seconds", a.submit_seconds - b.submit_seconds},
+                               {"wait_seconds", a.wait_seconds - b.wait_seconds},
                                {"passes_per_second", t > 0 ? double(a.passes - b.passes) / t : 0.0}});
+        }
+        nlohmann::json one_device = nullptr;
+        if (against_one_device) {
+            if (settings.devices.size() < 2)
+                throw std::invalid_argument("--against-one-device needs several devices (--device 0,1)");
+            RenderSettings alone = settings;
+            alone.devices = {settings.devices[0]};
+            Renderer single(scene, alone);
+            single.run(warmup);
+            const RenderStats b = single.stats();
+            single.run(passes);
+            const RenderStats a = single.stats();
+            const double t = a.seconds - b.seconds;
+            // The same pass indices (PPPM deals 0 .. warmup + passes - 1 either way): the
+            // merged film differs from this one only by float rounding in the merge.
+            const std::vector<float> merged = renderer.film(), reference = single.film();
+            double largest = 0.0, largest_relative = 0.0;
+            for (std::size_t i = 0; i < merged.size(); ++i) {
+                const double d = std::abs(double(merged[i]) - double(reference[i]));
+                const double m = std::max(std::abs(double(merged[i])), std::abs(double(reference[i])));
+                largest = std::max(largest, d);
+                if (m > 0) largest_relative = std::max(largest_relative, d / m);
+            }
+            one_device = {{"device", alone.devices[0]},
+                          {"passes_per_second", t > 0 ? passes / t : 0.0},
+                          {"speedup", t > 0 ? (passes / seconds) / (passes / t) : 0.0},
+                          {"max_difference", largest},
+                          {"max_difference_relative", largest_relative}};
         }
         if (json) {
             const nlohmann::json out = {
@@ -103,6 +139,7 @@ int bench_passes(int argc, char** argv) {
                 {"renderer", after.renderer},
                 {"variant", after.variant},
                 {"devices", devices},
+                {"one_device", one_device},
             };
             std::printf("%s\n", out.dump().c_str());
         } else {
@@ -123,6 +160,14 @@ int bench_passes(int argc, char** argv) {
                 std::printf("  device %d: %llu passes, %.2f passes/s\n", d["device"].get<int>(),
                             d["passes"].get<unsigned long long>(),
                             d["passes_per_second"].get<double>());
+            if (!one_device.is_null())
+                std::printf("  device %d alone: %.2f passes/s, speed-up %.3fx; films differ by at "
+                            "most %.3g (relative %.3g)\n",
+                            one_device["device"].get<int>(),
+                            one_device["passes_per_second"].get<double>(),
+                            one_device["speedup"].get<double>(),
+                            one_device["max_difference"].get<double>(),
+                            one_device["max_difference_relative"].get<double>());
             std::printf("  per pass: eye %.3f ms, photon %.3f ms, hash %.3f ms, gather %.3f ms\n",
                         st.eye_seconds * ms, st.photon_seconds * ms, st.hash_seconds * ms,
                         st.gather_seconds * ms);

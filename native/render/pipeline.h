@@ -67,6 +67,7 @@ struct Renderer::Gpu {
     std::vector<std::uint64_t> pass_indices;  // PPPM: the indices this worker ran
     int device = -1;
     double seconds = 0.0;
+    double submit_seconds = 0.0, wait_seconds = 0.0;  // host time within `seconds` (run_workers)
     std::atomic<bool> cancel{false};
     const CancelFlag* setup_cancel = nullptr;  // the constructor's, polled per buffer
     float initial_radius = 0.0f;
@@ -90,11 +91,13 @@ struct Renderer::Gpu {
 
     const gl::ComputeProgram* eye = nullptr;
     const gl::ComputeProgram* photon = nullptr;
+    const gl::ComputeProgram* hash_clear = nullptr;
     const gl::ComputeProgram* hash_a = nullptr;   // insert / count
     const gl::ComputeProgram* hash_b = nullptr;   // winner / scatter
     const gl::ComputeProgram* scan[3] = {nullptr, nullptr, nullptr};
     const gl::ComputeProgram* gather = nullptr;
     const gl::ComputeProgram* end_pass = nullptr;
+    const gl::ComputeProgram* restart = nullptr;  // a film's first state
     const gl::ComputeProgram* resolve = nullptr;
     const gl::ComputeProgram* radius_reduce = nullptr;
 
@@ -233,10 +236,7 @@ struct Renderer::Gpu {
         // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
         frame.pass_scale = static_cast<float>(
             1.0 / (3.14159265358979323846 * double(r) * double(r) * double(photon_threads)));
-        const std::uint32_t bits = std::bit_cast<std::uint32_t>(r);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, offsetof(Counters, cell_size_bits), 4, &bits);
+        // The hash grid's cells take r (hash_cell_size() in common/hash_grid.glsl).
     }
 
     // One pass as its stages. SPPM: pass_index is the count of passes run before. PPPM: any
@@ -268,7 +268,11 @@ struct Renderer::Gpu {
                                   slot * slot_bytes, slot_bytes);
             set_rng_seed(*photon, pass_index, 1u + (step << 8));
             dispatch(*photon, photon_threads);
-            glMemoryBarrier(ssbo | GL_BUFFER_UPDATE_BARRIER_BIT);
+            // Storage barriers only within a pass: the host writes nothing but the frame's
+            // uniform block, which no shader writes (a buffer-update barrier here cost a
+            // host wait for the GPU per step on NVIDIA, and one device's wait blocked the
+            // other devices' threads).
+            glMemoryBarrier(ssbo);
             if (step == 0) mark(2);
             if (slot + 1 < steps_per_gather && step + 1 < steps) continue;
             if (!pppm) {
@@ -299,12 +303,7 @@ struct Renderer::Gpu {
     void hash_and_gather(bool mark_stages, std::uint32_t stored) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
 
-        // Empty cells: key "infinite", no photons.
-        const GLuint empty_stochastic[4] = {0xFFFFFFFFu, 0u, 0u, 0u};
-        const GLuint empty_exact[4] = {0u, 0u, 0u, 0u};
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, hash);
-        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                          settings.hash == HashMode::Exact ? empty_exact : empty_stochastic);
+        dispatch(*hash_clear, hash_cells);
         glMemoryBarrier(ssbo);
         dispatch(*hash_a, stored);
         glMemoryBarrier(ssbo);
@@ -344,31 +343,19 @@ struct Renderer::Gpu {
     }
 
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius
-    // the initial one, no direct light, every photon path to start from a light, counts zero.
+    // the initial one, no direct light, every photon path to start from a light, counts
+    // zero. Written by a dispatch (restart_film.comp): the host uploads nothing.
     void restart_film() {
-        const std::size_t px = pixels, ph = photon_threads;
-        std::vector<glm::vec4> stats(px * 2, glm::vec4(0.0f));
-        for (std::size_t i = 0; i < px; ++i) stats[2 * i + 1].x = initial_radius;
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pixel_stats);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(stats.size() * 16),
-                        stats.data());
-        const GLuint zero[4] = {0u, 0u, 0u, 0u};
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, direct_light);
-        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                          zero);
-        std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
-        for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, photon_paths);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(paths.size() * 16),
-                        paths.data());
-        const Counters start{std::bit_cast<std::uint32_t>(initial_radius), 0, 0, 0, 0, 0, 0, 0};
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(start), &start);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        restart->use();
+        glUniform1ui(restart->uniform("u_pixels"), pixels);
+        glUniform1ui(restart->uniform("u_photon_threads"), photon_threads);
+        glUniform1f(restart->uniform("u_initial_radius"), initial_radius);
+        dispatch(*restart, std::max(pixels, photon_threads));
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         passes = 0;
         pass_indices.clear();  // PPPM: a restarted film has run no pass index
-        seconds = 0.0;
+        seconds = submit_seconds = wait_seconds = 0.0;
         std::fill(std::begin(stage_seconds), std::end(stage_seconds), 0.0);
     }
 

@@ -121,6 +121,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             const bool exact = settings.hash == HashMode::Exact;
             g.eye = program("eye_trace.comp", nullptr);
             g.photon = program("photon_trace.comp", nullptr);
+            g.hash_clear = program("hash_photons.comp", "PHASE_CLEAR");
             g.hash_a = program("hash_photons.comp", exact ? "PHASE_COUNT" : "PHASE_INSERT");
             g.hash_b = program("hash_photons.comp", exact ? "PHASE_SCATTER" : "PHASE_WINNER");
             if (exact) {
@@ -130,11 +131,12 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             }
             g.gather = program("gather.comp", nullptr);
             g.end_pass = program("end_pass.comp", nullptr);
+            g.restart = program("restart_film.comp", nullptr);
             g.resolve = program("resolve_film.comp", nullptr);
             g.radius_reduce = program("radius_stats.comp", nullptr);
-            for (const gl::ComputeProgram* p : {g.eye, g.photon, g.hash_a, g.hash_b, g.scan[0],
+            for (const gl::ComputeProgram* p : {g.eye, g.photon, g.hash_clear, g.hash_a, g.hash_b, g.scan[0],
                                                 g.scan[1], g.scan[2], g.gather, g.end_pass,
-                                                g.resolve}) {
+                                                g.restart, g.resolve}) {
                 if (p) ++(p->reused() ? g.programs_reused : g.programs_compiled);
             }
             g.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() -
@@ -327,17 +329,22 @@ int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
             while (!g.cancel) {
                 const std::size_t k = next.fetch_add(1);
                 if (k >= indices.size()) break;
+                const auto submit = std::chrono::steady_clock::now();
                 g.run_pass(indices[k]);
                 g.pass_indices.push_back(indices[k]);
                 ++done;
                 // At most two passes queued: the counter then deals by the GPUs' own speed.
                 GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+                const auto wait = std::chrono::steady_clock::now();
                 if (in_flight) {
                     glClientWaitSync(in_flight, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
                     glDeleteSync(in_flight);
                 }
                 in_flight = fence;
                 glFlush();
+                const auto waited = std::chrono::steady_clock::now();
+                g.submit_seconds += std::chrono::duration<double>(wait - submit).count();
+                g.wait_seconds += std::chrono::duration<double>(waited - wait).count();
             }
             if (in_flight) glDeleteSync(in_flight);
             glFinish();
@@ -531,6 +538,8 @@ RenderStats Renderer::stats() {
             // One consistent snapshot: runs change these on this thread only.
             d.passes = w.passes;
             d.seconds = w.seconds;
+            d.submit_seconds = w.submit_seconds;
+            d.wait_seconds = w.wait_seconds;
             c = w.read_counters();
             if (pppm) {
                 indices.insert(indices.end(), w.pass_indices.begin(), w.pass_indices.end());

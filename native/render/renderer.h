@@ -23,6 +23,10 @@ struct DeviceStats {
     std::string renderer;               // GL_RENDERER
     std::uint64_t passes = 0;
     double seconds = 0.0;               // time this worker spent running passes
+    // Of those seconds, the host's: issuing the passes' GL commands, and waiting for the GPU
+    // to catch up (several workers: where time goes when the devices do not scale).
+    double submit_seconds = 0.0;
+    double wait_seconds = 0.0;
     double passes_per_second = 0.0;
 };
 

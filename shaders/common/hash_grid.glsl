@@ -3,6 +3,17 @@
 #ifndef HASH_GRID_GLSL
 #define HASH_GRID_GLSL
 
+// The cell size this pass. SPPM: the largest radius after the last pass, which end_pass
+// leaves in the counters on the GPU. PPPM: the pass's own radius, from the frame, so that
+// no host write to a buffer the shaders write comes between passes.
+float hash_cell_size() {
+#ifdef ESTIMATOR_PPPM
+    return pass_radius;
+#else
+    return uintBitsToFloat(cell_size_bits);
+#endif
+}
+
 ivec3 grid_cell(vec3 p, float cell_size) {
     return ivec3(floor((p - scene_lo) / cell_size));
 }

@@ -111,7 +111,7 @@ def check_passes_two_workers(bench):
     there is): the passes are shared, each worker reports its own passes per second."""
     out = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
               "--passes", "6", "--warmup", "2", "--estimator", "pppm", "--device", "0,0",
-              "--json")
+              "--against-one-device", "--json")
     if out is None:
         return
     check(out["estimator"] == "pppm", f"passes estimator {out['estimator']}")
@@ -121,6 +121,12 @@ def check_passes_two_workers(bench):
     for d in devices:
         check(d["passes"] >= 1 and positive(d["passes_per_second"]), f"passes worker {d}")
     check(positive(out["passes_per_second"]), f"passes_per_second {out['passes_per_second']}")
+    # The same 8 pass indices on one worker: the films agree to float rounding in the merge
+    # (each worker's mean weighted by its passes; measured 1e-7 relative at most).
+    one = out["one_device"]
+    check(positive(one["passes_per_second"]) and positive(one["speedup"]), f"one device {one}")
+    check(one["max_difference_relative"] < 1e-5,
+          f"two workers' film against one worker's: {one['max_difference_relative']:.3g} relative")
 
 
 def check_rays(bench):
