@@ -52,6 +52,16 @@ int bench_passes(int argc, char** argv) {
         renderer.run(passes);
         const RenderStats after = renderer.stats();
         const double seconds = after.seconds - before.seconds;
+        // The film read back (resolve and copy to the host), as a final render or a
+        // viewport redraw reads it: the fastest of three.
+        double film_seconds = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const auto read_start = std::chrono::steady_clock::now();
+            const std::vector<float> film = renderer.film();
+            const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                           read_start).count();
+            film_seconds = k == 0 ? t : std::min(film_seconds, t);
+        }
         const double photons = double(after.photons_emitted - before.photons_emitted);
         const double rays = double(after.rays - before.rays);
         // Stage times come from a second, profiled renderer: timer queries wait every pass.
@@ -136,6 +146,7 @@ int bench_passes(int argc, char** argv) {
                 {"bvh_seconds", after.bvh_seconds},
                 {"bvh_bytes_per_triangle", after.bvh_bytes_per_triangle},
                 {"setup_seconds", setup_seconds},
+                {"film_read_seconds", film_seconds},
                 {"renderer", after.renderer},
                 {"variant", after.variant},
                 {"devices", devices},
@@ -149,10 +160,10 @@ int bench_passes(int argc, char** argv) {
                         to_string(settings.hash).c_str(), to_string(settings.rng).c_str(),
                         to_string(settings.direct_light).c_str());
             std::printf("  instancing %s (%s): %zu instances, %zu instanced triangles, %zu "
-                        "distinct; BVH %.3f s, GPU %zu bytes, set-up %.2f s\n",
+                        "distinct; BVH %.3f s, GPU %zu bytes, set-up %.2f s, film read %.1f ms\n",
                         after.instancing.c_str(), after.instancing_reason.c_str(),
                         after.instances, after.instanced_triangles, after.triangles,
-                        after.bvh_seconds, after.gpu_bytes, setup_seconds);
+                        after.bvh_seconds, after.gpu_bytes, setup_seconds, film_seconds * 1e3);
             std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s (%s)\n", passes / seconds,
                         photons / seconds * 1e-6, rays / seconds * 1e-6,
                         to_string(settings.estimator).c_str());

@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -171,6 +172,22 @@ const char* egl_error_name(EGLint error) {
         default:
             return "unknown EGL error";
     }
+}
+
+bool is_software_device(int device_index) {
+    const std::vector<DeviceInfo> devices = list_devices();
+    if (device_index < 0) {
+        if (const char* env = std::getenv("GLSLPPM_DEVICE"); env != nullptr && *env != 0)
+            device_index = parse_device_env(env, devices);
+    }
+    if (device_index >= 0) {
+        if (device_index >= static_cast<int>(devices.size()))
+            throw GlError("device index " + std::to_string(device_index) + " but EGL lists " +
+                          device_count(devices.size()) + ": " + describe(devices));
+        return devices[device_index].software;
+    }
+    return std::none_of(devices.begin(), devices.end(),
+                        [](const DeviceInfo& d) { return !d.software; });
 }
 
 std::vector<DeviceInfo> list_devices() {

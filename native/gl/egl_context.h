@@ -33,6 +33,12 @@ struct DeviceInfo {
 // Lists the EGL devices; empty when EGL cannot enumerate devices (no extension, no driver).
 std::vector<DeviceInfo> list_devices();
 
+// Whether the device an EglContext(device_index) would run on is a software rasterizer, known
+// before any context exists: -1 resolves as the constructor does (GLSLPPM_DEVICE, else the
+// first hardware device); Mesa's surfaceless platform, used where no device is listed, counts
+// as software. Throws GlError for an index EGL does not list.
+bool is_software_device(int device_index);
+
 // What the context runs on.
 struct ContextInfo {
     std::string renderer;   // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"

@@ -20,7 +20,7 @@ bool emits(const Material& m) { return m.emission.x > 0 || m.emission.y > 0 || m
 }  // namespace
 
 InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
-                             Instancing mode) {
+                             Instancing mode, std::size_t flatten_max_triangles) {
     InstancePlan plan;
     if (scene.instances.empty()) {
         plan.path = "none";
@@ -69,14 +69,14 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
     } else if (mode == Instancing::TwoLevel) {
         plan.path = "two-level";
         plan.reason = "asked for";
-    } else if (plan.instanced_triangles <= kFlattenMaxTriangles) {
+    } else if (plan.instanced_triangles <= flatten_max_triangles) {
         plan.path = "flattened";
         plan.reason = std::to_string(plan.instanced_triangles) +
-                      " instanced triangles <= " + std::to_string(kFlattenMaxTriangles);
+                      " instanced triangles <= " + std::to_string(flatten_max_triangles);
     } else {
         plan.path = "two-level";
         plan.reason = std::to_string(plan.instanced_triangles) + " instanced triangles > " +
-                      std::to_string(kFlattenMaxTriangles);
+                      std::to_string(flatten_max_triangles);
     }
     plan.two_level = plan.path == "two-level";
     return plan;

@@ -14,12 +14,16 @@
 
 namespace glslppm {
 
-// Flatten when the flattened copy holds at most this many triangles. Measured on llvmpipe
-// (docs/instancing.md, glslppm-bench passes --scene instances:NxM): the flattened MTBVH
-// was 14% faster at 64 x 1k triangles, the two paths within noise at 4 x 4k and 16 x 4k,
-// and the two-level one 24% faster at 256 x 4k (1M) and the only one that fits at 64 x 64k;
-// the bound sits between 64k and 1M. Not yet measured on a GPU.
-constexpr std::size_t kFlattenMaxTriangles = 1u << 18;
+// Flatten when the flattened copy holds at most this many triangles; the bound depends on
+// the device (docs/instancing.md, glslppm-bench passes --scene instances:NxM --instancing
+// flattened|two-level).
+// llvmpipe: the flattened MTBVH was 14% faster at 64 x 1k triangles, the two paths within
+// noise at 4 x 4k and 16 x 4k, and the two-level one 24% faster at 256 x 4k (1M) and the
+// only one that fits at 64 x 64k; the bound sits between 64k and 1M.
+constexpr std::size_t kFlattenMaxTrianglesSoftware = 1u << 18;
+// NVIDIA H200, 1024^2, 1M photons: flattened 52%, 50% and 42% faster at 1M, 2M and 4M
+// instanced triangles (10, 20, 40 x 100k), two-level 4.3x faster at 8M (80 x 100k).
+constexpr std::size_t kFlattenMaxTrianglesGpu = 1u << 22;
 
 struct InstancePlan {
     bool two_level = false;
@@ -30,8 +34,10 @@ struct InstancePlan {
 
 // Checks the instances (mesh index, finite affine invertible transform, material offsets in
 // range: SceneError naming the instance) and chooses the path.
+// flatten_max_triangles: the device's bound above (Auto mode only).
 InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
-                             Instancing mode);
+                             Instancing mode,
+                             std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware);
 
 // `world` followed by every instance's triangles in world space: positions A x + T, normals
 // A^-T n (not normalized: interpolated across a triangle and then normalized, they point as

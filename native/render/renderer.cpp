@@ -16,6 +16,7 @@
 #include <epoxy/gl.h>
 
 #include "gl/object_counts.h"
+#include "gl/egl_context.h"
 #include "bvh/packed_bvh.h"
 #include "bvh/traverse_cpu.h"
 #include "gl/gl_thread.h"
@@ -35,7 +36,15 @@
 namespace glslppm {
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
-    PreparedScene prepared = prepare_scene(scene, settings, kLocalSize, cancel);
+    const std::vector<int> devices =
+        settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
+    // Flattening instances pays up to a larger size on a GPU than on llvmpipe; with several
+    // devices, the smallest bound of theirs.
+    flatten_max_triangles_ = kFlattenMaxTrianglesGpu;
+    for (int device : devices)
+        if (gl::is_software_device(device)) flatten_max_triangles_ = kFlattenMaxTrianglesSoftware;
+    PreparedScene prepared =
+        prepare_scene(scene, settings, kLocalSize, cancel, nullptr, flatten_max_triangles_);
     if (prepared.two_level) {
         // The same buffers carry the two-level tree (bvh/two_level_bvh.h): the top tree's node
         // count is what the traversal starts from.
@@ -58,8 +67,6 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
     if (prepared.two_level) instances = std::move(prepared.two_level->instances);
     scene_hash_without_camera_ = scene_hash_without_camera(scene, cancel);
     scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
-    const std::vector<int> devices =
-        settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     try {
         for (std::size_t k = 0; k < devices.size(); ++k) {
             gpus_.push_back(std::make_unique<Gpu>());
@@ -450,7 +457,8 @@ bool Renderer::update_tables(const Scene& scene) {
     Gpu& first = *gpus_[0];
     std::optional<PreparedScene> prepared;
     const bool same = first.thread->call([&] {
-        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr, &first.bvh));
+        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr, &first.bvh,
+                                       flatten_max_triangles_));
         const PreparedScene& p = *prepared;
         return p.geometry.mesh.triangles.size() == first.geometry_triangles &&
                p.geometry.materials.size() == first.material_count && p.variant == first.variant &&

@@ -138,6 +138,7 @@ private:
     RenderSettings settings_;
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
     std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
+    std::size_t flatten_max_triangles_ = 0;   // the devices' bound (render/instancing.h)
     double seconds_ = 0.0;                    // wall time of runs with several workers
     std::uint64_t scene_hash_without_camera_ = 0;  // scene/scene_hash.h
     std::string scene_hash_;                        // with the current camera

@@ -230,14 +230,16 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
 }
 
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel, const PackedBvh* built) {
+                            unsigned local_size, const CancelFlag* cancel, const PackedBvh* built,
+                            std::size_t flatten_max_triangles) {
     validate(settings);
     validate_scene(scene);
     PreparedScene p;
     // Area lights join the geometry; textures count only where the mesh has uvs for them.
     p.geometry = with_area_lights(scene);
     SceneGeometry& geometry = p.geometry;
-    p.instancing = plan_instancing(scene, geometry.materials, settings.instancing);
+    p.instancing =
+        plan_instancing(scene, geometry.materials, settings.instancing, flatten_max_triangles);
     const bool two_level = p.instancing.two_level;
     SceneBounds instanced_bounds;
     if (!scene.instances.empty())

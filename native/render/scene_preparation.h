@@ -69,9 +69,11 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
 // set. local_size is the stages' work-group size (a #define of every program). `built`, when
 // given, is this scene's MTBVH from an earlier preparation, used instead of building one (the
 // scene's materials, lights, world or camera changed, not its geometry); p.bvh stays empty.
+// flatten_max_triangles: the devices' bound for flattening instances (render/instancing.h).
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                             unsigned local_size, const CancelFlag* cancel = nullptr,
-                            const PackedBvh* built = nullptr);
+                            const PackedBvh* built = nullptr,
+                            std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware);
 
 // The camera's part of the Frame (film extent and shift, projection, depth of field) at the
 // settings' image size, and the automatic radius it implies (settings.initial_radius when
