@@ -349,10 +349,12 @@ class GlslppmEngineMixin:
         print(f"GLSLPPM viewport: {kind or 'settings'} changed"
               + (f" ({reason})" if reason else ""))
         data = session.data
-        if kind is not None:
+        if kind == "tables":
+            data = session.export_tables(depsgraph)
+        elif kind is not None:
             data = session.export(depsgraph, session.data.camera, *session.size)
-            if data is None:
-                return
+        if data is None:
+            return
         if kind == "tables" and signature == session.signature and session.update_tables(data):
             return
         session.rebuild(data, settings, film, *session.size, signature,

@@ -4,8 +4,10 @@ cheaply as the change allows:
 
 - the view moved, zoomed or changed lens: ``set_camera`` (no export, no BVH build);
 - the region was resized: a new renderer from the exported data (no export);
-- a material, light or world changed: a new export and ``update_tables`` (no BVH build),
-  or a new renderer where the change needs other programs or touches geometry;
+- a material, light or world changed: those tables exported again over the last export's
+  geometry (``export_tables``: no mesh read) and ``update_tables`` (no BVH build), or a
+  whole export and a new renderer where the change needs other programs or touches
+  geometry;
 - an object moved, was added or deleted, or a mesh changed: a new export and renderer.
 
 What each restart did is counted in ``COUNTS`` (process-wide, for tests and the stats
@@ -18,14 +20,14 @@ import time
 
 import numpy as np
 
-from ..export import ExportError, export_scene
+from ..export import ExportError, export_scene, export_tables
 from .native_scene import native_scene, native_settings
 
 # One run() call lasts about this long, so restarts and redraws wait at most that.
 BATCH_SECONDS = 0.1
 
-COUNTS = {"exports": 0, "renderers": 0, "camera_restarts": 0, "table_updates": 0,
-          "film_reads": 0, "previews": 0}
+COUNTS = {"exports": 0, "table_exports": 0, "renderers": 0, "camera_restarts": 0,
+          "table_updates": 0, "film_reads": 0, "previews": 0}
 SESSIONS = []  # the open sessions, oldest first (tests read their state)
 ENGINE_SESSIONS = {}  # id(engine) -> its Session, for the engine's __del__
 
@@ -88,6 +90,23 @@ class Session:
         if not data.has_surfaces():
             self.fail("the scene has no geometry")
             return None
+        if not data.emits_light():
+            self.fail("the scene has no lights, emissive materials or world light")
+            return None
+        return data
+
+    def export_tables(self, depsgraph):
+        """The last export with depsgraph's materials, lights and world and no mesh read,
+        or a whole new export where the edit reaches the geometry (export_tables: None)."""
+        try:
+            data = export_tables(depsgraph, self.data)
+        except ExportError as error:
+            self.fail(str(error))
+            return None
+        if data is None:
+            return self.export(depsgraph, self.data.camera, *self.size)
+        count("table_exports")
+        self.warnings = list(data.warnings)
         if not data.emits_light():
             self.fail("the scene has no lights, emissive materials or world light")
             return None

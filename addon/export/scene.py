@@ -66,6 +66,9 @@ class SceneBuilder:
         self._material_ids = []
         self._material_index = {}
         self._material_size = {}
+        # Each material root's (key, index), in table order: a material, light or world edit
+        # replays them (export_tables) instead of reading the meshes again.
+        self.material_keys = []
         self.materials = []
         self.lights = []
         self.warnings = []
@@ -97,13 +100,17 @@ class SceneBuilder:
                 if m.kind == "mix" else m for m in entries)
             self._material_index[key] = index
             self._material_size[index] = len(entries)
+            self.material_keys.append((key, index))
         return index
+
+    def material_entries(self, index):
+        """The entries of the material rooted at index: the root and its mixed parts."""
+        return self.materials[index:index + self._material_size[index]]
 
     def material_textured(self, index):
         """True when the material rooted at index (or one of its mixed parts) reads a
         texture."""
-        return any(m.textured()
-                   for m in self.materials[index:index + self._material_size[index]])
+        return any(m.textured() for m in self.material_entries(index))
 
     def add_light(self, light):
         self.lights.append(light)
@@ -242,14 +249,8 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     if camera is None:
         camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                                 builder.warn, frame)
-    world_lights = []
-    environment, environment_texture, environment_to_world = convert_world(
-        scene.world, builder.warn, builder.textures, world_lights.append)
-    for light in world_lights:
-        builder.add_light(light)
-        if _in_view(camera, width, height, -np.asarray(light.direction)):
-            builder.warn(f"world '{scene.world.name}': the Sky Texture's sun disc is in "
-                         "view but not drawn; it lights the scene as a sun light")
+    environment, environment_texture, environment_to_world = _add_world(
+        scene, camera, width, height, builder)
     if scene.render.use_motion_blur:
         builder.warn("motion blur is not supported; the frame renders at one instant "
                      "(Output > Motion Blur)")
@@ -262,12 +263,75 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         environment_to_world=environment_to_world,
         warnings=builder.warnings,
         instance_meshes=builder.instance_meshes, instances=instance_matrices,
-        instance_mesh=instance_mesh,
+        instance_mesh=instance_mesh, material_keys=builder.material_keys,
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "instance_table": 0 if instance_mesh is None else len(instance_mesh),
                "instance_meshes": len(builder.instance_meshes),
                "dropped_triangles": builder.dropped_triangles})
+
+
+def _add_world(scene, camera, width, height, builder):
+    """The world's (environment, texture index, rotation); a Sky Texture's sun joins the
+    lights."""
+    world_lights = []
+    environment, environment_texture, environment_to_world = convert_world(
+        scene.world, builder.warn, builder.textures, world_lights.append)
+    for light in world_lights:
+        builder.add_light(light)
+        if _in_view(camera, width, height, -np.asarray(light.direction)):
+            builder.warn(f"world '{scene.world.name}': the Sky Texture's sun disc is in "
+                         "view but not drawn; it lights the scene as a sun light")
+    return environment, environment_texture, environment_to_world
+
+
+def export_tables(depsgraph, previous):
+    """previous (SceneData) with the materials, lights and world of depsgraph, its
+    geometry (triangles, instances, their material ids) kept as it is: what a material,
+    light or world edit needs, with no mesh read again. None when the edit reaches the
+    geometry's side of the table, and the whole scene must be exported: a material that is
+    gone, one whose node tree now has another number of entries (its mixed parts), or one
+    that starts or stops reading a texture (the meshes' uvs are read only for those)."""
+    start = time.perf_counter()
+    builder = SceneBuilder()
+    materials = {m.name_full: m for m in depsgraph.ids if isinstance(m, _material_type())}
+    for key, index in previous.material_keys:
+        name, visibility = key
+        material = None
+        if name is not None:
+            material = materials.get(name)
+            if material is None:
+                return None
+        if builder.material_id(key, lambda: _flagged(
+                convert_material(material, builder.warn, builder.textures)
+                if material is not None else [DEFAULT_MATERIAL], visibility)) != index:
+            return None
+    if len(builder.materials or [DEFAULT_MATERIAL]) != len(previous.materials):
+        return None
+    for _, index in previous.material_keys:
+        entries = builder.material_entries(index)
+        if builder.material_textured(index) != any(
+                m.textured() for m in previous.materials[index:index + len(entries)]):
+            return None
+    for instance in depsgraph.object_instances:
+        if instance.object.type == 'LIGHT':
+            obj = instance.object
+            convert_light(obj.data, instance.matrix_world, builder,
+                          getattr(obj, "visible_camera", True))
+    camera = previous.camera
+    environment, environment_texture, environment_to_world = _add_world(
+        depsgraph.scene, camera, previous.width, previous.height, builder)
+    return replace(
+        previous, materials=builder.materials or [DEFAULT_MATERIAL], lights=builder.lights,
+        environment=environment, environment_texture=environment_texture,
+        environment_to_world=environment_to_world, textures=builder.textures.textures,
+        warnings=builder.warnings, material_keys=builder.material_keys,
+        stats=dict(previous.stats, seconds=time.perf_counter() - start, tables_only=True))
+
+
+def _material_type():
+    import bpy
+    return bpy.types.Material
 
 
 def _in_view(camera, width, height, direction):
@@ -364,19 +428,21 @@ def _slot_materials(obj, builder):
     An object hidden from camera rays or casting no shadow gets its own copies of its
     materials, flagged so."""
     visibility = object_visibility(obj, builder.warn)
-
-    def flagged(entries):
-        return [replace(material, visible_to_camera=visibility.camera,
-                        casts_shadow=visibility.shadow) for material in entries]
-
     slot_materials = np.array(
         [builder.material_id((_material_key(slot.material), visibility),
-                             lambda slot=slot: flagged(convert_material(
-                                 slot.material, builder.warn, builder.textures)))
+                             lambda slot=slot: _flagged(convert_material(
+                                 slot.material, builder.warn, builder.textures), visibility))
          for slot in obj.material_slots] or
-        [builder.material_id((None, visibility), lambda: flagged([DEFAULT_MATERIAL]))],
+        [builder.material_id((None, visibility),
+                             lambda: _flagged([DEFAULT_MATERIAL], visibility))],
         dtype=np.uint32)
     return slot_materials
+
+
+def _flagged(entries, visibility):
+    """A material's entries for an object hidden from camera rays or casting no shadow."""
+    return [replace(material, visible_to_camera=visibility.camera,
+                    casts_shadow=visibility.shadow) for material in entries]
 
 
 def _read_object(obj, builder):

@@ -115,6 +115,9 @@ class SceneData:
     instance_meshes: list = field(default_factory=list)
     instances: object = None
     instance_mesh: object = None
+    # The material table's roots in order, as ((material name or None, object visibility),
+    # root index): what export_tables replays after a material, light or world edit.
+    material_keys: list = field(default_factory=list)
 
     @property
     def triangle_count(self):
