@@ -143,6 +143,8 @@ int bench_passes(int argc, char** argv) {
                 {"instances", after.instances},
                 {"instanced_triangles", after.instanced_triangles},
                 {"gpu_bytes", after.gpu_bytes},
+                {"gpu_bytes_per_pixel", after.gpu_bytes_per_pixel},
+                {"gpu_bytes_per_photon", after.gpu_bytes_per_photon},
                 {"bvh_seconds", after.bvh_seconds},
                 {"bvh_bytes_per_triangle", after.bvh_bytes_per_triangle},
                 {"setup_seconds", setup_seconds},

@@ -403,6 +403,7 @@ py::dict stats_dict(const RenderStats& s) {
     d["bvh_bytes_per_triangle"] = s.bvh_bytes_per_triangle;
     d["gpu_bytes"] = s.gpu_bytes;
     d["gpu_bytes_per_pixel"] = s.gpu_bytes_per_pixel;
+    d["gpu_bytes_per_photon"] = s.gpu_bytes_per_photon;
     d["tiles"] = s.tiles;
     d["warnings"] = s.warnings;
     d["programs_compiled"] = s.programs_compiled;

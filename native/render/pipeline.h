@@ -73,6 +73,7 @@ struct Renderer::Gpu {
     float initial_radius = 0.0f;
     std::size_t gpu_bytes = 0;
     std::size_t gpu_bytes_per_pixel = 0;  // the per-pixel buffers' bytes for one pixel
+    double gpu_bytes_per_photon = 0.0;    // the per-photon buffers' bytes for one photon
 
     GLuint ubo = 0;
     GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling

@@ -246,6 +246,11 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             g.hash = g.make_buffer(BINDING_HASH_CELLS, std::size_t(g.hash_cells) * 16, nullptr, "hash cells");
             const std::size_t sorted = exact ? stored + g.hash_cells / 1024 : 1;
             g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
+            g.gpu_bytes_per_photon =
+                double(ph * 3 * 16 + stored * 3 * 16 + std::size_t(g.hash_cells) * 16 +
+                       (exact ? sorted * 4 : 0) +
+                       (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
+                double(std::max<std::size_t>(ph, 1));
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
@@ -610,6 +615,7 @@ RenderStats Renderer::stats() {
     s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
     for (const auto& w : gpus_) s.gpu_bytes += w->gpu_bytes;
     s.gpu_bytes_per_pixel = g.gpu_bytes_per_pixel;
+    s.gpu_bytes_per_photon = g.gpu_bytes_per_photon;
     s.eye_seconds = g.stage_seconds[0];
     s.photon_seconds = g.stage_seconds[1];
     s.hash_seconds = g.stage_seconds[2];

@@ -62,6 +62,9 @@ struct RenderStats {
     double bvh_bytes_per_triangle = 0.0;
     std::size_t gpu_bytes = 0;          // buffers this renderer allocated
     std::size_t gpu_bytes_per_pixel = 0;  // of the per-pixel buffers, for one pixel
+    // Of the per-photon buffers (paths, stored photons, hash cells, generator states), for
+    // one photon of a pass.
+    double gpu_bytes_per_photon = 0.0;
     // Image tiles rendered one after another (native/render/tiled_render.h); 1 untiled.
     int tiles = 1;
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.

@@ -67,6 +67,11 @@ def test_tiled_render_equals_the_untiled_render(glslppm, hash):
     whole, stats = untiled(g, box, g.Settings(width=SIZE, height=SIZE, photons_per_pass=4096,
                                               hash=hash), 8)
     assert stats["tiles"] == 1 and stats["gpu_bytes_per_pixel"] == 128
+    # Per photon of a pass: its path and its stored photon (48 bytes each), 2 hash cells of
+    # 16 bytes (8192 for 4096 photons), and for the exact hash the sorted index of 4 bytes
+    # plus the scan's 8 block sums.
+    per_photon = 48 + 48 + 32 + ((4096 + 8) * 4 / 4096 if hash == "exact" else 0)
+    assert stats["gpu_bytes_per_photon"] == pytest.approx(per_photon, rel=1e-12), stats
     seen = []
     tiled, tiled_stats = g.render_tiled(box, settings, 8,
                                         on_tile=lambda i, tile, rgba: seen.append((i, tile,
