@@ -31,6 +31,7 @@ struct Options {
     int passes = 0;
     double seconds = 0.0;
     std::string out;
+    bool multilayer = false;  // --passes-out: one multi-layer EXR with settings.passes
     bool json = false;
     std::string scene_file;   // empty: the built-in Cornell box
     std::string environment;  // equirectangular map
@@ -79,6 +80,11 @@ std::string usage() {
         "  --max-block-bytes N       cap the per-pixel buffers below the GPU's largest storage\n"
         "                            buffer (tests: forces image tiles on small images)\n"
         "  --out FILE.exr            write the image\n"
+        "  --passes-out all|combined|depth,normal,...  write --out as one multi-layer EXR of\n"
+        "                            Combined and these passes, named as Blender names them:\n"
+        "                            depth, normal, denoising_normal, denoising_albedo,\n"
+        "                            emission, environment, direct, indirect, caustics\n"
+        "                            (docs/passes.md)\n"
         "  A frame whose visible points exceed one storage buffer renders as bands of rows,\n"
         "  one after another, each with its own photon passes (--passes, not --seconds).\n"
         "  --json                    print the final statistics as one JSON object\n",
@@ -146,6 +152,10 @@ Options parse(int argc, char** argv) {
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--max-block-bytes") o.settings.max_block_bytes = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
+        else if (a == "--passes-out") {
+            o.settings.passes = parse_render_pass_list(value());
+            o.multilayer = true;
+        }
         else if (a == "--json") o.json = true;
         else if (a == "--scene") o.scene_file = value();
         else if (a == "--environment") o.environment = value();
@@ -210,11 +220,20 @@ int main(int argc, char** argv) {
         const Options o = parse(argc, argv);
         std::vector<std::string> warnings;
         const Scene scene = build_scene(o, warnings);
+        if (o.multilayer && o.out.empty())
+            throw std::invalid_argument("--passes-out needs --out FILE.exr to write them to");
         const TilePlan plan = plan_tiles(scene, o.settings);
+        std::vector<ExrPass> layers;  // --passes-out: Combined, then the passes
         const bool terminal = isatty(STDERR_FILENO);
         RenderStats s;
         std::vector<float> film;
         if (plan.tiles.size() > 1) {
+            if (o.multilayer)
+                throw std::invalid_argument(
+                    "--passes-out: a " + std::to_string(o.settings.width) + "x" +
+                    std::to_string(o.settings.height) + " frame renders in " +
+                    std::to_string(plan.tiles.size()) +
+                    " tiles, whose render passes are not joined yet: lower the resolution");
             if (o.passes <= 0)
                 throw std::invalid_argument("a " + std::to_string(o.settings.width) + "x" +
                                             std::to_string(o.settings.height) + " frame renders in " +
@@ -256,6 +275,13 @@ int main(int argc, char** argv) {
             if (terminal) std::fputc('\n', stderr);
             s = renderer.stats();
             if (!o.out.empty()) film = renderer.film();
+            if (o.multilayer) {
+                layers.push_back({"Combined", "RGBA", film});
+                for (RenderPass p : o.settings.passes) {
+                    const RenderPassInfo& info = render_pass_info(p);
+                    layers.push_back({info.blender, info.channel_names, renderer.render_pass(p)});
+                }
+            }
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
@@ -277,7 +303,10 @@ int main(int argc, char** argv) {
                        {"max_depth", std::to_string(o.settings.max_depth)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
-            write_exr(o.out, image, attributes);
+            if (o.multilayer)
+                write_multilayer_exr(o.out, image.width, image.height, layers, attributes);
+            else
+                write_exr(o.out, image, attributes);
         }
         if (o.json) {
             const nlohmann::json out = {

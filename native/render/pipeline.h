@@ -83,6 +83,8 @@ struct Renderer::Gpu {
     double compile_seconds = 0.0;
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
     GLuint direct_light = 0, photon_paths = 0, materials = 0, emitter_records = 0;
+    PassLayout pass_layout;  // render passes beside Combined; none: no pass_films buffer
+    GLuint pass_films = 0;
     std::size_t geometry_triangles = 0;  // the prepared geometry's, area lights included
     std::size_t material_count = 0;
     std::vector<bool> textures_used;     // TextureUse::used of the prepared scene
@@ -343,6 +345,28 @@ struct Renderer::Gpu {
         return out;
     }
 
+    // One render pass of this worker's passes (their mean), resolved on the CPU from the pass
+    // films and the pixel statistics, as resolve_film() resolves Combined on the GPU.
+    std::vector<float> resolve_pass(RenderPass pass) {
+        std::vector<glm::vec4> films(std::size_t(pixels) * pass_layout.stride);
+        std::vector<glm::vec4> stats(std::size_t(pixels) * 2);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pass_films);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(films.size() * 16),
+                           films.data());
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pixel_stats);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(stats.size() * 16),
+                           stats.data());
+        const Counters c = read_counters();
+        const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+        PassResolve r;
+        r.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+        r.inv_photons_emitted =
+            emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        r.pppm = settings.estimator == Estimator::Pppm;
+        return resolve_render_pass(pass_layout, pass, films, stats, pixels, r);
+    }
+
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius
     // the initial one, no direct light, every photon path to start from a light, counts zero.
     void restart_film() {
@@ -357,6 +381,11 @@ struct Renderer::Gpu {
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, direct_light);
         glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                           zero);
+        if (pass_films) {
+            glBindBuffer(GL_SHADER_STORAGE_BUFFER, pass_films);
+            glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
+                              GL_UNSIGNED_INT, zero);
+        }
         std::vector<glm::vec4> paths(ph * 3, glm::vec4(0.0f));
         for (std::size_t i = 0; i < ph; ++i) paths[3 * i].w = -1.0f;
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, photon_paths);

@@ -238,6 +238,14 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             const std::size_t sorted = exact ? stored + g.hash_cells / 1024 : 1;
             g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
+            g.pass_layout = prepared.pass_layout;
+            if (g.pass_layout.stride > 0) {
+                const std::size_t pass_bytes = px * std::size_t(g.pass_layout.stride) * 16;
+                g.require_fits(pass_bytes, "render passes", true);
+                g.pass_films = g.make_buffer(BINDING_PASS_FILMS, pass_bytes, nullptr,
+                                             "render passes");
+                g.gpu_bytes_per_pixel += std::size_t(g.pass_layout.stride) * 16;
+            }
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
             g.restart_film();
@@ -503,6 +511,25 @@ std::vector<float> Renderer::film() {
     }
     std::vector<const std::vector<float>*> views;
     for (const auto& f : films) views.push_back(&f);
+    return merge_films(views, passes);
+}
+
+std::vector<float> Renderer::render_pass(RenderPass pass) {
+    if (gpus_[0]->pass_layout.offset(pass) < 0)
+        throw std::invalid_argument(std::string("render pass '") + render_pass_info(pass).name +
+                                    "' was not enabled: add it to the settings' passes");
+    // As film(): each worker's pass is the mean of its passes, merged by their counts.
+    std::vector<std::vector<float>> images;
+    std::vector<std::uint64_t> passes;
+    for (auto& g : gpus_) {
+        g->thread->call([&] {
+            images.push_back(g->resolve_pass(pass));
+            passes.push_back(g->passes);
+        });
+    }
+    if (images.size() == 1) return std::move(images[0]);
+    std::vector<const std::vector<float>*> views;
+    for (const auto& f : images) views.push_back(&f);
     return merge_films(views, passes);
 }
 
