@@ -125,7 +125,9 @@ void main() {
                     bounces = -1.0;
                 } else {
                     flux *= w / q;
-                    if (sh.kind != MATERIAL_TRANSPARENT) PATH_SCATTERED(bsdf_sample_is_smooth(sh, -dir, u_dir));
+                    // Through a cut-out the photon has not scattered: its class stays.
+                    if (sh.kind != MATERIAL_TRANSPARENT)
+                        PATH_SCATTERED(bsdf_sample_is_smooth(sh, -dir, u_dir));
                     // About a smooth shading normal the sample may cross the true surface to
                     // the other side than its lobe meant: mirror it back across the surface.
                     vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;

@@ -296,3 +296,27 @@ def test_cli_writes_the_passes_as_one_multilayer_exr(glslppm, tmp_path):
     result = subprocess.run(base + ["--passes-out", "depth,shadow"], capture_output=True,
                             text=True, timeout=60, cwd="/")
     assert result.returncode == 1 and "'shadow' is not a render pass" in result.stderr
+
+
+def test_a_tiles_passes_are_the_frames_rows(glslppm):
+    """The add-on renders a frame larger than one storage buffer as bands of rows, each its
+    own renderer (tile_render_inputs) whose passes go into its part of the result: a band's
+    passes equal those rows of the whole frame's. Depth comes from the eye stage alone, whose
+    random streams the band shares with the frame: equal but for the rounding of the band's
+    shifted film (an ulp or two of the depth). Caustics goes through the photons' hash and
+    radii: within test_tiles' 4e-6 of the pixel."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    settings = g.Settings(width=48, height=48, photons_per_pass=16384, seed=3,
+                          passes=["depth", "caustics"])
+    whole = g.Renderer(scene, settings)
+    whole.run(4)
+    band_scene, band_settings = g.tile_render_inputs(scene, settings, (0, 16, 48, 16))
+    assert band_settings.passes == ["depth", "caustics"]
+    band = g.Renderer(band_scene, band_settings)
+    band.run(4)
+    assert np.allclose(band.render_pass("depth"), whole.render_pass("depth")[16:32], rtol=5e-7,
+                       atol=0.0)
+    frame, part = whole.render_pass("caustics")[16:32], band.render_pass("caustics")
+    assert frame.max() > 0.1
+    assert np.all(np.abs(part - frame) <= 4e-6 * frame + 1e-7), np.abs(part - frame).max()
