@@ -320,3 +320,21 @@ def test_a_tiles_passes_are_the_frames_rows(glslppm):
     frame, part = whole.render_pass("caustics")[16:32], band.render_pass("caustics")
     assert frame.max() > 0.1
     assert np.all(np.abs(part - frame) <= 4e-6 * frame + 1e-7), np.abs(part - frame).max()
+
+
+def test_a_restart_starts_the_passes_again(glslppm):
+    """reset_film (the viewport's restarts) clears the pass films with Combined: the passes
+    after a restart are those of a new renderer (same passes, same generator states: equal to
+    float rounding, as test_restart's films)."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    settings = g.Settings(width=32, height=32, photons_per_pass=8192, seed=7, passes=["all"])
+    restarted = g.Renderer(scene, settings)
+    restarted.run(5)
+    restarted.reset_film()
+    restarted.run(3)
+    fresh = g.Renderer(scene, settings)
+    fresh.run(3)
+    for name in ALL:
+        a, b = restarted.render_pass(name), fresh.render_pass(name)
+        assert np.abs(a - b).max() <= 1e-5 * max(1.0, float(np.abs(b).max())), name
