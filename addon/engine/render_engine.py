@@ -401,8 +401,10 @@ class GlslppmEngineMixin:
     def _write_film(self, renderer, combined, extra=None):
         """Combined and the render passes ({module name: RenderPass}) into the result."""
         _set_rect(combined, renderer.film())
-        for name, render_pass in (extra or {}).items():
-            _set_rect(render_pass, renderer.render_pass(name))
+        if extra:
+            images = renderer.render_passes(list(extra))
+            for name, render_pass in extra.items():
+                _set_rect(render_pass, images[name])
         return True
 
     def _fill(self, width, height, rgba):

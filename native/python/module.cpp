@@ -421,6 +421,31 @@ py::dict stats_dict(const RenderStats& s) {
 
 }  // namespace
 
+// Renderer.render_pass(es): each pass as a height x width x channels array, resolved
+// together (one read back of the pass films).
+static py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names) {
+    std::vector<RenderPass> wanted;
+    for (const std::string& name : names) wanted.push_back(parse_render_pass(name));
+    std::vector<std::vector<float>> images;
+    const std::shared_ptr<Renderer> renderer = r.get();
+    {
+        py::gil_scoped_release release;
+        images = renderer->render_passes(wanted);
+    }
+    const RenderSettings& s = renderer->settings();
+    py::dict out;
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+        const int channels = render_pass_info(wanted[k]).channels;
+        py::array_t<float> a({s.height, s.width, channels});
+        float* dst = a.mutable_data();
+        const std::vector<float>& image = images[k];
+        for (std::size_t i = 0; i < image.size() / 4; ++i)
+            for (int c = 0; c < channels; ++c) dst[i * channels + c] = image[4 * i + c];
+        out[py::str(names[k])] = a;
+    }
+    return out;
+}
+
 PYBIND11_MODULE(_glslppm, m) {
     m.doc() = "glslppm: stochastic progressive photon mapping on the GPU through headless OpenGL";
     static py::exception<std::runtime_error> error(m, "GlslppmError", PyExc_RuntimeError);
@@ -745,23 +770,14 @@ PYBIND11_MODULE(_glslppm, m) {
             return out;
         })
         .def("render_pass", [](PyRenderer& r, const std::string& name) {
-            const RenderPass pass = parse_render_pass(name);
-            std::vector<float> image;
-            const std::shared_ptr<Renderer> renderer = r.get();
-            {
-                py::gil_scoped_release release;
-                image = renderer->render_pass(pass);
-            }
-            const RenderSettings& s = renderer->settings();
-            const int channels = render_pass_info(pass).channels;
-            py::array_t<float> out({s.height, s.width, channels});
-            float* dst = out.mutable_data();
-            for (std::size_t i = 0; i < image.size() / 4; ++i)
-                for (int c = 0; c < channels; ++c) dst[i * channels + c] = image[4 * i + c];
-            return out;
+            const py::dict images = render_pass_arrays(r, {name});
+            return py::object(images[py::str(name)]);
         }, py::arg("name"),
         "One of the settings' passes (docs/passes.md) as film() gives Combined: height x width "
         "x 1 (depth) or 3, the mean over the passes run.")
+        .def("render_passes", &render_pass_arrays, py::arg("names"),
+             "Several passes as render_pass() gives one, {name: array}, with one read back "
+             "from the GPU.")
         .def("photons", [](PyRenderer& r) {
             std::vector<float> photons;
             {

@@ -345,9 +345,10 @@ struct Renderer::Gpu {
         return out;
     }
 
-    // One render pass of this worker's passes (their mean), resolved on the CPU from the pass
-    // films and the pixel statistics, as resolve_film() resolves Combined on the GPU.
-    std::vector<float> resolve_pass(RenderPass pass) {
+    // Render passes of this worker's passes (their mean), resolved on the CPU from the pass
+    // films and the pixel statistics, as resolve_film() resolves Combined on the GPU: one
+    // read back for all of them.
+    std::vector<std::vector<float>> resolve_passes(const std::vector<RenderPass>& wanted) {
         std::vector<glm::vec4> films(std::size_t(pixels) * pass_layout.stride);
         std::vector<glm::vec4> stats(std::size_t(pixels) * 2);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -364,7 +365,10 @@ struct Renderer::Gpu {
         r.inv_photons_emitted =
             emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
         r.pppm = settings.estimator == Estimator::Pppm;
-        return resolve_render_pass(pass_layout, pass, films, stats, pixels, r);
+        std::vector<std::vector<float>> images;
+        for (RenderPass pass : wanted)
+            images.push_back(resolve_render_pass(pass_layout, pass, films, stats, pixels, r));
+        return images;
     }
 
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius

@@ -515,22 +515,32 @@ std::vector<float> Renderer::film() {
 }
 
 std::vector<float> Renderer::render_pass(RenderPass pass) {
-    if (gpus_[0]->pass_layout.offset(pass) < 0)
-        throw std::invalid_argument(std::string("render pass '") + render_pass_info(pass).name +
-                                    "' was not enabled: add it to the settings' passes");
+    return std::move(render_passes({pass})[0]);
+}
+
+std::vector<std::vector<float>> Renderer::render_passes(const std::vector<RenderPass>& wanted) {
+    for (RenderPass pass : wanted)
+        if (gpus_[0]->pass_layout.offset(pass) < 0)
+            throw std::invalid_argument(std::string("render pass '") +
+                                        render_pass_info(pass).name +
+                                        "' was not enabled: add it to the settings' passes");
     // As film(): each worker's pass is the mean of its passes, merged by their counts.
-    std::vector<std::vector<float>> images;
+    std::vector<std::vector<std::vector<float>>> per_worker;  // worker, pass, pixels
     std::vector<std::uint64_t> passes;
     for (auto& g : gpus_) {
         g->thread->call([&] {
-            images.push_back(g->resolve_pass(pass));
+            per_worker.push_back(g->resolve_passes(wanted));
             passes.push_back(g->passes);
         });
     }
-    if (images.size() == 1) return std::move(images[0]);
-    std::vector<const std::vector<float>*> views;
-    for (const auto& f : images) views.push_back(&f);
-    return merge_films(views, passes);
+    if (per_worker.size() == 1) return std::move(per_worker[0]);
+    std::vector<std::vector<float>> merged;
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+        std::vector<const std::vector<float>*> views;
+        for (const auto& worker : per_worker) views.push_back(&worker[k]);
+        merged.push_back(merge_films(views, passes));
+    }
+    return merged;
 }
 
 std::vector<float> Renderer::photons() {

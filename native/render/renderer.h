@@ -122,6 +122,9 @@ public:
     // width x 4 floats (Depth in the first channel), the mean over the passes run.
     // std::invalid_argument for a pass the settings did not enable.
     std::vector<float> render_pass(RenderPass pass);
+    // Several at once, in the order asked, with one read back of the pass films per worker
+    // (what the add-on streams into Blender's result).
+    std::vector<std::vector<float>> render_passes(const std::vector<RenderPass>& wanted);
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
     // towards where it came from, its path's class with the light split's passes
