@@ -340,3 +340,29 @@ def test_a_restart_starts_the_passes_again(glslppm):
         a, b = restarted.render_pass(name), fresh.render_pass(name)
         assert np.array_equal(together[name], a)
         assert np.abs(a - b).max() <= 1e-5 * max(1.0, float(np.abs(b).max())), name
+
+
+def test_two_pppm_workers_merge_their_passes_as_their_films(glslppm):
+    """PPPM on two workers (two contexts on this device): each worker's passes are the mean of
+    its pass indices, merged by their counts as Combined is: the merged light split still
+    sums to the merged Combined, and Depth and Caustics equal one worker's render of the same
+    pass indices to float rounding (the merge sums float means in double)."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    probe = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=64))
+    device = probe.stats()["devices"][0]["device"]
+    probe.close()
+    options = dict(width=32, height=32, photons_per_pass=8192, seed=5, estimator="pppm",
+                   passes=["depth"] + LIGHT_SPLIT)
+    two = g.Renderer(scene, g.Settings(devices=[device, device], **options))
+    assert two.run(6) == 6
+    assert len(two.stats()["devices"]) == 2
+    combined = two.film()[..., :3].astype(np.float64)
+    parts = light_sum(two)
+    assert np.all(np.abs(parts - combined) <= 1e-5 * np.abs(combined) + 1e-6 * combined.mean())
+    one = g.Renderer(scene, g.Settings(**options))
+    one.run(6)
+    # Merged in double from float means: equal to float rounding.
+    assert np.allclose(two.render_pass("depth"), one.render_pass("depth"), rtol=1e-6, atol=0)
+    assert np.allclose(two.render_pass("caustics"), one.render_pass("caustics"), rtol=1e-5,
+                       atol=1e-6)
