@@ -213,6 +213,18 @@ void progress(double fraction, const RenderStats& s) {
     std::fflush(stderr);
 }
 
+// --passes-out: Combined, then each pass under Blender's pass and channel names.
+std::vector<ExrPass> exr_layers(const std::vector<float>& film,
+                                const std::vector<RenderPass>& passes,
+                                const std::vector<std::vector<float>>& images) {
+    std::vector<ExrPass> layers = {{"Combined", "RGBA", film}};
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+        const RenderPassInfo& info = render_pass_info(passes[k]);
+        layers.push_back({info.blender, info.channel_names, images[k]});
+    }
+    return layers;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -228,12 +240,6 @@ int main(int argc, char** argv) {
         RenderStats s;
         std::vector<float> film;
         if (plan.tiles.size() > 1) {
-            if (o.multilayer)
-                throw std::invalid_argument(
-                    "--passes-out: a " + std::to_string(o.settings.width) + "x" +
-                    std::to_string(o.settings.height) + " frame renders in " +
-                    std::to_string(plan.tiles.size()) +
-                    " tiles, whose render passes are not joined yet: lower the resolution");
             if (o.passes <= 0)
                 throw std::invalid_argument("a " + std::to_string(o.settings.width) + "x" +
                                             std::to_string(o.settings.height) + " frame renders in " +
@@ -248,6 +254,7 @@ int main(int argc, char** argv) {
                 });
             s = image.stats;
             film = std::move(image.rgba);
+            if (o.multilayer) layers = exr_layers(film, o.settings.passes, image.passes);
         } else {
             Renderer renderer(scene, o.settings);
             const auto start = std::chrono::steady_clock::now();
@@ -275,13 +282,9 @@ int main(int argc, char** argv) {
             if (terminal) std::fputc('\n', stderr);
             s = renderer.stats();
             if (!o.out.empty()) film = renderer.film();
-            if (o.multilayer) {
-                layers.push_back({"Combined", "RGBA", film});
-                for (RenderPass p : o.settings.passes) {
-                    const RenderPassInfo& info = render_pass_info(p);
-                    layers.push_back({info.blender, info.channel_names, renderer.render_pass(p)});
-                }
-            }
+            if (o.multilayer)
+                layers = exr_layers(film, o.settings.passes,
+                                    renderer.render_passes(o.settings.passes));
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());

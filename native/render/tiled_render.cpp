@@ -105,6 +105,14 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
     TiledImage out;
     out.plan = plan;
     out.rgba.assign(std::size_t(settings.width) * settings.height * 4, 0.0f);
+    out.passes.assign(settings.passes.size(), out.rgba);
+    // A tile's rows of a height x width x 4 image into the frame's.
+    auto place = [&](std::vector<float>& frame, const std::vector<float>& image, const Tile& tile) {
+        for (int row = 0; row < tile.height; ++row)
+            std::memcpy(&frame[(std::size_t(tile.y + row) * settings.width + tile.x) * 4],
+                        &image[std::size_t(row) * tile.width * 4],
+                        std::size_t(tile.width) * 4 * sizeof(float));
+    };
     const bool single = plan.tiles.size() == 1;
     Scene tile_scene;
     if (!single) tile_scene = scene;  // a copy whose camera each tile replaces
@@ -122,10 +130,11 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
         }
         const std::vector<float> film = renderer.film();
         const RenderStats s = renderer.stats();
-        for (int row = 0; row < tile.height; ++row)
-            std::memcpy(&out.rgba[(std::size_t(tile.y + row) * settings.width + tile.x) * 4],
-                        &film[std::size_t(row) * tile.width * 4],
-                        std::size_t(tile.width) * 4 * sizeof(float));
+        place(out.rgba, film, tile);
+        if (!settings.passes.empty()) {
+            const std::vector<std::vector<float>> images = renderer.render_passes(settings.passes);
+            for (std::size_t k = 0; k < images.size(); ++k) place(out.passes[k], images[k], tile);
+        }
         RenderStats& sum = out.stats;
         if (t == 0) {
             sum = s;

@@ -289,6 +289,27 @@ def test_cli_writes_the_passes_as_one_multilayer_exr(glslppm, tmp_path):
     assert abs(channels["ViewLayer.Normal.Z"][12, 16] - 1.0) < 1e-4
     assert 0.0 < channels["ViewLayer.Depth.Z"][12, 16] < 1e3
 
+    # The same frame in bands of 8 rows (the per-pixel buffers capped; the pass films, 288
+    # bytes a pixel, are the largest): its layers are the untiled frame's, Depth to float
+    # rounding, the light split as test_tiles' films: within 4e-6 of the pixel's Combined
+    # (a band's shifted film rounds hit points differently by an ulp; each part moves by
+    # no more than its sum does).
+    tiled_out = tmp_path / "tiled.exr"
+    tiled = [a if a != str(out) else str(tiled_out) for a in base]
+    result = subprocess.run(tiled + ["--passes-out", "all", "--max-block-bytes",
+                                     str(32 * 8 * 288)], capture_output=True, text=True,
+                            timeout=300, cwd="/")
+    assert result.returncode == 0, result.stderr
+    assert "tile 3/3 done" in result.stderr
+    bands = g.read_exr_channels(str(tiled_out))
+    assert set(bands) == expected
+    assert np.allclose(bands["ViewLayer.Depth.Z"], channels["ViewLayer.Depth.Z"], rtol=5e-7,
+                       atol=0)
+    for name in ["Combined.R", "Caustics.G", "Indirect.B", "Direct.R", "Emission.G"]:
+        a, b = bands["ViewLayer." + name], channels["ViewLayer." + name]
+        scale = channels["ViewLayer.Combined." + name[-1]]
+        assert np.all(np.abs(a - b) <= 4e-6 * scale + 1e-7), (name, np.abs(a - b).max())
+
     result = subprocess.run(base + ["--passes-out", "combined"], capture_output=True, text=True,
                             timeout=300, cwd="/")
     assert result.returncode == 0, result.stderr
