@@ -10,6 +10,10 @@ VERSION = bpy.app.version
 BLENDER_4 = VERSION >= (4, 0, 0)
 FLAT_RECT = BLENDER_4
 
+# 4.0 spelled the render passes out: "Emit" -> "Emission", "Env" -> "Environment" (the
+# module's render_passes() gives both names).
+PASS_NAME_KEY = "blender" if BLENDER_4 else "blender_3x"
+
 # 4.1 replaced calc_normals_split() and MeshLoop.normal with Mesh.corner_normals.
 HAS_CORNER_NORMALS = VERSION >= (4, 1, 0)
 

@@ -23,6 +23,16 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif
+#include "common/compensated_sum.glsl"
+#include "common/pass_films.glsl"
+
+// Light on the eye path goes into Combined's sum and, with render passes, into its part of
+// the light split as well: emission, the world, or light sampled at the visible point.
+#ifdef PASS_STRIDE
+#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; part += light_; }
+#else
+#define ADD_LIGHT(part, value) direct += (value)
+#endif
 
 Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     float jx = rng_next(rng), jy = rng_next(rng);
@@ -79,6 +89,15 @@ void main() {
 #endif
     uint rays = 0u;
     bool seen_by_camera = true;  // until the first specular bounce
+#ifdef PASS_STRIDE
+    vec3 emitted = vec3(0.0), world = vec3(0.0), sampled = vec3(0.0);
+    // The first surface the camera sees (Depth, Normal): Cycles' z-depth along the view axis,
+    // 1e10 where the ray leaves the scene, and the normal facing the camera.
+    float first_depth = 1e10;
+    vec3 first_normal = vec3(0.0);
+    bool first_found = false;
+    vec3 point_albedo = vec3(0.0);  // the visible point's colour times the chain's throughput
+#endif
 #ifdef FILM_TRANSPARENT
     // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
     // The world is then not seen by such rays (Blender's Film > Transparent).
@@ -101,7 +120,7 @@ void main() {
             }
 #endif
 #endif
-            direct += throughput * environment_radiance(ray.dir);
+            ADD_LIGHT(world, throughput * environment_radiance(ray.dir));
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -115,16 +134,23 @@ void main() {
         }
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden) direct += throughput * material_emission(s.material);
+            if (front && !hidden) ADD_LIGHT(emitted, throughput * material_emission(s.material));
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
+#ifdef PASS_STRIDE
+        if (!first_found) {
+            first_found = true;
+            first_depth = dot(s.position - camera_to_world[3].xyz, -camera_to_world[2].xyz);
+            first_normal = front ? s.normal : -s.normal;
+        }
+#endif
 #ifdef HAS_MICROFACET
         // The material as this ray sees it (mixes resolved to one leaf).
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            direct += throughput * material_emission(sh.material);
+            ADD_LIGHT(emitted, throughput * material_emission(sh.material));
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
         float p_smooth = bsdf_smooth_probability(sh, wo);
@@ -139,10 +165,13 @@ void main() {
             weight = throughput;
             point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
                           (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
+#ifdef PASS_STRIDE
+            point_albedo = throughput * sh.color;
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
-            direct += throughput * direct_light_sampled_lobes(s.position, s.geometric_normal, sh,
-                                                              wo, p_smooth > 0.0, light_pick,
-                                                              light_u, u_dir, rays);
+            ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
+                                   s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
+                                   light_pick, light_u, u_dir, rays));
 #endif
             break;
         }
@@ -160,23 +189,25 @@ void main() {
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            direct += throughput * material_emission(s.material);
+            ADD_LIGHT(emitted, throughput * material_emission(s.material));
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
             weight = throughput * color / PI;
+#ifdef PASS_STRIDE
+            point_albedo = throughput * color;
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             // Direct light by one light sample; photons bring only the rest. The eye path
             // ends here, so no BSDF-sampled ray can also reach a light from this point and
             // light sampling needs no MIS weight: emission seen directly or through specular
             // chains (above) is the only other way eye paths meet lights, as before.
-            direct += throughput * direct_light_sampled(s.position, normal,
-                                                        front ? s.geometric_normal
-                                                              : -s.geometric_normal,
-                                                        -ray.dir, s.material, color,
-                                                        light_pick, light_u, rays);
+            ADD_LIGHT(sampled, throughput * direct_light_sampled(
+                                   s.position, normal,
+                                   front ? s.geometric_normal : -s.geometric_normal, -ray.dir,
+                                   s.material, color, light_pick, light_u, rays));
 #endif
             break;
         }
@@ -205,23 +236,38 @@ void main() {
     visible_points[3 * i + 1] = vec4(normal, 0.0);
     visible_points[3 * i + 2] = vec4(weight, 0.0);
 #endif
-    // Kahan summation: after 1e5 passes a plain float sum stops absorbing increments.
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];
-    precise vec3 y = direct - comp.xyz;
-    precise vec3 t = sum.xyz + y;
-    precise vec3 c = (t - sum.xyz) - y;
-    comp.xyz = c;
 #ifdef FILM_TRANSPARENT
-    // The transparency's sum rides in w, compensated the same way.
-    precise float ya = transparent - comp.w;
-    precise float ta = sum.w + ya;
-    comp.w = (ta - sum.w) - ya;
-    direct_light[2 * i + 0] = vec4(t, ta);
+    // The transparency's sum rides in w.
+    kahan_add(sum, comp, vec4(direct, transparent));
 #else
-    direct_light[2 * i + 0] = vec4(t, 0.0);
+    kahan_add(sum, comp, vec4(direct, 0.0));
 #endif
+    direct_light[2 * i + 0] = sum;
     direct_light[2 * i + 1] = comp;
+#ifdef PASS_DEPTH
+    pass_add(i, PASS_DEPTH, vec4(first_depth, 0.0, 0.0, 0.0));
+#endif
+#ifdef PASS_NORMAL
+    pass_add(i, PASS_NORMAL, vec4(first_normal, 0.0));
+#endif
+#ifdef PASS_DENOISING_NORMAL
+    // The visible point's normal, facing the eye (none where the path found no such point).
+    pass_add(i, PASS_DENOISING_NORMAL, vec4(point.w >= 0.0 ? normal : vec3(0.0), 0.0));
+#endif
+#ifdef PASS_DENOISING_ALBEDO
+    pass_add(i, PASS_DENOISING_ALBEDO, vec4(point_albedo, 0.0));
+#endif
+#ifdef PASS_EMISSION
+    pass_add(i, PASS_EMISSION, vec4(emitted, 0.0));
+#endif
+#ifdef PASS_ENVIRONMENT
+    pass_add(i, PASS_ENVIRONMENT, vec4(world, 0.0));
+#endif
+#ifdef PASS_DIRECT
+    pass_add(i, PASS_DIRECT, vec4(sampled, 0.0));
+#endif
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);
 }

@@ -14,8 +14,43 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"
 #include "common/lobes.glsl"
+#include "common/pass_films.glsl"
 
 shared float group_max_radius[LOCAL_SIZE];
+
+// A photon's share of Phi, and with the light split's passes of its path class's share too
+// (common/pass_films.glsl): the classes' sums add up to Phi.
+#ifdef PASS_PHOTON_SPLIT
+#define ADD_PHOTON(p, value) \
+    { vec3 light_ = (value); phi += light_; phi_class[int(photons[3u * (p) + 1u].w)] += light_; }
+#else
+#define ADD_PHOTON(p, value) phi += (value)
+#endif
+
+#ifdef PASS_PHOTON_SPLIT
+// One class's photons into its pass, updated as Combined's tau is: PPPM adds the pass's
+// estimate, SPPM adds and shrinks with the radius.
+void update_photon_pass(uint i, uint offset, vec3 weighted_phi, float shrink) {
+#ifdef ESTIMATOR_PPPM
+    pass_add(i, offset, vec4(weighted_phi * pass_scale, 0.0));
+#else
+    uint k = pass_record(i, offset);
+    pass_films[k].xyz = (pass_films[k].xyz + weighted_phi) * shrink;
+#endif
+}
+
+void update_photon_passes(uint i, vec3 weight, vec3 phi_class[3], float shrink) {
+#ifdef PASS_DIRECT_PHOTONS
+    update_photon_pass(i, PASS_DIRECT + 2u, weight * phi_class[0], shrink);
+#endif
+#ifdef PASS_INDIRECT
+    update_photon_pass(i, PASS_INDIRECT, weight * phi_class[1], shrink);
+#endif
+#ifdef PASS_CAUSTICS
+    update_photon_pass(i, PASS_CAUSTICS, weight * phi_class[2], shrink);
+#endif
+}
+#endif
 
 void main() {
     uint i = thread_index();
@@ -54,6 +89,9 @@ void main() {
             float r2 = r * r;
             float m = 0.0;
             vec3 phi = vec3(0.0);
+#ifdef PASS_PHOTON_SPLIT
+            vec3 phi_class[3] = vec3[3](vec3(0.0), vec3(0.0), vec3(0.0));
+#endif
             // Cells are as wide as the largest radius, so a neighbour can hold photons within
             // r only where the point lies within r of the face they share: skip the others
             // (exact; the margin covers rounding in the cell coordinates). Radii that have
@@ -79,14 +117,14 @@ void main() {
                     vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
                     float count = float(entry.y);
                     m += count;
-                    phi += count * f * photons[3 * p + 2].xyz;
+                    ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
                 }
 #else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                     dot(photons[3 * p + 1].xyz, n) > 0.0) {
                     float count = float(entry.y);
                     m += count;
-                    phi += count * photons[3 * p + 2].xyz;
+                    ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
                 }
 #endif
 #else
@@ -97,14 +135,14 @@ void main() {
 #ifdef HAS_MICROFACET
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
                         m += 1.0;
-                        phi += bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
-                               photons[3 * p + 2].xyz;
+                        ADD_PHOTON(p, bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
+                                          photons[3 * p + 2].xyz);
                     }
 #else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         dot(photons[3 * p + 1].xyz, n) > 0.0) {
                         m += 1.0;
-                        phi += photons[3 * p + 2].xyz;
+                        ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }
 #endif
                 }
@@ -121,6 +159,9 @@ void main() {
                 stats1.yzw = (t - stats0.xyz) - y;
                 pixel_stats[2 * i + 0] = vec4(t, stats0.w + m);
                 pixel_stats[2 * i + 1] = stats1;
+#ifdef PASS_PHOTON_SPLIT
+                update_photon_passes(i, weight, phi_class, 1.0);
+#endif
             }
 #else
             if (m > 0.0) {
@@ -133,6 +174,9 @@ void main() {
                 pixel_stats[2 * i + 0] = vec4(tau, n_new);
                 pixel_stats[2 * i + 1].x = r_new;
                 radius_after = r_new;
+#ifdef PASS_PHOTON_SPLIT
+                update_photon_passes(i, weight, phi_class, shrink);
+#endif
             }
 #endif
         }

@@ -16,6 +16,16 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/bsdf.glsl"
 #include "common/lobes.glsl"
 #include "common/emitters.glsl"
+#include "common/pass_films.glsl"
+
+// The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
+// one, a smooth bounce makes one.
+#ifdef PASS_PHOTON_SPLIT
+#define PATH_SCATTERED(smooth_bounce) \
+    path_class = max(path_class, (smooth_bounce) ? PHOTON_PATH_CAUSTIC : PHOTON_PATH_INDIRECT)
+#else
+#define PATH_SCATTERED(smooth_bounce)
+#endif
 
 void main() {
     uint i = thread_index();
@@ -38,6 +48,9 @@ void main() {
     float scattered = photon_paths[3 * i + 1].w;
 #endif
     vec3 flux = photon_paths[3 * i + 2].xyz;
+#ifdef PASS_PHOTON_SPLIT
+    float path_class = photon_paths[3 * i + 2].w;
+#endif
 #ifdef ESTIMATOR_PPPM
     // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
     // photon step and is traced in its steps; one that has ended waits for the next pass.
@@ -54,12 +67,18 @@ void main() {
 #ifdef DIRECT_LIGHT_SAMPLED
         scattered = 0.0;
 #endif
+#ifdef PASS_PHOTON_SPLIT
+        path_class = PHOTON_PATH_DIRECT;
+#endif
         atomicAdd(pass_emitted, 1u);
     }
 
     vec4 stored = vec4(0.0);  // flux.w = 1 when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
+#ifdef PASS_PHOTON_SPLIT
+    float stored_class = path_class;  // the class the photon arrives with
+#endif
     Hit hit = closest_hit(make_ray(origin, dir));
     if (hit.triangle < 0) {
         bounces = -1.0;  // left the scene: a new path next pass
@@ -106,6 +125,9 @@ void main() {
                     bounces = -1.0;
                 } else {
                     flux *= w / q;
+                    // Through a cut-out the photon has not scattered: its class stays.
+                    if (sh.kind != MATERIAL_TRANSPARENT)
+                        PATH_SCATTERED(bsdf_sample_is_smooth(sh, -dir, u_dir));
                     // About a smooth shading normal the sample may cross the true surface to
                     // the other side than its lobe meant: mirror it back across the surface.
                     vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
@@ -153,6 +175,7 @@ void main() {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;
+                PATH_SCATTERED(false);
                 dir = sample_cosine_hemisphere(n, rng_next(rng), rng_next(rng));
                 // About a smooth shading normal the bounce may point into the surface: mirror
                 // it back out across the true surface, or it would leave a closed mesh.
@@ -165,6 +188,7 @@ void main() {
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
                                    s.geometric_normal, rng_next(rng), false, flux);
+            PATH_SCATTERED(true);
 #ifdef DIRECT_LIGHT_SAMPLED
             scattered = 1.0;
 #endif
@@ -179,9 +203,14 @@ void main() {
 #else
     photon_paths[3 * i + 1] = vec4(dir, 0.0);
 #endif
+#ifdef PASS_PHOTON_SPLIT
+    photon_paths[3 * i + 2] = vec4(flux, path_class);
+    photons[3 * i + 1] = vec4(incoming, stored_class);
+#else
     photon_paths[3 * i + 2] = vec4(flux, 0.0);
-    photons[3 * i + 0] = position_key;
     photons[3 * i + 1] = vec4(incoming, 0.0);
+#endif
+    photons[3 * i + 0] = position_key;
     photons[3 * i + 2] = stored;
     rng_store(state_index, rng);
     atomicAdd(pass_rays, 1u);

@@ -30,10 +30,12 @@ def film_options(scene):
     return {"transparent": transparent, "transparent_glass": transparent and glass}
 
 
-def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None):
+def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None,
+                    passes=()):
     """settings is scene.glslppm; seed_offset varies the noise per animation frame; film is
     film_options(); device (the preferences' choice, resolved by the engine: an index, or a
-    list of them for one worker each) overrides settings.device."""
+    list of them for one worker each) overrides settings.device; passes: the render passes
+    beside Combined, by the module's names (engine/render_passes.py)."""
     devices = device if isinstance(device, (list, tuple)) else None
     if devices is not None:
         device = devices[0] if devices else -1
@@ -56,4 +58,5 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31),
-        max_block_bytes=settings.max_block_bytes)
+        max_block_bytes=settings.max_block_bytes,
+        passes=list(passes))

@@ -19,7 +19,7 @@ from ..export import ExportError, export_scene
 from ..export.camera import convert_camera, view_camera, viewport_camera
 from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_device, render_devices
-from . import memory
+from . import memory, render_passes
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_scene, native_settings
 from .progressive import DisplayClock, PassSchedule, stats_line
@@ -44,6 +44,12 @@ class GlslppmEngineMixin:
     last_stats = {}
     tile_progress = None  # (tile, tiles) while a frame renders as image tiles
     stage_clock = None
+    view_layer = None  # the view layer being rendered: its passes (engine/render_passes.py)
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        """Blender asks which passes a view layer's result and Render Layers node have."""
+        native, _ = native_module.load()
+        render_passes.register(self, native, scene, renderlayer)
 
     def render(self, depsgraph):
         self.stage_clock = StageClock()
@@ -81,6 +87,9 @@ class GlslppmEngineMixin:
             viewport.count("previews")
             settings = viewport.preview_settings(settings)
         views = view_names(scene.render)
+        # Previews show Combined alone.
+        self.view_layer = None if self.is_preview else depsgraph.view_layer
+        passes = render_passes.requested(self.view_layer) if self.view_layer else set()
         devices = render_devices(settings)
         device = devices[0]
         problem = memory.refusal(
@@ -138,7 +147,7 @@ class GlslppmEngineMixin:
             native_data = native_scene(native, data)
             # Every chosen device, one worker each (PPPM); tiles too.
             full = native_settings(native, settings, width, height, scene.frame_current,
-                                   film=film, device=devices)
+                                   film=film, device=devices, passes=sorted(passes))
             try:
                 # Decided before anything is allocated: a frame whose visible points exceed
                 # the GPU's largest storage buffer renders as bands of rows.
@@ -240,6 +249,8 @@ class GlslppmEngineMixin:
         clock = DisplayClock()
         result = self.begin_result(x, y, width, height, view=view)
         combined = result.layers[0].passes["Combined"]
+        extra = (render_passes.result_passes(result, native, self.view_layer)
+                 if self.view_layer else {})
         start = time.perf_counter()
         film_ok = False
         abandoned = False
@@ -270,10 +281,10 @@ class GlslppmEngineMixin:
                 done_tiles = 0 if tile is None else tile[1] - 1
                 self.update_progress((done_tiles + schedule.progress(elapsed)) / share)
                 if clock.due(elapsed):
-                    film_ok = self._write_film(renderer, combined)
+                    film_ok = self._write_film(renderer, combined, extra)
                     self.update_result(result)
             if not abandoned:
-                film_ok = self._write_film(renderer, combined)
+                film_ok = self._write_film(renderer, combined, extra)
                 # Written into the EXR's header by Blender (the whole render's result,
                 # not this partial one, keeps stamp data): the pass indices, seed,
                 # estimator, settings and scene hash glslppm-merge checks.
@@ -389,8 +400,13 @@ class GlslppmEngineMixin:
                                   region.height)
         self.update_stats("", "GLSLPPM | " + session.status_line())
 
-    def _write_film(self, renderer, combined):
+    def _write_film(self, renderer, combined, extra=None):
+        """Combined and the render passes ({module name: RenderPass}) into the result."""
         _set_rect(combined, renderer.film())
+        if extra:
+            images = renderer.render_passes(list(extra))
+            for name, render_pass in extra.items():
+                _set_rect(render_pass, images[name])
         return True
 
     def _fill(self, width, height, rgba):
@@ -442,8 +458,9 @@ def _set_rect(render_pass, film):
     """Film rows run top to bottom; Blender's rect wants the bottom row first.
     foreach_set copies the buffer in one go (assigning rect converts pixel by pixel:
     1 s for a 1920x1080 frame, against 0.01-0.03 s); Blender 4.x wants it flat,
-    3.x as (pixels, 4)."""
-    pixels = np.ascontiguousarray(film[::-1], dtype=np.float32).reshape(-1, 4)
+    3.x as (pixels, channels): 4 for Combined, 1 or 3 for the other passes."""
+    pixels = np.ascontiguousarray(film[::-1], dtype=np.float32).reshape(
+        -1, render_pass.channels)
     render_pass.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
 
 

@@ -1,9 +1,9 @@
-"""Settings: ``scene.glslppm`` (stored in .blend files) and the add-on preferences
-(stored with Blender's: the device)."""
+"""Settings: ``scene.glslppm`` and ``view_layer.glslppm`` (stored in .blend files) and
+the add-on preferences (stored with Blender's: the device)."""
 
-from . import preferences, presets, render_settings
+from . import preferences, presets, render_settings, view_layer_passes
 
-_modules = (preferences, render_settings, presets)
+_modules = (preferences, render_settings, presets, view_layer_passes)
 
 
 def register():

@@ -2,9 +2,9 @@
 
 import bpy
 
-from . import compat, light_panel, render_panels
+from . import compat, light_panel, render_panels, view_layer_panel
 
-_classes = render_panels.classes + light_panel.classes
+_classes = render_panels.classes + light_panel.classes + view_layer_panel.classes
 
 
 def register():

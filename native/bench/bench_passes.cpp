@@ -30,6 +30,9 @@ int bench_passes(int argc, char** argv) {
         auto next = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
         if (parse_render_option(argc, argv, i, settings, scene_spec)) continue;
         if (a == "--passes") passes = static_cast<int>(next());
+        // Render passes beside Combined (docs/passes.md): what they cost.
+        else if (a == "--render-passes" && i + 1 < argc)
+            settings.passes = parse_render_pass_list(argv[++i]);
         else if (a == "--warmup") warmup = static_cast<int>(next());
         else if (a == "--json") json = true;
         else if (a == "--against-one-device") against_one_device = true;
@@ -151,6 +154,7 @@ int bench_passes(int argc, char** argv) {
                 {"film_read_seconds", film_seconds},
                 {"renderer", after.renderer},
                 {"variant", after.variant},
+                {"gpu_bytes_per_pixel", after.gpu_bytes_per_pixel},
                 {"devices", devices},
                 {"one_device", one_device},
             };

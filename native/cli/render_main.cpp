@@ -31,6 +31,7 @@ struct Options {
     int passes = 0;
     double seconds = 0.0;
     std::string out;
+    bool multilayer = false;  // --passes-out: one multi-layer EXR with settings.passes
     bool json = false;
     std::string scene_file;   // empty: the built-in Cornell box
     std::string environment;  // equirectangular map
@@ -79,6 +80,11 @@ std::string usage() {
         "  --max-block-bytes N       cap the per-pixel buffers below the GPU's largest storage\n"
         "                            buffer (tests: forces image tiles on small images)\n"
         "  --out FILE.exr            write the image\n"
+        "  --passes-out all|combined|depth,normal,...  write --out as one multi-layer EXR of\n"
+        "                            Combined and these passes, named as Blender names them:\n"
+        "                            depth, normal, denoising_normal, denoising_albedo,\n"
+        "                            emission, environment, direct, indirect, caustics\n"
+        "                            (docs/passes.md)\n"
         "  A frame whose visible points exceed one storage buffer renders as bands of rows,\n"
         "  one after another, each with its own photon passes (--passes, not --seconds).\n"
         "  --json                    print the final statistics as one JSON object\n",
@@ -146,6 +152,10 @@ Options parse(int argc, char** argv) {
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--max-block-bytes") o.settings.max_block_bytes = static_cast<std::uint64_t>(number());
         else if (a == "--out") o.out = value();
+        else if (a == "--passes-out") {
+            o.settings.passes = parse_render_pass_list(value());
+            o.multilayer = true;
+        }
         else if (a == "--json") o.json = true;
         else if (a == "--scene") o.scene_file = value();
         else if (a == "--environment") o.environment = value();
@@ -203,6 +213,18 @@ void progress(double fraction, const RenderStats& s) {
     std::fflush(stderr);
 }
 
+// --passes-out: Combined, then each pass under Blender's pass and channel names.
+std::vector<ExrPass> exr_layers(const std::vector<float>& film,
+                                const std::vector<RenderPass>& passes,
+                                const std::vector<std::vector<float>>& images) {
+    std::vector<ExrPass> layers = {{"Combined", "RGBA", film}};
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+        const RenderPassInfo& info = render_pass_info(passes[k]);
+        layers.push_back({info.blender, info.channel_names, images[k]});
+    }
+    return layers;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -210,7 +232,10 @@ int main(int argc, char** argv) {
         const Options o = parse(argc, argv);
         std::vector<std::string> warnings;
         const Scene scene = build_scene(o, warnings);
+        if (o.multilayer && o.out.empty())
+            throw std::invalid_argument("--passes-out needs --out FILE.exr to write them to");
         const TilePlan plan = plan_tiles(scene, o.settings);
+        std::vector<ExrPass> layers;  // --passes-out: Combined, then the passes
         const bool terminal = isatty(STDERR_FILENO);
         RenderStats s;
         std::vector<float> film;
@@ -229,6 +254,7 @@ int main(int argc, char** argv) {
                 });
             s = image.stats;
             film = std::move(image.rgba);
+            if (o.multilayer) layers = exr_layers(film, o.settings.passes, image.passes);
         } else {
             Renderer renderer(scene, o.settings);
             const auto start = std::chrono::steady_clock::now();
@@ -256,6 +282,9 @@ int main(int argc, char** argv) {
             if (terminal) std::fputc('\n', stderr);
             s = renderer.stats();
             if (!o.out.empty()) film = renderer.film();
+            if (o.multilayer)
+                layers = exr_layers(film, o.settings.passes,
+                                    renderer.render_passes(o.settings.passes));
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
@@ -277,7 +306,10 @@ int main(int argc, char** argv) {
                        {"max_depth", std::to_string(o.settings.max_depth)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
-            write_exr(o.out, image, attributes);
+            if (o.multilayer)
+                write_multilayer_exr(o.out, image.width, image.height, layers, attributes);
+            else
+                write_exr(o.out, image, attributes);
         }
         if (o.json) {
             const nlohmann::json out = {

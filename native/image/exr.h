@@ -18,6 +18,27 @@ struct FloatImage {
 void write_exr(const std::string& path, const FloatImage& image,
                const std::map<std::string, std::string>& attributes = {});
 
+// One pass of a multi-layer file: Blender's pass name ("Combined", "Depth", ...), its channel
+// letters ("RGBA", "Z", "XYZ", "RGB"), and its pixels as height x width x 4 floats of which
+// the first channels.size() are written.
+struct ExrPass {
+    std::string name;
+    std::string channels;
+    std::vector<float> rgba;
+};
+
+// A multi-layer EXR as Blender writes one (and reads it into the compositor's Image node):
+// channels "<view layer>.<pass>.<channel>", 32-bit float, with Blender's BlenderMultiChannel
+// header attribute; `attributes` as write_exr's.
+void write_multilayer_exr(const std::string& path, int width, int height,
+                          const std::vector<ExrPass>& passes,
+                          const std::map<std::string, std::string>& attributes = {},
+                          const std::string& view_layer = "ViewLayer");
+
+// Every channel of a file by its full name, each height x width floats.
+std::map<std::string, std::vector<float>> read_exr_channels(const std::string& path, int* width,
+                                                            int* height);
+
 // Reads R, G, B, A (A = 1 where missing) and the header's string attributes: ours (written
 // under "glslppm/", returned without it) and the farm attributes "glslppm.*" as they are.
 FloatImage read_exr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr);

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -421,6 +422,31 @@ py::dict stats_dict(const RenderStats& s) {
 
 }  // namespace
 
+// Renderer.render_pass(es): each pass as a height x width x channels array, resolved
+// together (one read back of the pass films).
+static py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names) {
+    std::vector<RenderPass> wanted;
+    for (const std::string& name : names) wanted.push_back(parse_render_pass(name));
+    std::vector<std::vector<float>> images;
+    const std::shared_ptr<Renderer> renderer = r.get();
+    {
+        py::gil_scoped_release release;
+        images = renderer->render_passes(wanted);
+    }
+    const RenderSettings& s = renderer->settings();
+    py::dict out;
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+        const int channels = render_pass_info(wanted[k]).channels;
+        py::array_t<float> a({s.height, s.width, channels});
+        float* dst = a.mutable_data();
+        const std::vector<float>& image = images[k];
+        for (std::size_t i = 0; i < image.size() / 4; ++i)
+            for (int c = 0; c < channels; ++c) dst[i * channels + c] = image[4 * i + c];
+        out[py::str(names[k])] = a;
+    }
+    return out;
+}
+
 PYBIND11_MODULE(_glslppm, m) {
     m.doc() = "glslppm: stochastic progressive photon mapping on the GPU through headless OpenGL";
     static py::exception<std::runtime_error> error(m, "GlslppmError", PyExc_RuntimeError);
@@ -601,7 +627,7 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& direct_light, float glossy_threshold,
                          const std::string& estimator, std::vector<int> devices,
                          std::uint64_t first_pass, const std::string& instancing,
-                         std::uint64_t max_block_bytes) {
+                         std::uint64_t max_block_bytes, std::vector<std::string> passes) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -627,6 +653,11 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.first_pass = first_pass;
                  s.instancing = parse_instancing(instancing);
                  s.max_block_bytes = max_block_bytes;
+                 for (const std::string& name : passes) {
+                     for (RenderPass p : parse_render_pass_list(name))
+                         if (std::find(s.passes.begin(), s.passes.end(), p) == s.passes.end())
+                             s.passes.push_back(p);
+                 }
                  validate(s);
                  return s;
              }),
@@ -646,14 +677,20 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("estimator") = to_string(defaults.estimator),
              py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass,
              py::arg("instancing") = to_string(defaults.instancing),
-             py::arg("max_block_bytes") = defaults.max_block_bytes)
+             py::arg("max_block_bytes") = defaults.max_block_bytes,
+             py::arg("passes") = std::vector<std::string>{})
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale)
         .def_property_readonly("estimator", [](const RenderSettings& s) { return to_string(s.estimator); })
         .def_readonly("devices", &RenderSettings::devices)
-        .def_readonly("first_pass", &RenderSettings::first_pass);
+        .def_readonly("first_pass", &RenderSettings::first_pass)
+        .def_property_readonly("passes", [](const RenderSettings& s) {
+            std::vector<std::string> names;
+            for (RenderPass p : s.passes) names.push_back(render_pass_info(p).name);
+            return names;
+        }, "The render passes beside Combined, by name (docs/passes.md).");
 
     // Set from any thread while a Renderer is being constructed with it: the construction
     // (BVH build, GL set-up) stops within milliseconds and raises Cancelled.
@@ -733,6 +770,15 @@ PYBIND11_MODULE(_glslppm, m) {
             std::memcpy(out.mutable_data(), film.data(), film.size() * sizeof(float));
             return out;
         })
+        .def("render_pass", [](PyRenderer& r, const std::string& name) {
+            const py::dict images = render_pass_arrays(r, {name});
+            return py::object(images[py::str(name)]);
+        }, py::arg("name"),
+        "One of the settings' passes (docs/passes.md) as film() gives Combined: height x width "
+        "x 1 (depth) or 3, the mean over the passes run.")
+        .def("render_passes", &render_pass_arrays, py::arg("names"),
+             "Several passes as render_pass() gives one, {name: array}, with one read back "
+             "from the GPU.")
         .def("photons", [](PyRenderer& r) {
             std::vector<float> photons;
             {
@@ -769,6 +815,21 @@ PYBIND11_MODULE(_glslppm, m) {
         d["largest_block"] = plan.largest_block;
         return d;
     };
+    m.def("render_passes", [] {
+        py::list passes;
+        for (const RenderPassInfo& p : render_pass_catalog()) {
+            py::dict d;
+            d["name"] = p.name;
+            d["blender"] = p.blender;
+            d["blender_3x"] = render_pass_blender_3x(p.pass);
+            d["channels"] = p.channels;
+            d["channel_names"] = p.channel_names;
+            d["light"] = p.light;
+            passes.append(d);
+        }
+        return passes;
+    }, "Every render pass beside Combined: its name, Blender's names (4.x, 3.x), channels, and "
+       "whether it is part of Combined's light split (docs/passes.md).");
     m.def("plan_tiles", [plan_dict](const Scene& scene, const RenderSettings& settings) {
         TilePlan plan;
         {
@@ -847,6 +908,22 @@ PYBIND11_MODULE(_glslppm, m) {
         return py::make_tuple(out, attributes);
     }, py::arg("path"), "Reads a float RGBA EXR: (H x W x 4 array, glslppm header attributes).");
 
+    m.def("read_exr_channels", [](const std::string& path) {
+        int width = 0, height = 0;
+        std::map<std::string, std::vector<float>> channels;
+        {
+            py::gil_scoped_release release;
+            channels = read_exr_channels(path, &width, &height);
+        }
+        py::dict out;
+        for (const auto& [name, data] : channels) {
+            py::array_t<float> a({height, width});
+            std::memcpy(a.mutable_data(), data.data(), data.size() * sizeof(float));
+            out[py::str(name)] = a;
+        }
+        return out;
+    }, py::arg("path"), "Every channel of an EXR file by its full name ('ViewLayer.Depth.Z'), "
+       "each height x width.");
     m.def("write_exr", [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> rgba,
                           std::map<std::string, std::string> attributes) {
         if (rgba.ndim() != 3 || rgba.shape(2) != 4)

@@ -108,6 +108,10 @@ struct Counters {
 };
 static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 
+// `buffer PassFilms` (shaders/common/pass_films.glsl, BINDING_PASS_FILMS): vec4 (sum,
+// compensation) pairs per enabled render pass and pixel, laid out by PassLayout
+// (render/render_passes.h), which also names the offsets' defines.
+
 // Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
 inline constexpr unsigned kRadiusStatsThreads = 256;
 

@@ -85,6 +85,8 @@ struct Renderer::Gpu {
     double compile_seconds = 0.0;
     GLuint film = 0, counters = 0, pixel_stats = 0, photons = 0, hash = 0, radius_stats = 0;
     GLuint direct_light = 0, photon_paths = 0, materials = 0, emitter_records = 0;
+    PassLayout pass_layout;  // render passes beside Combined; none: no pass_films buffer
+    GLuint pass_films = 0;
     std::size_t geometry_triangles = 0;  // the prepared geometry's, area lights included
     std::size_t material_count = 0;
     std::vector<bool> textures_used;     // TextureUse::used of the prepared scene
@@ -343,6 +345,32 @@ struct Renderer::Gpu {
         return out;
     }
 
+    // Render passes of this worker's passes (their mean), resolved on the CPU from the pass
+    // films and the pixel statistics, as resolve_film() resolves Combined on the GPU: one
+    // read back for all of them.
+    std::vector<std::vector<float>> resolve_passes(const std::vector<RenderPass>& wanted) {
+        std::vector<glm::vec4> films(std::size_t(pixels) * pass_layout.stride);
+        std::vector<glm::vec4> stats(std::size_t(pixels) * 2);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pass_films);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(films.size() * 16),
+                           films.data());
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pixel_stats);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(stats.size() * 16),
+                           stats.data());
+        const Counters c = read_counters();
+        const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+        PassResolve r;
+        r.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+        r.inv_photons_emitted =
+            emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+        r.pppm = settings.estimator == Estimator::Pppm;
+        std::vector<std::vector<float>> images;
+        for (RenderPass pass : wanted)
+            images.push_back(resolve_render_pass(pass_layout, pass, films, stats, pixels, r));
+        return images;
+    }
+
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius
     // the initial one, no direct light, every photon path to start from a light, counts
     // zero. Written by a dispatch (restart_film.comp): the host uploads nothing.
@@ -353,6 +381,15 @@ struct Renderer::Gpu {
         glUniform1ui(restart->uniform("u_photon_threads"), photon_threads);
         glUniform1f(restart->uniform("u_initial_radius"), initial_radius);
         dispatch(*restart, std::max(pixels, photon_threads));
+        if (pass_films) {
+            // A clear after shader writes takes a buffer-update barrier: a restart is not a
+            // pass, so its host wait does not slow the passes.
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            const GLuint zero[4] = {0u, 0u, 0u, 0u};
+            glBindBuffer(GL_SHADER_STORAGE_BUFFER, pass_films);
+            glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
+                              GL_UNSIGNED_INT, zero);
+        }
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         passes = 0;
         pass_indices.clear();  // PPPM: a restarted film has run no pass index

@@ -252,6 +252,14 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
                        (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
                 double(std::max<std::size_t>(ph, 1));
             g.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
+            g.pass_layout = prepared.pass_layout;
+            if (g.pass_layout.stride > 0) {
+                const std::size_t pass_bytes = px * std::size_t(g.pass_layout.stride) * 16;
+                g.require_fits(pass_bytes, "render passes", true);
+                g.pass_films = g.make_buffer(BINDING_PASS_FILMS, pass_bytes, nullptr,
+                                             "render passes");
+                g.gpu_bytes_per_pixel += std::size_t(g.pass_layout.stride) * 16;
+            }
             g.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
                                            "radius statistics");
             g.restart_film();
@@ -524,6 +532,35 @@ std::vector<float> Renderer::film() {
     std::vector<const std::vector<float>*> views;
     for (const auto& f : films) views.push_back(&f);
     return merge_films(views, passes);
+}
+
+std::vector<float> Renderer::render_pass(RenderPass pass) {
+    return std::move(render_passes({pass})[0]);
+}
+
+std::vector<std::vector<float>> Renderer::render_passes(const std::vector<RenderPass>& wanted) {
+    for (RenderPass pass : wanted)
+        if (gpus_[0]->pass_layout.offset(pass) < 0)
+            throw std::invalid_argument(std::string("render pass '") +
+                                        render_pass_info(pass).name +
+                                        "' was not enabled: add it to the settings' passes");
+    // As film(): each worker's pass is the mean of its passes, merged by their counts.
+    std::vector<std::vector<std::vector<float>>> per_worker;  // worker, pass, pixels
+    std::vector<std::uint64_t> passes;
+    for (auto& g : gpus_) {
+        g->thread->call([&] {
+            per_worker.push_back(g->resolve_passes(wanted));
+            passes.push_back(g->passes);
+        });
+    }
+    if (per_worker.size() == 1) return std::move(per_worker[0]);
+    std::vector<std::vector<float>> merged;
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+        std::vector<const std::vector<float>*> views;
+        for (const auto& worker : per_worker) views.push_back(&worker[k]);
+        merged.push_back(merge_films(views, passes));
+    }
+    return merged;
 }
 
 std::vector<float> Renderer::photons() {

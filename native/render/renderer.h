@@ -125,9 +125,18 @@ public:
     // Linear RGBA, height x width x 4 floats, row 0 at the top. With several workers, their
     // films merged (render/film_merge.h).
     std::vector<float> film();
+    // One of settings.passes (render/render_passes.h), as film() gives Combined: height x
+    // width x 4 floats (Depth in the first channel), the mean over the passes run.
+    // std::invalid_argument for a pass the settings did not enable.
+    std::vector<float> render_pass(RenderPass pass);
+    // Several at once, in the order asked, with one read back of the pass films per worker
+    // (what the add-on streams into Blender's result).
+    std::vector<std::vector<float>> render_passes(const std::vector<RenderPass>& wanted);
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
-    // towards where it came from, 0, flux, 1 if stored else 0 (tests and debugging).
+    // towards where it came from, its path's class with the light split's passes
+    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, 1 if
+    // stored else 0 (tests and debugging).
     std::vector<float> photons();
     const RenderSettings& settings() const { return settings_; }
 

@@ -414,6 +414,17 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         p.defines.push_back({"ESTIMATOR_PPPM", "1"});
         features.push_back("estimator=pppm");
     }
+    // Render passes: outputs, not features, so the full variant too leaves them as asked.
+    const PassLayout passes =
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
+    for (const auto& d : pass_defines(passes)) p.defines.push_back(d);
+    if (!passes.passes.empty()) {
+        std::string names;
+        for (RenderPass pass : passes.passes)
+            names += (names.empty() ? "" : "+") + std::string(render_pass_info(pass).name);
+        features.push_back("passes=" + names);
+    }
+    p.pass_layout = passes;
     for (const std::string& f : features) p.variant += (p.variant.empty() ? "" : ",") + f;
 
     // Sizes and the frame constants.

@@ -47,6 +47,7 @@ struct PreparedScene {
     std::string variant;
     // HAS_MICROFACET: the lobes of shaders/common/lobes.glsl, visible points of 4 vec4.
     bool microfacet = false;
+    PassLayout pass_layout;  // the render passes' records in the pass films
     // The Materials buffer: GpuMaterial records, then albedo tables.
     std::vector<glm::vec4> material_records;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;

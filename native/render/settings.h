@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "render/render_passes.h"
+
 namespace glslppm {
 
 enum class HashMode { Stochastic, Exact };
@@ -63,6 +65,9 @@ struct RenderSettings {
     bool transparent = false;
     bool transparent_glass = false;
     Instancing instancing = Instancing::Auto;
+    // Render passes beside Combined (render/render_passes.h); empty: Combined alone, and
+    // programs without any pass code.
+    std::vector<RenderPass> passes;
 };
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"

@@ -53,8 +53,13 @@ TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
     for (const Material& m : scene.materials) microfacet |= needs_microfacet(m);
     // Visible points (3 or 4 vec4), pixel statistics (2), direct light (2), film (1):
     // native/render/renderer.cpp allocates them.
-    const std::size_t point_bytes = (microfacet ? 4 : 3) * 16;
-    const std::size_t pixel_bytes = point_bytes + (2 + 2 + 1) * 16;
+    // With render passes, their films (render/render_passes.h) too: the largest block may be
+    // theirs.
+    const PassLayout passes =
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
+    const std::size_t pass_bytes = std::size_t(passes.stride) * 16;
+    const std::size_t point_bytes = std::max<std::size_t>((microfacet ? 4 : 3) * 16, pass_bytes);
+    const std::size_t pixel_bytes = (microfacet ? 4 : 3) * 16 + (2 + 2 + 1) * 16 + pass_bytes;
     // With several workers (settings.devices) every device holds the whole tile: the
     // smallest of their limits.
     const std::vector<int> devices =
@@ -100,6 +105,14 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
     TiledImage out;
     out.plan = plan;
     out.rgba.assign(std::size_t(settings.width) * settings.height * 4, 0.0f);
+    out.passes.assign(settings.passes.size(), out.rgba);
+    // A tile's rows of a height x width x 4 image into the frame's.
+    auto place = [&](std::vector<float>& frame, const std::vector<float>& image, const Tile& tile) {
+        for (int row = 0; row < tile.height; ++row)
+            std::memcpy(&frame[(std::size_t(tile.y + row) * settings.width + tile.x) * 4],
+                        &image[std::size_t(row) * tile.width * 4],
+                        std::size_t(tile.width) * 4 * sizeof(float));
+    };
     const bool single = plan.tiles.size() == 1;
     Scene tile_scene;
     if (!single) tile_scene = scene;  // a copy whose camera each tile replaces
@@ -117,10 +130,11 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
         }
         const std::vector<float> film = renderer.film();
         const RenderStats s = renderer.stats();
-        for (int row = 0; row < tile.height; ++row)
-            std::memcpy(&out.rgba[(std::size_t(tile.y + row) * settings.width + tile.x) * 4],
-                        &film[std::size_t(row) * tile.width * 4],
-                        std::size_t(tile.width) * 4 * sizeof(float));
+        place(out.rgba, film, tile);
+        if (!settings.passes.empty()) {
+            const std::vector<std::vector<float>> images = renderer.render_passes(settings.passes);
+            for (std::size_t k = 0; k < images.size(); ++k) place(out.passes[k], images[k], tile);
+        }
         RenderStats& sum = out.stats;
         if (t == 0) {
             sum = s;

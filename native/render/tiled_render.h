@@ -50,6 +50,8 @@ RenderSettings tile_settings(const RenderSettings& settings, const Tile& tile);
 
 struct TiledImage {
     std::vector<float> rgba;  // height x width x 4, row 0 at the top
+    // settings.passes in their order, each as Renderer::render_pass gives it for the frame.
+    std::vector<std::vector<float>> passes;
     RenderStats stats;        // summed over the tiles (passes: each tile's)
     TilePlan plan;
 };

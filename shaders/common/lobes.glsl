@@ -464,6 +464,18 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
     return true;
 }
 
+// Whether the bounce bsdf_sample(sh, wo_world, u, ...) draws goes through a lobe that eye
+// paths follow (lobe_smooth): a photon that took one before landing is a caustic.
+bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
+    switch (sh.kind) {
+        case MATERIAL_CONDUCTOR:
+        case MATERIAL_DIELECTRIC: return lobe_smooth(sh);
+        case MATERIAL_PLASTIC:
+            return lobe_smooth(sh) && u.z < plastic_layer_probability(sh, to_local(sh, wo_world));
+        default: return false;
+    }
+}
+
 // Eye paths through the smooth part of a material (bsdf_smooth_probability > 0): the whole
 // material where every lobe is smooth, the layer alone for plastic; weight = f cos / pdf of
 // that part.

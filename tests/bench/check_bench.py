@@ -106,6 +106,23 @@ def check_passes(bench):
         check(positive(out.get(key)), f"instances passes {key} = {out.get(key)}")
 
 
+def check_render_passes(bench):
+    """--render-passes: the variant names them and every pass's films add to the bytes per
+    pixel (32 each, Direct 32 with sampled direct light: 9 passes, 288 bytes)."""
+    plain = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+                "--passes", "2", "--warmup", "1", "--scene", "caustic", "--json")
+    every = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+                "--passes", "2", "--warmup", "1", "--scene", "caustic", "--render-passes",
+                "all", "--json")
+    if plain is None or every is None:
+        return
+    check("passes=" not in plain["variant"], f"no-pass variant {plain['variant']}")
+    check("passes=depth+normal" in every["variant"], f"all-pass variant {every['variant']}")
+    extra = every["gpu_bytes_per_pixel"] - plain["gpu_bytes_per_pixel"]
+    check(extra == 9 * 32, f"render passes' bytes per pixel {extra}")
+    check(positive(every.get("passes_per_second")), f"render passes {every}")
+
+
 def check_passes_two_workers(bench):
     """PPPM with two workers on device 0 (two contexts; on llvmpipe one device is all
     there is): the passes are shared, each worker reports its own passes per second."""
@@ -370,6 +387,7 @@ def main():
         check_bvh(bench)
         check_rng(bench)
         check_passes(bench)
+        check_render_passes(bench)
         check_passes_two_workers(bench)
         check_rays(bench)
         check_mtbvh_visits(bench)

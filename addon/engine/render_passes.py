@@ -1,0 +1,54 @@
+"""Render passes beside Combined (docs/passes.md): which ones the view layer asks for, their
+registration with Blender (RenderEngine.update_render_passes) and their pixels in the
+RenderResult. The module's render_passes() is the one list of names, Blender's included."""
+
+from ..compat import PASS_NAME_KEY
+
+# Blender's type for a pass of 1 (Depth) or 3 channels, by its channel letters.
+_PASS_TYPES = {"Z": 'VALUE', "XYZ": 'VECTOR', "RGB": 'COLOR'}
+
+
+def requested(view_layer):
+    """The module's names of the passes the view layer enables, in the module's order."""
+    own = view_layer.glslppm
+    wanted = set()
+    if view_layer.use_pass_z:
+        wanted.add("depth")
+    if view_layer.use_pass_normal:
+        wanted.add("normal")
+    if own.use_pass_denoising_data:
+        wanted |= {"denoising_normal", "denoising_albedo"}
+    if view_layer.use_pass_emit:
+        wanted.add("emission")
+    if view_layer.use_pass_environment:
+        wanted.add("environment")
+    if own.use_pass_light_split:
+        wanted |= {"direct", "indirect", "caustics"}
+    return wanted
+
+
+def catalog(native, view_layer):
+    """(module name, Blender's name, channels, channel letters) of each requested pass."""
+    wanted = requested(view_layer)
+    return [(p["name"], p[PASS_NAME_KEY], p["channels"], p["channel_names"])
+            for p in native.render_passes() if p["name"] in wanted]
+
+
+def register(engine, native, scene, view_layer):
+    """What update_render_passes registers: Combined, then the requested passes (without
+    the module, Combined alone)."""
+    if view_layer.use_pass_combined:
+        engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", 'COLOR')
+    if native is None:
+        return
+    for _, blender_name, channels, letters in catalog(native, view_layer):
+        engine.register_pass(scene, view_layer, blender_name, channels, letters,
+                             _PASS_TYPES[letters])
+
+
+def result_passes(result, native, view_layer):
+    """{module name: the result's RenderPass} for the requested passes a result has."""
+    by_name = {p.name: p for p in result.layers[0].passes}
+    return {name: by_name[blender_name]
+            for name, blender_name, _, _ in catalog(native, view_layer)
+            if blender_name in by_name}

@@ -1,0 +1,140 @@
+#include "render/render_passes.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace glslppm {
+
+const std::vector<RenderPassInfo>& render_pass_catalog() {
+    static const std::vector<RenderPassInfo> catalog = {
+        {RenderPass::Depth, "depth", "Depth", "PASS_DEPTH", 1, "Z", false},
+        {RenderPass::Normal, "normal", "Normal", "PASS_NORMAL", 3, "XYZ", false},
+        {RenderPass::DenoisingNormal, "denoising_normal", "Denoising Normal",
+         "PASS_DENOISING_NORMAL", 3, "XYZ", false},
+        {RenderPass::DenoisingAlbedo, "denoising_albedo", "Denoising Albedo",
+         "PASS_DENOISING_ALBEDO", 3, "RGB", false},
+        {RenderPass::Emission, "emission", "Emission", "PASS_EMISSION", 3, "RGB", true},
+        {RenderPass::Environment, "environment", "Environment", "PASS_ENVIRONMENT", 3, "RGB", true},
+        {RenderPass::Direct, "direct", "Direct", "PASS_DIRECT", 3, "RGB", true},
+        {RenderPass::Indirect, "indirect", "Indirect", "PASS_INDIRECT", 3, "RGB", true},
+        {RenderPass::Caustics, "caustics", "Caustics", "PASS_CAUSTICS", 3, "RGB", true},
+    };
+    return catalog;
+}
+
+const RenderPassInfo& render_pass_info(RenderPass pass) {
+    return render_pass_catalog()[static_cast<std::size_t>(pass)];
+}
+
+namespace {
+std::string known_names() {
+    std::string names;
+    for (const RenderPassInfo& p : render_pass_catalog()) names += std::string(", ") + p.name;
+    return "combined, all" + names;
+}
+}  // namespace
+
+RenderPass parse_render_pass(const std::string& name) {
+    for (const RenderPassInfo& p : render_pass_catalog())
+        if (name == p.name) return p.pass;
+    throw std::invalid_argument("passes: '" + name + "' is not a render pass (" + known_names() +
+                                ")");
+}
+
+std::vector<RenderPass> parse_render_pass_list(const std::string& list) {
+    std::vector<RenderPass> passes;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t end = std::min(list.find(',', start), list.size());
+        const std::string name = list.substr(start, end - start);
+        if (name == "all") {
+            for (const RenderPassInfo& p : render_pass_catalog()) passes.push_back(p.pass);
+        } else if (name != "combined") {
+            passes.push_back(parse_render_pass(name));  // "" too: a clear error
+        }
+        start = end + 1;
+    }
+    return passes;
+}
+
+std::string render_pass_blender_3x(RenderPass pass) {
+    // Blender 4.0 spelled the built-in passes out ("Emit" -> "Emission", "Env" ->
+    // "Environment"); the others kept their names.
+    if (pass == RenderPass::Emission) return "Emit";
+    if (pass == RenderPass::Environment) return "Env";
+    return render_pass_info(pass).blender;
+}
+
+int PassLayout::offset(RenderPass pass) const {
+    int at = 0;
+    for (RenderPass p : passes) {
+        if (p == pass) return at;
+        at += p == RenderPass::Direct && direct_photons ? 4 : 2;
+    }
+    return -1;
+}
+
+PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photons) {
+    PassLayout layout;
+    for (const RenderPassInfo& p : render_pass_catalog())
+        if (std::find(enabled.begin(), enabled.end(), p.pass) != enabled.end())
+            layout.passes.push_back(p.pass);
+    auto has = [&](RenderPass p) {
+        return std::find(layout.passes.begin(), layout.passes.end(), p) != layout.passes.end();
+    };
+    layout.direct_photons = direct_photons && has(RenderPass::Direct);
+    layout.photon_split =
+        layout.direct_photons || has(RenderPass::Indirect) || has(RenderPass::Caustics);
+    for (RenderPass p : layout.passes)
+        layout.stride += p == RenderPass::Direct && layout.direct_photons ? 4 : 2;
+    return layout;
+}
+
+std::vector<std::pair<std::string, std::string>> pass_defines(const PassLayout& layout) {
+    std::vector<std::pair<std::string, std::string>> defines;
+    if (layout.passes.empty()) return defines;
+    defines.push_back({"PASS_STRIDE", std::to_string(layout.stride) + "u"});
+    for (RenderPass p : layout.passes)
+        defines.push_back({render_pass_info(p).define, std::to_string(layout.offset(p)) + "u"});
+    if (layout.photon_split) defines.push_back({"PASS_PHOTON_SPLIT", "1"});
+    if (layout.direct_photons) defines.push_back({"PASS_DIRECT_PHOTONS", "1"});
+    return defines;
+}
+
+std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass,
+                                       const std::vector<glm::vec4>& pass_films,
+                                       const std::vector<glm::vec4>& pixel_stats,
+                                       std::size_t pixels, const PassResolve& resolve) {
+    const int at = layout.offset(pass);
+    if (at < 0)
+        throw std::invalid_argument(std::string("render pass '") + render_pass_info(pass).name +
+                                    "' was not enabled in the settings' passes");
+    const bool photons = pass == RenderPass::Indirect || pass == RenderPass::Caustics;
+    const bool eye = !photons;
+    const bool photon_pair = photons || (pass == RenderPass::Direct && layout.direct_photons);
+    const int photon_at = pass == RenderPass::Direct ? at + 2 : at;
+    std::vector<float> out(pixels * 4, 0.0f);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const glm::vec4* record = &pass_films[i * static_cast<std::size_t>(layout.stride)];
+        glm::vec3 value(0.0f);
+        // As resolve_film.comp computes Combined's parts, in the same float operations.
+        if (eye) value += glm::vec3(record[at]) * resolve.inv_passes;
+        if (photon_pair) {
+            const glm::vec3 tau(record[photon_at]);
+            if (resolve.pppm) {
+                value += tau * resolve.inv_passes;
+            } else {
+                const float r = pixel_stats[2 * i + 1].x;
+                const float pi = 3.14159265358979f;
+                value += tau * (resolve.inv_photons_emitted / (pi * r * r));
+            }
+        }
+        out[4 * i + 0] = value.x;
+        out[4 * i + 1] = value.y;
+        out[4 * i + 2] = value.z;
+        out[4 * i + 3] = 1.0f;
+    }
+    return out;
+}
+
+}  // namespace glslppm

@@ -1,0 +1,181 @@
+"""Render passes through Blender (docs/passes.md): chosen in View Layer Properties as with
+Cycles, written into the RenderResult, shown by the compositor's Render Layers node and
+written by a File Output node; the light split sums to Combined, and a plane's Depth,
+Normal and Denoising Albedo are its distance, normal and colour."""
+
+import os
+
+import _cycles  # Blender's Cycles module: says whether Blender has OpenImageDenoise
+import bpy
+import numpy as np
+
+import helpers
+from helpers import add_camera, add_light, add_mesh_object, diffuse_material
+
+SIZE = (40, 30)
+LIGHT_SPLIT = ["Emission", "Environment", "Direct", "Indirect", "Caustics"]
+# Blender 3.x names two of them shorter.
+NAMES = {"Emission": "Emission", "Environment": "Environment"} if helpers.BLENDER_4 else \
+    {"Emission": "Emit", "Environment": "Env"}
+
+
+def plane_scene(every_pass=True):
+    """A plane of colour (0.8, 0.4, 0.2) at z = 0 under a point light and a grey world, seen
+    straight down by a camera 5 above it: Depth 5, Normal +z everywhere."""
+    scene = helpers.reset_scene(size=SIZE)
+    scene.glslppm.passes = 4
+    scene.glslppm.photons_per_pass = 4096
+    add_mesh_object("Plane", [(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)],
+                    [(0, 1, 2, 3)], material=diffuse_material("Orange", (0.8, 0.4, 0.2)))
+    add_light('POINT', 300.0, location=(1, 1, 3))
+    helpers.set_world((0.2, 0.2, 0.2))
+    add_camera((0, 0, 5), (0, 0, 0))
+    layer = scene.view_layers[0]
+    layer.use_pass_z = layer.use_pass_normal = every_pass
+    layer.use_pass_emit = layer.use_pass_environment = every_pass
+    layer.glslppm.use_pass_denoising_data = every_pass
+    layer.glslppm.use_pass_light_split = every_pass
+    return scene
+
+
+def assert_everywhere(array, value, tolerance, what):
+    helpers.assert_close(array, np.full(np.shape(array), value), tolerance, what)
+
+
+def render_multilayer(name):
+    """Renders into OUT/name.exr as a multi-layer EXR; {channel: (H, W) array, row 0 at the
+    top} read back with the module."""
+    native = helpers.load_native()
+    scene = bpy.context.scene
+    scene.render.engine = 'GLSLPPM'
+    settings = scene.render.image_settings
+    settings.file_format = 'OPEN_EXR_MULTILAYER'
+    settings.color_depth = '32'
+    settings.exr_codec = 'ZIP'
+    path = os.path.join(helpers.OUT, f"{name}.exr")
+    scene.render.filepath = path
+    scene.render.use_file_extension = False
+    bpy.ops.render.render(write_still=True)
+    # EXR rows run top to bottom, as the module's arrays do.
+    return dict(native.read_exr_channels(path))
+
+
+def test_passes_sum_to_combined_and_describe_the_plane():
+    plane_scene()
+    channels = render_multilayer("passes_plane")
+    layer = "ViewLayer."
+    expected = {layer + "Combined." + c for c in "RGBA"} | {layer + "Depth.Z"}
+    for name in ["Normal", "Denoising Normal"]:
+        expected |= {layer + name + "." + c for c in "XYZ"}
+    for name in ["Denoising Albedo", "Direct", "Indirect", "Caustics",
+                 NAMES["Emission"], NAMES["Environment"]]:
+        expected |= {layer + name + "." + c for c in "RGB"}
+    assert expected <= set(channels), sorted(set(expected) - set(channels))
+    for c in "RGB":
+        combined = channels[layer + "Combined." + c].astype(np.float64)
+        parts = sum(channels[layer + NAMES.get(n, n) + "." + c].astype(np.float64)
+                    for n in LIGHT_SPLIT)
+        bound = 4e-6 * np.abs(combined) + 1e-6 * combined.mean()
+        assert combined.mean() > 0.01
+        assert np.all(np.abs(parts - combined) <= bound), np.abs(parts - combined).max()
+    # The plane fills the image: no caustic (nothing specular), Depth 5, normal +z.
+    assert np.all(channels[layer + "Caustics.R"] == 0.0)
+    assert_everywhere(channels[layer + "Depth.Z"], 5.0, 1e-4, "depth")
+    for name in ["Normal", "Denoising Normal"]:
+        for c, value in zip("XYZ", (0.0, 0.0, 1.0)):
+            assert_everywhere(channels[layer + name + "." + c], value, 1e-5, name)
+    for c, value in zip("RGB", (0.8, 0.4, 0.2)):
+        assert_everywhere(channels[layer + "Denoising Albedo." + c], value, 1e-6, "albedo")
+
+
+def compositor_tree(scene):
+    scene.use_nodes = True
+    scene.render.use_compositing = True
+    tree = scene.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    composite = tree.nodes.new("CompositorNodeComposite")
+    return tree, layers, composite
+
+
+def test_compositor_shows_the_passes_and_file_output_writes_them():
+    """The Render Layers node has a socket per enabled pass (and none for a disabled one); a
+    File Output node fed Caustics, Depth and Denoising Albedo writes them; a Denoise node fed
+    Image, Denoising Normal and Denoising Albedo runs where Blender has OpenImageDenoise."""
+    scene = plane_scene()
+    tree, layers, composite = compositor_tree(scene)
+    sockets = {socket.name for socket in layers.outputs if socket.enabled}
+    wanted = {"Image", "Depth", "Normal", "Denoising Normal", "Denoising Albedo", "Direct",
+              "Indirect", "Caustics", NAMES["Emission"], NAMES["Environment"]}
+    assert wanted <= sockets, sorted(wanted - sockets)
+    scene.view_layers[0].glslppm.use_pass_light_split = False
+    sockets = {socket.name for socket in layers.outputs if socket.enabled}
+    assert "Caustics" not in sockets and "Depth" in sockets, sorted(sockets)
+    scene.view_layers[0].glslppm.use_pass_light_split = True
+
+    output = tree.nodes.new("CompositorNodeOutputFile")
+    directory = os.path.join(helpers.OUT, "file_output")
+    output.base_path = directory
+    output.format.file_format = 'OPEN_EXR'
+    output.format.color_depth = '32'
+    output.file_slots.clear()
+    for name in ["Caustics", "Depth", "Denoising Albedo"]:
+        output.file_slots.new(name)
+        tree.links.new(layers.outputs[name], output.inputs[name])
+    # The Denoise node fed Image, Denoising Normal and Denoising Albedo, into the Composite.
+    denoise = tree.nodes.new("CompositorNodeDenoise")
+    tree.links.new(layers.outputs["Image"], denoise.inputs["Image"])
+    tree.links.new(layers.outputs["Denoising Normal"], denoise.inputs["Normal"])
+    tree.links.new(layers.outputs["Denoising Albedo"], denoise.inputs["Albedo"])
+    tree.links.new(denoise.outputs["Image"], composite.inputs["Image"])
+    channels = render_multilayer("passes_compositor")
+    written = sorted(os.listdir(directory))
+    native = helpers.load_native()
+    for name, channel in [("Caustics", "R"), ("Depth", "Z"), ("Denoising Albedo", "R")]:
+        files = [f for f in written if f.startswith(name)]
+        assert len(files) == 1, written
+        image = native.read_exr_channels(os.path.join(directory, files[0]))
+        # A single-layer EXR of a value pass holds it in V (3.x) or in R, G, B.
+        values = image.get("V", image.get("R"))
+        reference = channels["ViewLayer." + name + "." + channel]
+        helpers.assert_close(values, reference, 1e-6, f"{name} written by File Output")
+    # Blender's Denoise node runs OpenImageDenoise where Blender was built with it (as
+    # Cycles reports); Debian's 3.4 and 4.3 builds were not, and the node then passes its
+    # image through: the composite is Combined exactly. Where it runs, it must smooth the
+    # noisy floor (the pixel-to-pixel spread of the lit plane drops).
+    composite_rgb = np.stack([channels["Composite.Combined." + c] for c in "RGB"], axis=-1)
+    combined_rgb = np.stack([channels["ViewLayer.Combined." + c] for c in "RGB"], axis=-1)
+    if not _cycles.with_openimagedenoise:
+        print("test_passes: this Blender has no OpenImageDenoise: the Denoise node passes the "
+              "image through")
+        assert np.array_equal(composite_rgb, combined_rgb)
+    else:
+        assert np.isfinite(composite_rgb).all()
+        spread = [np.abs(np.diff(image[..., 0], axis=1)).mean()
+                  for image in (composite_rgb, combined_rgb)]
+        assert spread[0] < 0.7 * spread[1], spread
+
+
+def test_caustics_pass_holds_the_glass_balls_caustic():
+    """A Glass BSDF ball above the plane focuses the point light into a spot below it: the
+    Caustics pass is bright there and holds no light where the ball cannot send any (the
+    image's corners, far outside its shadow), while the diffuse-only plane of the test above
+    had none at all."""
+    scene = plane_scene()
+    scene.glslppm.passes = 16
+    scene.glslppm.photons_per_pass = 65536
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0, 0, 1.0), segments=48,
+                                         ring_count=24)
+    bpy.ops.object.shade_smooth()
+    glass = helpers.node_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0)
+    bpy.context.object.data.materials.append(glass)
+    light = next(o for o in scene.objects if o.type == 'LIGHT')
+    light.location = (0, 0, 4)
+    channels = render_multilayer("passes_caustic")
+    caustics = channels["ViewLayer.Caustics.R"]
+    height, width = caustics.shape
+    centre = caustics[height // 2 - 3:height // 2 + 3, width // 2 - 3:width // 2 + 3]
+    corners = np.concatenate([caustics[:4, :4].ravel(), caustics[-4:, -4:].ravel()])
+    assert centre.max() > 0.5 and centre.mean() > 10.0 * max(corners.mean(), 1e-6), \
+        (centre.mean(), corners.mean())

@@ -1,0 +1,389 @@
+"""Render passes beside Combined (docs/passes.md): the light split sums to Combined, the
+caustic pass holds exactly the photons that went through glass, and the data passes of a
+known plane are its distance, normal and colour.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from conftest import look_at, merge, quad
+from test_caustic_flux import floor_footprints, grow, pixel_of, sphere
+from test_textures import stripes
+
+LIGHT_SPLIT = ["emission", "environment", "direct", "indirect", "caustics"]
+ALL = ["depth", "normal", "denoising_normal", "denoising_albedo"] + LIGHT_SPLIT
+
+
+def render(g, scene, passes, **settings):
+    options = dict(width=48, height=48, photons_per_pass=16384, seed=3)
+    options.update(settings)
+    r = g.Renderer(scene, g.Settings(passes=passes, **options))
+    return r
+
+
+def light_sum(r):
+    return sum(r.render_pass(name).astype(np.float64) for name in LIGHT_SPLIT)
+
+
+@pytest.mark.parametrize("scene_name,settings", [
+    ("cornell", {}),
+    ("caustic", {}),
+    ("caustic", {"hash": "exact"}),
+    ("caustic", {"direct_light": "photons"}),
+    ("caustic", {"estimator": "pppm"}),
+    ("mirror", {"estimator": "pppm", "direct_light": "photons", "hash": "exact"}),
+])
+def test_light_split_sums_to_combined(glslppm, scene_name, settings):
+    """Emission + Environment + Direct + Indirect + Caustics is Combined in every pixel, to
+    float rounding: the passes split Combined's own sums (the eye stage's compensated sum of
+    light seen and sampled, the gather's tau), they do not estimate anything again. Rounding:
+    the parts' compensated sums and the film's float products each round once, a few 1e-7 of
+    the pixel (bound 4e-6 of the pixel plus 1e-6 of the image's mean, for pixels near 0)."""
+    g = glslppm
+    scene = {"cornell": lambda: g.cornell_box(False, False, 24),
+             "caustic": lambda: g.caustic_scene(24),
+             "mirror": lambda: g.cornell_box(True, True, 24)}[scene_name]()
+    r = render(g, scene, ["all"], **settings)
+    r.run(6)
+    combined = r.film()[..., :3].astype(np.float64)
+    parts = light_sum(r)
+    bound = 4e-6 * np.abs(combined) + 1e-6 * combined.mean()
+    assert combined.mean() > 0.01
+    assert np.all(np.abs(parts - combined) <= bound), np.abs(parts - combined).max()
+    # The passes leave Combined as it was: the same numbers as a render without them (the
+    # exact hash's sums follow its atomics' order: equal to float rounding there).
+    plain = g.Renderer(scene, g.Settings(width=48, height=48, photons_per_pass=16384, seed=3,
+                                         **settings))
+    plain.run(6)
+    if settings.get("hash") == "exact":
+        assert np.allclose(plain.film(), r.film(), rtol=1e-5, atol=1e-7)
+    else:
+        assert np.array_equal(plain.film(), r.film())
+    assert "passes=" in r.stats()["variant"] and "passes=" not in plain.stats()["variant"]
+
+
+def test_caustics_zero_without_glass_and_carry_the_glass_caustic(glslppm):
+    """A diffuse-only Cornell box has no specular bounce, so no caustic photon: the pass is 0
+    in every pixel while Indirect is not. The caustic scene's glass sphere focuses light onto
+    the floor: its Caustics pass holds a bright spot, and no caustic light shows where photons
+    cannot reach through glass (the diffuse box's passes are those of the same variant)."""
+    g = glslppm
+    r = render(g, g.cornell_box(False, False, 24), ["caustics", "indirect", "direct"])
+    r.run(8)
+    assert np.all(r.render_pass("caustics") == 0.0)
+    assert r.render_pass("indirect").mean() > 0.01
+    r = render(g, g.caustic_scene(24), ["caustics", "indirect"])
+    r.run(8)
+    caustics = r.render_pass("caustics")
+    assert caustics.max() > 1.0 and caustics.mean() > 1e-3
+    assert caustics.max() > 5.0 * r.render_pass("indirect").max()
+
+
+def test_photon_classes_follow_the_glass(glslppm):
+    """A parallel beam falls onto a glass ball above a black floor (test_caustic_flux's beam),
+    photons alone: a photon that comes straight down beside the ball is direct light (class
+    0), every other photon on the floor went through the ball and is a caustic (class 2);
+    nothing scatters diffusely, so there is no class 1. The class in the photon record
+    must match this geometric count photon for photon."""
+    g = glslppm
+    faces = [quad((-3, 0, -3), (-3, 0, 3), (3, 0, 3), (3, 0, -3))]
+    ball_p, ball_t, ball_n = sphere((0.0, 1.0, 0.0), 0.5, 32, 64)
+    positions, indices, ids = merge((*faces[0], 0), (ball_p, ball_t, 1))
+    normals = np.concatenate([np.tile([0.0, 1.0, 0.0], (4, 1)), ball_n]).astype(np.float32)
+    materials = [g.Material("diffuse", color=(0.0, 0.0, 0.0)),
+                 g.Material("dielectric", color=(1.0, 1.0, 1.0), ior=1.5)]
+    light = g.Light("spot", power=1000.0, position=(0.0, 3.5, 0.0), direction=(0.0, -1.0, 0.0),
+                    spot_size=0.002, spot_blend=0.0, radius=0.7)
+    camera = g.Camera(look_at((0.0, 0.3, 0.0), (0.0, 0.0, 0.0), up=(0, 0, -1)),
+                      projection="orthographic", ortho_scale=2.0)
+    scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
+                    lights=[light], camera=camera)
+    r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=65536, seed=1,
+                                     direct_light="photons", passes=["caustics", "direct"]))
+    counted = {0: 0, 2: 0}
+    for _ in range(8):
+        r.run(1)
+        ph = r.photons()
+        ph = ph[(ph[:, 11] == 1.0) & (np.abs(ph[:, 1]) < 1e-5)]
+        # Beside the ball: straight down, outside its silhouette (the tessellated ball's lies
+        # between 0.4985 and 0.5 from the axis). Light through the ball near its axis comes
+        # out straight too, but lands near the axis. Left out: a band about the silhouette,
+        # where light grazing the ball's steep facets is reflected by less than the cone
+        # (a caustic, but straight, within 0.002 of the silhouette).
+        rho = np.hypot(ph[:, 0], ph[:, 2])
+        straight = ph[:, 5] > math.cos(2e-3)
+        clear = (rho < 0.495) | (rho > 0.503)
+        beside = straight & clear & (rho > 0.503)
+        assert np.all(ph[beside, 7] == 0.0)
+        assert np.all(ph[clear & ~beside, 7] == 2.0)
+        assert np.all(np.isin(ph[:, 7], [0.0, 2.0]))
+        counted[0] += int(beside.sum())
+        counted[2] += int((clear & ~beside).sum())
+    assert counted[0] > 1000 and counted[2] > 1000, counted
+
+
+def test_caustic_pass_flux_equals_the_photons_through_glass(glslppm):
+    """test_caustic_flux's rendered-caustic scene (a beam through a glass ball onto a white
+    floor beside a wall), light sampled: photons on the floor came through the ball
+    (caustic) or off the wall and floor (indirect). The Caustics pass's flux over the caustic
+    and 12 pixels around it, sum of pi L / albedo times each pixel's floor area, must equal
+    the flux of the caustic photons stored there, counted at their positions from the photon
+    records. Bound: as test_caustic_flux's (blur only moves flux outwards, <= 1.005; 12
+    pixels hold it all within 0.5%, so a 1% bias fails)."""
+    g = glslppm
+    size, albedo = 256, 0.8
+    centre, radius = (0.0, 0.5, 0.0), 0.5
+    floor = quad((-3, 0, -2), (-3, 0, 3), (3, 0, 3), (3, 0, -2))
+    wall = quad((-3, 0, -2), (3, 0, -2), (3, 3, -2), (-3, 3, -2))
+    ball_p, ball_t, ball_n = sphere(centre, radius, 64, 128)
+    positions, indices, ids = merge((*floor, 0), (*wall, 1), (ball_p, ball_t, 2))
+    normals = np.concatenate([np.tile([0.0, 1.0, 0.0], (4, 1)), np.tile([0.0, 0.0, 1.0], (4, 1)),
+                              ball_n]).astype(np.float32)
+    materials = [g.Material("diffuse", color=(albedo,) * 3),
+                 g.Material("diffuse", color=(0.6, 0.6, 0.7)),
+                 g.Material("dielectric", color=(1.0, 1.0, 1.0), ior=1.5)]
+    source = np.array([-2.5, 2.5, 0.0])
+    axis = (np.array(centre) - source) / np.linalg.norm(np.array(centre) - source)
+    light = g.Light("spot", power=1000.0, position=tuple(source), direction=tuple(axis),
+                    spot_size=0.002, spot_blend=0.0, radius=0.6)
+    to_world = look_at((0.6, 2.2, 3.4), (0.25, 0.3, 0.0))
+    fov_x = 0.8
+    scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
+                    lights=[light], camera=g.Camera(to_world, fov_x=fov_x))
+    r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=65536,
+                                     hash="exact", seed=1, passes=["caustics", "indirect"]))
+    photon_flux = np.zeros(size * size)
+    for _ in range(40):
+        r.run(1)
+        ph = r.photons()
+        ph = ph[(ph[:, 11] == 1.0) & (np.abs(ph[:, 1]) < 1e-5) & (ph[:, 7] == 2.0)]
+        ph = ph.astype(np.float64)
+        pixel = pixel_of(ph[:, :3], to_world, fov_x, size)
+        inside = pixel >= 0
+        photon_flux += np.bincount(pixel[inside], weights=ph[inside, 8], minlength=size * size)
+    photon_flux = photon_flux.reshape(size, size) / r.stats()["photons_emitted"]
+    area, visible = floor_footprints(to_world, fov_x, size, centre, radius)
+    rendered = r.render_pass("caustics")[..., 0].astype(np.float64) * (math.pi / albedo) * area
+    irradiance = np.where(visible, photon_flux / area, 0.0)
+    caustic = visible & (irradiance > 0.05 * irradiance.max())
+    region = grow(caustic, 12) & visible
+    ratio = rendered[region].sum() / photon_flux[region].sum()
+    assert 0.995 <= ratio <= 1.005, ratio
+    # The caustic is most of the floor's photon light there: the indirect light off the
+    # wall is a few percent of it.
+    indirect = r.render_pass("indirect")[..., 0].astype(np.float64) * (math.pi / albedo) * area
+    assert indirect[caustic].sum() < 0.1 * rendered[caustic].sum()
+
+
+def plane_scene(g, textured):
+    """A square plane 3 units in front of a perspective camera turned away from the axes,
+    facing it: every pixel sees the plane at z-depth exactly 3 (its distance grows towards the
+    corners, its depth along the view axis does not)."""
+    to_world = look_at((0.5, 1.0, 2.0), (-1.0, 0.2, -0.5))
+    eye, forward = to_world[:3, 3], -to_world[:3, 2]
+    right, up = to_world[:3, 0], to_world[:3, 1]
+    centre = eye + 3.0 * forward
+    corners = [centre + sx * 4.0 * right + sy * 4.0 * up for sx, sy in
+               [(-1, -1), (1, -1), (1, 1), (-1, 1)]]
+    p = np.array(corners, dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
+    colour = (1.0, 1.0, 1.0) if textured else (0.8, 0.4, 0.2)
+    material = g.Material("diffuse", color=colour, color_texture=0 if textured else -1)
+    textures = ([g.Texture(stripes([0.2, 0.9], texels_each=64, dtype=np.float32))]
+                if textured else [])
+    scene = g.Scene(p, t, uvs=uv if textured else None, materials=[material],
+                    camera=g.Camera(to_world, fov_x=0.9), environment=(1.0, 1.0, 1.0),
+                    textures=textures)
+    return scene, forward
+
+
+@pytest.mark.parametrize("estimator", ["sppm", "pppm"])
+def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
+    g = glslppm
+    scene, forward = plane_scene(g, textured=False)
+    r = render(g, scene, ["depth", "normal", "denoising_normal", "denoising_albedo"],
+               estimator=estimator)
+    r.run(4)
+    depth = r.render_pass("depth")
+    assert depth.shape == (48, 48, 1)
+    # Float rounding of the hit point (a few ulps of 3) and of the mean over 4 passes.
+    assert np.allclose(depth, 3.0, rtol=0, atol=2e-5), np.abs(depth - 3.0).max()
+    facing = -forward / np.linalg.norm(forward)
+    for name in ["normal", "denoising_normal"]:
+        n = r.render_pass(name)
+        assert np.allclose(n, facing, rtol=0, atol=1e-5), (name, np.abs(n - facing).max())
+    albedo = r.render_pass("denoising_albedo")
+    assert np.allclose(albedo, (0.8, 0.4, 0.2), rtol=0, atol=1e-6)
+
+
+def test_depth_of_background_and_textured_albedo(glslppm):
+    """The textured plane's Denoising Albedo is the texel's colour (float stripes 0.2 and 0.9,
+    compared in each stripe's central half, away from the bilinear blend); where the camera
+    sees no surface, Depth is Cycles' 1e10 and the albedo and normals 0."""
+    g = glslppm
+    scene, _ = plane_scene(g, textured=True)
+    r = render(g, scene, ["depth", "normal", "denoising_albedo"])
+    r.run(4)
+    albedo = r.render_pass("denoising_albedo")[..., 0]
+    near = {v: np.abs(albedo - v) < 1e-6 for v in (0.2, 0.9)}
+    assert near[0.2].sum() > 200 and near[0.9].sum() > 200
+    # Blends only in the pixels along the stripes' edges.
+    assert (near[0.2] | near[0.9]).mean() > 0.9, (near[0.2] | near[0.9]).mean()
+    # A triangle in the image's right half leaves the left half empty.
+    empty = g.Scene(np.array([(0, -1, -5), (1, -1, -5), (1, 1, -5)], dtype=np.float32),
+                    np.array([[0, 1, 2]], dtype=np.uint32),
+                    materials=[g.Material("diffuse", color=(0.5, 0.5, 0.5))],
+                    camera=g.Camera(np.eye(4, dtype=np.float32), fov_x=0.5),
+                    environment=(1.0, 1.0, 1.0))
+    r = render(g, empty, ["depth", "normal", "denoising_albedo"])
+    r.run(2)
+    depth = r.render_pass("depth")[..., 0]
+    assert depth[24, 4] == 1e10 and abs(depth[24, 40] - 5.0) < 1e-5
+    assert np.all(r.render_pass("normal")[24, 4] == 0.0)
+    assert np.all(r.render_pass("denoising_albedo")[24, 4] == 0.0)
+
+
+def test_pass_names_and_errors(glslppm):
+    g = glslppm
+    names = [p["name"] for p in g.render_passes()]
+    assert names == ALL
+    blender = {p["name"]: (p["blender"], p["blender_3x"]) for p in g.render_passes()}
+    assert blender["emission"] == ("Emission", "Emit")
+    assert blender["denoising_albedo"] == ("Denoising Albedo", "Denoising Albedo")
+    assert g.Settings(passes=["all"]).passes == ALL
+    assert g.Settings(passes=["combined"]).passes == []
+    with pytest.raises(ValueError, match="'shadow' is not a render pass"):
+        g.Settings(passes=["shadow"])
+    r = render(g, g.cornell_box(False, False, 8), ["depth"], width=8, height=8)
+    r.run(1)
+    with pytest.raises(ValueError, match="'normal' was not enabled"):
+        r.render_pass("normal")
+
+
+def test_cli_writes_the_passes_as_one_multilayer_exr(glslppm, tmp_path):
+    """glslppm-render --passes-out: one EXR whose channels Blender reads as the view layer's
+    passes ("ViewLayer.<pass>.<channel>"), the light split summing to Combined there too."""
+    import subprocess
+
+    from test_cli import RENDER
+    g = glslppm
+    out = tmp_path / "passes.exr"
+    base = [RENDER, "--width", "32", "--height", "24", "--passes", "4", "--photons", "4096",
+            "--out", str(out)]
+    result = subprocess.run(base + ["--passes-out", "all"], capture_output=True, text=True,
+                            timeout=300, cwd="/")
+    assert result.returncode == 0, result.stderr
+    channels = g.read_exr_channels(str(out))
+    expected = {"ViewLayer.Combined." + c for c in "RGBA"}
+    for p in g.render_passes():
+        expected |= {"ViewLayer.%s.%s" % (p["blender"], c) for c in p["channel_names"]}
+    assert set(channels) == expected
+    for c in "RGB":
+        combined = channels["ViewLayer.Combined." + c].astype(np.float64)
+        parts = sum(channels["ViewLayer.%s.%s" % (name, c)].astype(np.float64)
+                    for name in ["Emission", "Environment", "Direct", "Indirect", "Caustics"])
+        assert np.all(np.abs(parts - combined) <= 4e-6 * np.abs(combined) + 1e-6 * combined.mean())
+    # The built-in box's back wall faces the camera: Normal (0, 0, 1) at the image centre.
+    assert abs(channels["ViewLayer.Normal.Z"][12, 16] - 1.0) < 1e-4
+    assert 0.0 < channels["ViewLayer.Depth.Z"][12, 16] < 1e3
+
+    # The same frame in bands of 8 rows (the per-pixel buffers capped; the pass films, 288
+    # bytes a pixel, are the largest): its layers are the untiled frame's, Depth to float
+    # rounding, the light split as test_tiles' films: within 4e-6 of the pixel's Combined
+    # (a band's shifted film rounds hit points differently by an ulp; each part moves by
+    # no more than its sum does).
+    tiled_out = tmp_path / "tiled.exr"
+    tiled = [a if a != str(out) else str(tiled_out) for a in base]
+    result = subprocess.run(tiled + ["--passes-out", "all", "--max-block-bytes",
+                                     str(32 * 8 * 288)], capture_output=True, text=True,
+                            timeout=300, cwd="/")
+    assert result.returncode == 0, result.stderr
+    assert "tile 3/3 done" in result.stderr
+    bands = g.read_exr_channels(str(tiled_out))
+    assert set(bands) == expected
+    assert np.allclose(bands["ViewLayer.Depth.Z"], channels["ViewLayer.Depth.Z"], rtol=5e-7,
+                       atol=0)
+    for name in ["Combined.R", "Caustics.G", "Indirect.B", "Direct.R", "Emission.G"]:
+        a, b = bands["ViewLayer." + name], channels["ViewLayer." + name]
+        scale = channels["ViewLayer.Combined." + name[-1]]
+        assert np.all(np.abs(a - b) <= 4e-6 * scale + 1e-7), (name, np.abs(a - b).max())
+
+    result = subprocess.run(base + ["--passes-out", "combined"], capture_output=True, text=True,
+                            timeout=300, cwd="/")
+    assert result.returncode == 0, result.stderr
+    assert set(g.read_exr_channels(str(out))) == {"ViewLayer.Combined." + c for c in "RGBA"}
+    result = subprocess.run(base + ["--passes-out", "depth,shadow"], capture_output=True,
+                            text=True, timeout=60, cwd="/")
+    assert result.returncode == 1 and "'shadow' is not a render pass" in result.stderr
+
+
+def test_a_tiles_passes_are_the_frames_rows(glslppm):
+    """The add-on renders a frame larger than one storage buffer as bands of rows, each its
+    own renderer (tile_render_inputs) whose passes go into its part of the result: a band's
+    passes equal those rows of the whole frame's. Depth comes from the eye stage alone, whose
+    random streams the band shares with the frame: equal but for the rounding of the band's
+    shifted film (an ulp or two of the depth). Caustics goes through the photons' hash and
+    radii: within test_tiles' 4e-6 of the pixel."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    settings = g.Settings(width=48, height=48, photons_per_pass=16384, seed=3,
+                          passes=["depth", "caustics"])
+    whole = g.Renderer(scene, settings)
+    whole.run(4)
+    band_scene, band_settings = g.tile_render_inputs(scene, settings, (0, 16, 48, 16))
+    assert band_settings.passes == ["depth", "caustics"]
+    band = g.Renderer(band_scene, band_settings)
+    band.run(4)
+    assert np.allclose(band.render_pass("depth"), whole.render_pass("depth")[16:32], rtol=5e-7,
+                       atol=0.0)
+    frame, part = whole.render_pass("caustics")[16:32], band.render_pass("caustics")
+    assert frame.max() > 0.1
+    assert np.all(np.abs(part - frame) <= 4e-6 * frame + 1e-7), np.abs(part - frame).max()
+
+
+def test_a_restart_starts_the_passes_again(glslppm):
+    """reset_film (the viewport's restarts) clears the pass films with Combined: the passes
+    after a restart are those of a new renderer (same passes, same generator states: equal to
+    float rounding, as test_restart's films)."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    settings = g.Settings(width=32, height=32, photons_per_pass=8192, seed=7, passes=["all"])
+    restarted = g.Renderer(scene, settings)
+    restarted.run(5)
+    restarted.reset_film()
+    restarted.run(3)
+    fresh = g.Renderer(scene, settings)
+    fresh.run(3)
+    together = restarted.render_passes(ALL)  # one read back: the same arrays
+    for name in ALL:
+        a, b = restarted.render_pass(name), fresh.render_pass(name)
+        assert np.array_equal(together[name], a)
+        assert np.abs(a - b).max() <= 1e-5 * max(1.0, float(np.abs(b).max())), name
+
+
+def test_two_pppm_workers_merge_their_passes_as_their_films(glslppm):
+    """PPPM on two workers (two contexts on this device): each worker's passes are the mean of
+    its pass indices, merged by their counts as Combined is: the merged light split still
+    sums to the merged Combined, and Depth and Caustics equal one worker's render of the same
+    pass indices to float rounding (the merge sums float means in double)."""
+    g = glslppm
+    scene = g.caustic_scene(24)
+    probe = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=64))
+    device = probe.stats()["devices"][0]["device"]
+    probe.close()
+    options = dict(width=32, height=32, photons_per_pass=8192, seed=5, estimator="pppm",
+                   passes=["depth"] + LIGHT_SPLIT)
+    two = g.Renderer(scene, g.Settings(devices=[device, device], **options))
+    assert two.run(6) == 6
+    assert len(two.stats()["devices"]) == 2
+    combined = two.film()[..., :3].astype(np.float64)
+    parts = light_sum(two)
+    assert np.all(np.abs(parts - combined) <= 1e-5 * np.abs(combined) + 1e-6 * combined.mean())
+    one = g.Renderer(scene, g.Settings(**options))
+    one.run(6)
+    # Merged in double from float means: equal to float rounding.
+    assert np.allclose(two.render_pass("depth"), one.render_pass("depth"), rtol=1e-6, atol=0)
+    assert np.allclose(two.render_pass("caustics"), one.render_pass("caustics"), rtol=1e-5,
+                       atol=1e-6)
