@@ -85,7 +85,7 @@ void main() {
     float transparent = 0.0;
     bool through_glass = true;  // every bounce so far a transmission through glass
 #endif
-    for (uint depth = 0u; depth < max_depth; ++depth) {
+    for (uint depth = 0u; depth < max_bounces; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {

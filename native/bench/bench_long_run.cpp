@@ -21,7 +21,7 @@ int bench_long_run(int argc, char** argv) {
     RenderSettings settings;
     settings.width = settings.height = 8;
     settings.photons_per_pass = 21504;
-    settings.max_depth = 1;
+    settings.max_bounces = 1;
     settings.seed = 1;
     long long total = 200000;
     for (int i = 0; i < argc; ++i) {
@@ -47,7 +47,7 @@ int bench_long_run(int argc, char** argv) {
             checkpoints.push_back(k);
         }
         checkpoints.push_back(total);
-        const double exact = furnace_radiance(settings.max_depth);
+        const double exact = furnace_radiance(settings.max_bounces);
         std::vector<std::string> failures;
         std::vector<double> log_k, log_e;
         std::string rows;

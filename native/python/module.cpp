@@ -593,7 +593,7 @@ PYBIND11_MODULE(_glslppm, m) {
     const RenderSettings defaults;
     py::class_<RenderSettings>(m, "Settings")
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
-                         float initial_radius, float radius_scale, int max_depth,
+                         float initial_radius, float radius_scale, int max_bounces,
                          const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
@@ -609,7 +609,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.alpha = alpha;
                  s.initial_radius = initial_radius;
                  s.radius_scale = radius_scale;
-                 s.max_depth = max_depth;
+                 s.max_bounces = max_bounces;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
                  s.direct_light = parse_direct_light(direct_light);
@@ -634,7 +634,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("photons_per_pass") = defaults.photons_per_pass,
              py::arg("alpha") = defaults.alpha, py::arg("initial_radius") = defaults.initial_radius,
              py::arg("radius_scale") = defaults.radius_scale,
-             py::arg("max_depth") = defaults.max_depth, py::arg("hash") = to_string(defaults.hash),
+             py::arg("max_bounces") = defaults.max_bounces, py::arg("hash") = to_string(defaults.hash),
              py::arg("rng") = to_string(defaults.rng), py::arg("device") = defaults.device,
              py::arg("seed") = defaults.seed, py::arg("leaf_size") = defaults.leaf_size,
              py::arg("profile") = defaults.profile, py::arg("full_variant") = defaults.full_variant,

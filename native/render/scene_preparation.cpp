@@ -436,7 +436,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.image_height = static_cast<std::uint32_t>(settings.height);
     f.photon_threads = p.photon_threads;
     f.hash_cell_count = p.hash_cells;
-    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.max_bounces = static_cast<std::uint32_t>(settings.max_bounces);
     f.glossy_threshold = settings.glossy_threshold;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;

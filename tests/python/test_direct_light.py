@@ -219,7 +219,7 @@ def test_closed_furnace_in_both_modes(glslppm, direct):
     g = glslppm
     albedo, emission, passes = 0.5, 1.0, 200
     r = g.Renderer(furnace_scene(g, albedo, emission),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024, seed=3,
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=1024, seed=3,
                               hash="exact", direct_light=direct))
     r.run(passes)
     image = r.film()[..., :3]

@@ -29,7 +29,7 @@ def test_closed_furnace(glslppm, albedo, hash_mode, inward):
     emission = 1.0
     passes = 200 if albedo == 0.5 else 400
     r = g.Renderer(furnace_scene(g, albedo, emission, inward=inward),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024, seed=3,
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=1024, seed=3,
                               hash=hash_mode))
     r.run(passes)
     image = r.film()[..., :3]
