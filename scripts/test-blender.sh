@@ -13,39 +13,10 @@ user_dir=build/blender-user
 out=build/blender-tests
 started=$SECONDS
 
-command -v blender >/dev/null || { echo "test-blender: blender (Debian's 3.4) is not installed" >&2; exit 1; }
-scripts/blender-chroot.sh create || { echo "test-blender: the Blender 4.3 chroot could not be created" >&2; exit 1; }
-
-rm -rf "$user_dir" "$out"
-mkdir -p "$out"
-if ! scripts/install-addon.sh --user-dir "$user_dir" >"$out/install.log" 2>&1; then
-  cat "$out/install.log"
-  echo "test-blender: installing the add-on failed" >&2
-  exit 1
-fi
-grep -E "^installed" "$out/install.log"
-
-status=0
-summaries=()
-
-# Runs the suite in one Blender; $1 is a label, the rest the command prefix.
-run_suite() {
-  local label=$1; shift
-  local log=$out/$label.log
-  "$@" >"$log" 2>&1
-  local rc=$?
-  grep -E "^(PASS|FAIL|SKIP|RESULT|FAILED|BENCH)" "$log"
-  local summary
-  summary=$(grep -E "^RESULT" "$log" | tail -1)
-  if [ -z "$summary" ]; then
-    summary="RESULT $label: did not finish (exit $rc; log $log)"
-    tail -30 "$log"
-    status=1
-  elif [ $rc -ne 0 ]; then
-    status=1
-  fi
-  summaries+=("$summary")
-}
+source scripts/blender-suites.sh
+name=test-blender
+require_blenders
+install_addon_for_suites
 
 run_suite blender-3.4 env BLENDER_USER_RESOURCES="$repo/$user_dir/3.4" \
   blender -b --factory-startup --python tests/blender/run.py -- \
@@ -63,8 +34,4 @@ blender -b --factory-startup --python tests/blender/bench_export.py -- --source 
 scripts/blender-chroot.sh run blender -b --factory-startup --python tests/blender/bench_export.py \
   -- --source addon 2>&1 | grep "^BENCH" | tee -a "$out/bench.log"
 
-echo "== Blender tests ($((SECONDS - started)) s) =="
-for summary in "${summaries[@]}"; do
-  echo "${summary#RESULT }"
-done
-exit $status
+finish_suites "Blender tests"

@@ -20,6 +20,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/bsdf.glsl"
 #include "common/lobes.glsl"
 #include "common/environment.glsl"
+#include "common/camera.glsl"
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif
@@ -34,29 +35,21 @@ layout(local_size_x = LOCAL_SIZE) in;
 #define ADD_LIGHT(part, value) direct += (value)
 #endif
 
+// A fresh jittered camera ray through pixel (x, y). The lens numbers are drawn only where
+// camera_ray_at uses them (a perspective camera with HAS_DEPTH_OF_FIELD), so that every
+// other camera keeps its random streams.
 Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     float jx = rng_next(rng), jy = rng_next(rng);
-    // Film coordinates in [-1, 1], y up; row 0 is the top of the image.
-    vec2 ndc = vec2(2.0 * (float(x) + jx) / float(image_width) - 1.0,
-                    1.0 - 2.0 * (float(y) + jy) / float(image_height));
-    vec2 film = ndc * film_half_extent + film_shift;
-    vec3 origin, dir;
-    if (orthographic != 0u) {
-        origin = vec3(film, 0.0);
-        dir = vec3(0.0, 0.0, -1.0);
-    } else {
-        origin = vec3(0.0);
-        dir = vec3(film, -1.0);
+    vec2 lens_u = vec2(0.0);
 #ifdef HAS_DEPTH_OF_FIELD
-        // Thin lens: rays through the lens disc meet on the plane at the focus distance.
-        vec3 focus = dir * focus_distance;
-        vec2 lens = aperture_radius * sample_disc(rng_next(rng), rng_next(rng));
-        origin = vec3(lens, 0.0);
-        dir = focus - origin;
-#endif
+    if (orthographic == 0u) {
+        lens_u.x = rng_next(rng);
+        lens_u.y = rng_next(rng);
     }
-    return make_ray((camera_to_world * vec4(origin, 1.0)).xyz,
-                    normalize((camera_to_world * vec4(dir, 0.0)).xyz));
+#endif
+    vec3 origin, dir;
+    camera_ray_at(vec2(float(x) + jx, float(y) + jy), lens_u, origin, dir);
+    return make_ray(origin, normalize(dir));
 }
 
 void main() {
@@ -104,7 +97,7 @@ void main() {
     float transparent = 0.0;
     bool through_glass = true;  // every bounce so far a transmission through glass
 #endif
-    for (uint depth = 0u; depth < max_depth; ++depth) {
+    for (uint depth = 0u; depth < max_bounces; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {

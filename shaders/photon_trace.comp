@@ -92,7 +92,7 @@ void main() {
             (shadowless && kind != MATERIAL_DIFFUSE)) {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
-            if (bounces >= float(max_depth)) bounces = -1.0;
+            if (bounces >= float(max_bounces)) bounces = -1.0;
 #ifdef HAS_MICROFACET
         } else {
             // Stored wherever a visible point can gather it (a lobe rougher than the
@@ -115,8 +115,8 @@ void main() {
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
-                if (bounces >= float(max_depth)) bounces = -1.0;
-            } else if (bounces >= float(max_depth) ||
+                if (bounces >= float(max_bounces)) bounces = -1.0;
+            } else if (bounces >= float(max_bounces) ||
                        !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
                 bounces = -1.0;
             } else {
@@ -170,8 +170,8 @@ void main() {
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
-                if (bounces >= float(max_depth)) bounces = -1.0;
-            } else if (bounces >= float(max_depth) || rng_next(rng) >= q) {
+                if (bounces >= float(max_bounces)) bounces = -1.0;
+            } else if (bounces >= float(max_bounces) || rng_next(rng) >= q) {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;
@@ -183,7 +183,7 @@ void main() {
                 if (below <= 0.0) dir = normalize(dir - 2.0 * below * ng);
                 origin = offset_origin(s.position, s.geometric_normal, dir);
             }
-        } else if (bounces >= float(max_depth)) {
+        } else if (bounces >= float(max_bounces)) {
             bounces = -1.0;
         } else {
             dir = scatter_specular(s.material, surface_color(s), dir, s.normal,

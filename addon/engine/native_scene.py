@@ -50,7 +50,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         alpha=settings.alpha,
         initial_radius=settings.radius(),
         radius_scale=settings.radius_scale,
-        max_depth=settings.max_bounces,
+        max_bounces=settings.max_bounces,
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),

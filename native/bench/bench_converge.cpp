@@ -168,7 +168,7 @@ Reference load_or_make_reference(const ConvergeOptions& o, const Scene& scene,
     ref.path = o.reference;
     if (ref.path.empty() && o.scene == "furnace") {
         ref.source = "analytic";
-        ref.value = furnace_radiance(RenderSettings{}.max_depth);
+        ref.value = furnace_radiance(RenderSettings{}.max_bounces);
         ref.image = FloatImage{
             o.width, o.height,
             std::vector<float>(std::size_t(4) * o.width * o.height, static_cast<float>(ref.value))};

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
 
@@ -21,7 +23,7 @@ int bench_long_run(int argc, char** argv) {
     RenderSettings settings;
     settings.width = settings.height = 8;
     settings.photons_per_pass = 21504;
-    settings.max_depth = 1;
+    settings.max_bounces = 1;
     settings.seed = 1;
     long long total = 200000;
     for (int i = 0; i < argc; ++i) {
@@ -47,10 +49,10 @@ int bench_long_run(int argc, char** argv) {
             checkpoints.push_back(k);
         }
         checkpoints.push_back(total);
-        const double exact = furnace_radiance(settings.max_depth);
+        const double exact = furnace_radiance(settings.max_bounces);
         std::vector<std::string> failures;
         std::vector<double> log_k, log_e;
-        std::string rows;
+        nlohmann::json rows = nlohmann::json::array();
         RenderStats previous = renderer.stats();
         long long done = 0;
         for (long long k : checkpoints) {
@@ -81,14 +83,12 @@ int bench_long_run(int argc, char** argv) {
                 log_k.push_back(std::log10(double(k)));
                 log_e.push_back(std::log10(error));
             }
-            char row[320];
-            std::snprintf(row, sizeof row,
-                          "%s{\"passes\": %llu, \"photons_emitted\": %llu, \"rms_error\": %.6g, "
-                          "\"mean_radius\": %.8g, \"max_radius\": %.8g, \"seconds\": %.2f}",
-                          rows.empty() ? "" : ", ", static_cast<unsigned long long>(s.passes),
-                          static_cast<unsigned long long>(s.photons_emitted), error,
-                          s.mean_radius, s.max_radius, s.seconds);
-            rows += row;
+            rows.push_back({{"passes", s.passes},
+                            {"photons_emitted", s.photons_emitted},
+                            {"rms_error", error},
+                            {"mean_radius", s.mean_radius},
+                            {"max_radius", s.max_radius},
+                            {"seconds", s.seconds}});
         }
         // Least-squares slope of log error against log passes over the last two decades.
         double slope = NAN;
@@ -106,18 +106,21 @@ int bench_long_run(int argc, char** argv) {
         }
         if (!(slope < -0.2)) failures.push_back("error slope over the last two decades >= -0.2");
         const RenderStats s = renderer.stats();
-        std::string failed;
-        for (const std::string& f : failures) failed += (failed.empty() ? "\"" : ", \"") + f + "\"";
-        std::printf("{\"bench\": \"longrun\", \"renderer\": \"%s\", \"passes\": %llu, "
-                    "\"photons_per_pass\": %u, \"photons_emitted\": %llu, \"past_2_32\": %s, "
-                    "\"seconds\": %.2f, \"initial_radius\": %.8g, "
-                    "\"error_slope_last_two_decades\": %.4f, \"checkpoints\": [%s], "
-                    "\"failures\": [%s], \"ok\": %s}\n",
-                    s.renderer.c_str(), static_cast<unsigned long long>(s.passes),
-                    settings.photons_per_pass, static_cast<unsigned long long>(s.photons_emitted),
-                    s.photons_emitted > (1ull << 32) ? "true" : "false", s.seconds,
-                    s.initial_radius, slope, rows.c_str(), failed.c_str(),
-                    failures.empty() ? "true" : "false");
+        // A slope that cannot be measured (too few checkpoints) is written as null.
+        const nlohmann::json out = {
+            {"bench", "longrun"},
+            {"renderer", s.renderer},
+            {"passes", s.passes},
+            {"photons_per_pass", settings.photons_per_pass},
+            {"photons_emitted", s.photons_emitted},
+            {"past_2_32", s.photons_emitted > (1ull << 32)},
+            {"seconds", s.seconds},
+            {"initial_radius", s.initial_radius},
+            {"error_slope_last_two_decades", slope},
+            {"checkpoints", rows},
+            {"failures", failures},
+            {"ok", failures.empty()}};
+        std::printf("%s\n", out.dump().c_str());
         return failures.empty() ? 0 : 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "glslppm-bench longrun: %s\n", e.what());

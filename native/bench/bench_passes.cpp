@@ -128,7 +128,7 @@ int bench_passes(int argc, char** argv) {
                 {"rng", to_string(settings.rng)},
                 {"direct_light", to_string(settings.direct_light)},
                 {"estimator", to_string(settings.estimator)},
-                {"max_depth", settings.max_depth},
+                {"max_bounces", settings.max_bounces},
                 {"passes", passes},
                 {"seconds", seconds},
                 {"passes_per_second", passes / seconds},

@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "gl/egl_context.h"
 #include "gl/shader_program.h"
 #include "render/gpu_layout.h"
@@ -260,20 +262,23 @@ int bench_rng(int argc, char** argv) {
         std::FILE* report = o.out == "-" ? stderr : stdout;
         const auto& info = context.info();
         if (o.json) {
-            std::fprintf(report,
-                         "{\"generator\": \"%s\", \"renderer\": \"%s\", \"threads\": %u, "
-                         "\"per_thread\": %u, \"numbers_timed\": %zu, \"seconds\": %.6g, "
-                         "\"clock\": \"%s\", "
-                         "\"numbers_per_second\": %.6g, \"stream_numbers\": %llu, "
-                         "\"stream_mean\": %.6f, \"stream_ones\": %llu, "
-                         "\"stream_numbers_per_second_with_readback\": %.6g, "
-                         "\"format\": \"%s\", \"out\": \"%s\"}\n",
-                         o.generator.c_str(), info.renderer.c_str(), o.threads, o.per_thread, count,
-                         gpu_seconds, timing.clock.c_str(), numbers_per_second,
-                         static_cast<unsigned long long>(written),
-                         written ? sum / static_cast<double>(written) : 0.0,
-                         static_cast<unsigned long long>(ones), static_cast<double>(written) / wall,
-                         o.format.c_str(), o.out.c_str());
+            // The output path is the user's: the JSON library escapes it.
+            const nlohmann::json out = {
+                {"generator", o.generator},
+                {"renderer", info.renderer},
+                {"threads", o.threads},
+                {"per_thread", o.per_thread},
+                {"numbers_timed", count},
+                {"seconds", gpu_seconds},
+                {"clock", timing.clock},
+                {"numbers_per_second", numbers_per_second},
+                {"stream_numbers", written},
+                {"stream_mean", written ? sum / static_cast<double>(written) : 0.0},
+                {"stream_ones", ones},
+                {"stream_numbers_per_second_with_readback", static_cast<double>(written) / wall},
+                {"format", o.format},
+                {"out", o.out}};
+            std::fprintf(report, "%s\n", out.dump().c_str());
         } else {
             std::fprintf(report, "%s on %s: %.4g numbers/s (%s, %zu numbers in %.4g ms)\n",
                          o.generator.c_str(), info.renderer.c_str(), numbers_per_second,

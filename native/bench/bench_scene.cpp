@@ -57,9 +57,9 @@ Scene make_box_furnace() {
 
 }  // namespace
 
-double furnace_radiance(int max_depth) {
+double furnace_radiance(int max_bounces) {
     const double a = kFurnaceAlbedo;
-    return kFurnaceEmission * (1.0 - std::pow(a, max_depth + 1)) / (1.0 - a);
+    return kFurnaceEmission * (1.0 - std::pow(a, max_bounces + 1)) / (1.0 - a);
 }
 
 std::size_t parse_count(const std::string& text) {

@@ -34,6 +34,14 @@ struct Hit {
     std::int32_t triangle = -1;  // ORIGINAL triangle id (index into MeshView::triangles)
 };
 
+// A hit in a two-level tree (two_level_bvh.h); a one-level walk leaves instance at -1.
+struct InstanceHit {
+    float t = std::numeric_limits<float>::infinity();
+    float u = 0.0f, v = 0.0f;
+    std::int32_t instance = -1;  // -1: a miss, or a one-level tree's hit
+    std::int32_t triangle = -1;  // ORIGINAL triangle id in the instance's mesh; -1: a miss
+};
+
 // pbrt-v4's gamma(n) = n*eps/(1 - n*eps), eps = 2^-24: a bound on the relative error of n
 // rounded float operations (Pharr et al., Physically Based Rendering, 4th ed., eq. 6.14).
 constexpr float bvh_gamma(int n) {
@@ -118,6 +126,12 @@ inline bool confirm_triangle_hit(const glm::vec3& origin, const glm::vec3& inv_d
 // The closest-hit rule everywhere: smaller t wins, equal t goes to the smaller original id.
 inline bool is_closer(float t, std::int32_t id, const Hit& best) {
     return t < best.t || (t == best.t && id < best.triangle);
+}
+// Across instances, equal t goes to the smaller (instance, original id) pair: the order of
+// the flattened copy's ids. With instance -1 throughout (one level) it is the rule above.
+inline bool is_closer(float t, std::int32_t instance, std::int32_t id, const InstanceHit& best) {
+    return t < best.t || (t == best.t && (instance < best.instance ||
+                                          (instance == best.instance && id < best.triangle)));
 }
 
 }  // namespace glslppm

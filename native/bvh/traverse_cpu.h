@@ -1,6 +1,7 @@
 // Stackless MTBVH / TBVH traversal on the CPU (Hachisuka 2015, Figure 3), written to mirror
 // shaders/common/mtbvh.glsl line by line, and the brute-force reference it is tested
-// against. All four return the same answer bit for bit: see intersect.h.
+// against. All four return the same answer bit for bit: see intersect.h. One walk serves the
+// one-level tree here and both levels of a two-level tree (two_level_bvh.h declares those).
 #pragma once
 
 #include <cstdint>

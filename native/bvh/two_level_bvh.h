@@ -41,13 +41,6 @@ namespace glslppm {
 
 constexpr int kInstanceRecordVec4 = 8;
 
-struct InstanceHit {
-    float t = std::numeric_limits<float>::infinity();
-    float u = 0.0f, v = 0.0f;
-    std::int32_t instance = -1;  // -1: a miss
-    std::int32_t triangle = -1;  // ORIGINAL triangle id in the instance's mesh
-};
-
 struct TwoLevelStats {
     std::size_t meshes = 0, instances = 0;
     std::size_t mesh_triangles = 0;       // packed triangles of all meshes once
@@ -87,7 +80,11 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
                                 std::span<const Instance> instances,
                                 const BvhBuildOptions& options);
 
-// The instance-space ray: A^-1 (origin - T) and A^-1 dir, tmin and tmax unchanged.
+// Traversal (defined in traverse_cpu.cpp: one walk serves both levels and one-level trees).
+//
+// The instance-space ray: A^-1 (origin - T) and A^-1 dir, tmin and tmax unchanged; record is
+// the instance's first vec4.
+Ray ray_to_instance(const glm::vec4* record, const Ray& world);
 Ray ray_to_instance(const TwoLevelBvh& bvh, std::int32_t instance, const Ray& world);
 
 InstanceHit closest_hit(const TwoLevelBvh& bvh, const Ray& ray, TraversalCounts* counts = nullptr);

@@ -60,7 +60,8 @@ std::string usage() {
         "  --alpha A                 SPPM alpha (default %g)\n"
         "  --radius R                initial radius (default: automatic)\n"
         "  --radius-scale S          multiplies the automatic radius (default %g)\n"
-        "  --max-depth N             eye and photon bounces (default %d)\n"
+        "  --max-bounces N           eye and photon bounces (default %d; Blender's Max Bounces;\n"
+        "                            --max-depth is accepted for scripts written before)\n"
         "  --hash stochastic|exact   photon hashing (default %s)\n"
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
@@ -89,7 +90,7 @@ std::string usage() {
         "  one after another, each with its own photon passes (--passes, not --seconds).\n"
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
-        d.radius_scale, d.max_depth, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
+        d.radius_scale, d.max_bounces, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
         to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
         to_string(d.estimator).c_str(),
         static_cast<unsigned long long>(d.seed));
@@ -137,7 +138,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--alpha") o.settings.alpha = static_cast<float>(number());
         else if (a == "--radius") o.settings.initial_radius = static_cast<float>(number());
         else if (a == "--radius-scale") o.settings.radius_scale = static_cast<float>(number());
-        else if (a == "--max-depth") o.settings.max_depth = static_cast<int>(number());
+        else if (a == "--max-bounces" || a == "--max-depth") o.settings.max_bounces = static_cast<int>(number());
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
@@ -303,7 +304,7 @@ int main(int argc, char** argv) {
                        {"hash", to_string(o.settings.hash)},
                        {"rng", to_string(o.settings.rng)},
                        {"direct_light", to_string(o.settings.direct_light)},
-                       {"max_depth", std::to_string(o.settings.max_depth)},
+                       {"max_bounces", std::to_string(o.settings.max_bounces)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
             if (o.multilayer)

@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 
+#include "gl/device_limits.h"
 #include "gl/egl_context.h"
 #include "gl/gl_thread.h"
 #include "gl/object_counts.h"
@@ -619,7 +620,7 @@ PYBIND11_MODULE(_glslppm, m) {
     const RenderSettings defaults;
     py::class_<RenderSettings>(m, "Settings")
         .def(py::init([](int width, int height, std::uint32_t photons_per_pass, float alpha,
-                         float initial_radius, float radius_scale, int max_depth,
+                         float initial_radius, float radius_scale, int max_bounces,
                          const std::string& hash,
                          const std::string& rng, int device, std::uint64_t seed, int leaf_size,
                          bool profile, bool full_variant, int max_texture_size,
@@ -635,7 +636,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.alpha = alpha;
                  s.initial_radius = initial_radius;
                  s.radius_scale = radius_scale;
-                 s.max_depth = max_depth;
+                 s.max_bounces = max_bounces;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
                  s.direct_light = parse_direct_light(direct_light);
@@ -665,7 +666,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("photons_per_pass") = defaults.photons_per_pass,
              py::arg("alpha") = defaults.alpha, py::arg("initial_radius") = defaults.initial_radius,
              py::arg("radius_scale") = defaults.radius_scale,
-             py::arg("max_depth") = defaults.max_depth, py::arg("hash") = to_string(defaults.hash),
+             py::arg("max_bounces") = defaults.max_bounces, py::arg("hash") = to_string(defaults.hash),
              py::arg("rng") = to_string(defaults.rng), py::arg("device") = defaults.device,
              py::arg("seed") = defaults.seed, py::arg("leaf_size") = defaults.leaf_size,
              py::arg("profile") = defaults.profile, py::arg("full_variant") = defaults.full_variant,
@@ -972,37 +973,19 @@ PYBIND11_MODULE(_glslppm, m) {
     }, "EGL contexts and GL objects glslppm created and has not deleted (process-wide).");
     m.def("device_limits", [](int device) {
         // What a render may allocate on a device, asked before allocating anything: the
-        // largest storage buffer, and the GPU's memory where the driver says
-        // (GL_NVX_gpu_memory_info; 0 where unknown; software renderers use host memory).
-        std::int64_t largest = 0, memory = 0;
-        bool software = false;
-        std::string renderer, vendor;
+        // largest storage buffer, and the GPU's memory where the driver says. Asked once
+        // per device for the process (gl/device_limits.h).
+        gl::DeviceLimits limits;
         {
             py::gil_scoped_release release;
-            // On a thread of its own: the caller's may have another GL context current
-            // (Blender's UI), where making ours current fails (EGL_BAD_ACCESS).
-            gl::GlThread thread(device);
-            vendor = thread.info().vendor;
-            thread.call([&] {
-                GLint64 value = 0;
-                glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &value);
-                largest = value;
-                if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
-                    GLint kib = 0;
-                    glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
-                    // Mesa's llvmpipe answers with a negative number: unknown, then.
-                    memory = kib > 0 ? static_cast<std::int64_t>(kib) * 1024 : 0;
-                }
-            });
-            software = thread.info().software;
-            renderer = thread.info().renderer;
+            limits = gl::device_limits(device);
         }
         py::dict d;
-        d["max_storage_buffer_bytes"] = largest;
-        d["memory_bytes"] = memory;
-        d["software"] = software;
-        d["renderer"] = renderer;
-        d["vendor"] = vendor;
+        d["max_storage_buffer_bytes"] = limits.max_storage_buffer_bytes;
+        d["memory_bytes"] = limits.memory_bytes;
+        d["software"] = limits.software;
+        d["renderer"] = limits.renderer;
+        d["vendor"] = limits.vendor;
         return d;
     }, py::arg("device") = -1,
        "Limits of an EGL device: max_storage_buffer_bytes, memory_bytes (0: unknown), "

@@ -34,6 +34,9 @@ PassRanges parse_pass_ranges(const std::string& text) {
     return ranges;
 }
 
+// The settings that shape the image, as "name=value;..." for the EXR attribute farm merges
+// compare. max_bounces is written under its earlier name max_depth: frames rendered before
+// the rename must still merge with those rendered after.
 std::string image_settings(const RenderSettings& s) {
     char text[512];
     std::snprintf(text, sizeof text,
@@ -41,7 +44,7 @@ std::string image_settings(const RenderSettings& s) {
                   "radius_scale=%.9g;max_depth=%d;hash=%s;rng=%s;direct_light=%s;leaf_size=%d;"
                   "max_texture_size=%d;transparent=%d;transparent_glass=%d;glossy_threshold=%.9g",
                   s.width, s.height, s.photons_per_pass, s.alpha, s.initial_radius,
-                  s.radius_scale, s.max_depth, to_string(s.hash).c_str(),
+                  s.radius_scale, s.max_bounces, to_string(s.hash).c_str(),
                   to_string(s.rng).c_str(), to_string(s.direct_light).c_str(), s.leaf_size,
                   s.max_texture_size, s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0,
                   s.glossy_threshold);

@@ -37,7 +37,7 @@ struct FrameBlock {
     std::uint32_t photon_threads = 0;
     std::uint32_t hash_cell_count = 0;
     std::uint32_t pass_index = 0;
-    std::uint32_t max_depth = 0;
+    std::uint32_t max_bounces = 0;
     std::uint32_t emitter_count = 0;
     float sppm_alpha = 0.0f;
     float radius_floor = 0.0f;
@@ -77,7 +77,7 @@ static_assert(offsetof(FrameBlock, image_height) == 204);
 static_assert(offsetof(FrameBlock, photon_threads) == 208);
 static_assert(offsetof(FrameBlock, hash_cell_count) == 212);
 static_assert(offsetof(FrameBlock, pass_index) == 216);
-static_assert(offsetof(FrameBlock, max_depth) == 220);
+static_assert(offsetof(FrameBlock, max_bounces) == 220);
 static_assert(offsetof(FrameBlock, emitter_count) == 224);
 static_assert(offsetof(FrameBlock, sppm_alpha) == 228);
 static_assert(offsetof(FrameBlock, radius_floor) == 232);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "bvh/traverse_cpu.h"
+#include "render/camera_ray.h"
 #include "render/microfacet_tables.h"
 #include "scene/scene_validation.h"
 
@@ -188,21 +189,22 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
     f.aperture_radius = cam.aperture_radius;
     f.focus_distance = cam.focus_distance;
     // Automatic radius: two pixel footprints at the distance of what the camera sees (the
-    // median hit distance of a 5x5 grid of rays through the film), at most 5% of the
-    // scene's diagonal.
+    // median hit distance of a 5x5 grid of rays through the film, cast as eye_trace casts
+    // its camera rays: camera_ray.h), at most 5% of the scene's diagonal.
     float radius = settings.initial_radius;
     if (radius <= 0.0f) {
         const glm::vec3 eye(cam.to_world[3]);
+        // The whole frame seen as a 5 x 5 image, through pixel centres, without the lens.
+        FrameBlock whole = f;
+        whole.film_half_extent = frame_half_extent;
+        whole.film_shift = frame_shift;
+        whole.image_width = whole.image_height = 5;
         std::vector<float> distances;
         for (int j = 0; j < 5; ++j) {
             for (int i = 0; i < 5; ++i) {
-                const glm::vec2 ndc((i + 0.5f) / 2.5f - 1.0f, 1.0f - (j + 0.5f) / 2.5f);
-                const glm::vec2 film = ndc * frame_half_extent + frame_shift;
-                const bool ortho = cam.projection == Projection::Orthographic;
-                const glm::vec3 o = ortho ? glm::vec3(film, 0.0f) : glm::vec3(0.0f);
-                const glm::vec3 d = ortho ? glm::vec3(0, 0, -1) : glm::vec3(film, -1.0f);
-                Ray ray{glm::vec3(cam.to_world * glm::vec4(o, 1.0f)),
-                        glm::normalize(glm::vec3(cam.to_world * glm::vec4(d, 0.0f)))};
+                Ray ray = camera_ray_at(whole, glm::vec2(i + 0.5f, j + 0.5f), glm::vec2(0.0f),
+                                        false);
+                ray.dir = glm::normalize(ray.dir);
                 if (two_level) {
                     const InstanceHit hit = closest_hit(*two_level, ray);
                     if (hit.instance >= 0) distances.push_back(hit.t);
@@ -449,7 +451,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.image_height = static_cast<std::uint32_t>(settings.height);
     f.photon_threads = p.photon_threads;
     f.hash_cell_count = p.hash_cells;
-    f.max_depth = static_cast<std::uint32_t>(settings.max_depth);
+    f.max_bounces = static_cast<std::uint32_t>(settings.max_bounces);
     f.glossy_threshold = settings.glossy_threshold;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;

@@ -69,8 +69,8 @@ void validate(const RenderSettings& s) {
         fail("glossy_threshold: must be a roughness in [0, 1]");
     if (!(s.radius_scale > 0.0f) || !std::isfinite(s.radius_scale))
         fail("radius_scale: must be a positive number");
-    if (s.max_depth < 1 || s.max_depth > 1024)
-        fail("max_depth: " + std::to_string(s.max_depth) + " is outside 1..1024");
+    if (s.max_bounces < 1 || s.max_bounces > 1024)
+        fail("max_bounces: " + std::to_string(s.max_bounces) + " is outside 1..1024");
     if (s.leaf_size < 1 || s.leaf_size > 64)
         fail("leaf_size: " + std::to_string(s.leaf_size) + " is outside 1..64");
     if (s.estimator == Estimator::Pppm && s.rng == RngKind::Paper)

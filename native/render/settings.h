@@ -32,7 +32,7 @@ struct RenderSettings {
     float alpha = 0.7f;           // SPPM's fraction of new photons kept (Hachisuka 2009)
     float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
     float radius_scale = 1.0f;    // multiplies the automatic initial radius
-    int max_depth = 16;           // eye and photon bounces
+    int max_bounces = 16;           // eye and photon bounces
     // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
     // and glass are); at and above it they hold the visible point that gathers photons.
     // 0.5: a visible point's direct light is a light sample alone (no BSDF sample to weigh

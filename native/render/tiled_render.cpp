@@ -1,12 +1,10 @@
 #include "render/tiled_render.h"
 
-#include <epoxy/gl.h>
-
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
-#include "gl/gl_thread.h"
+#include "gl/device_limits.h"
 #include "render/scene_preparation.h"
 #include "scene/scene_hash.h"
 
@@ -66,15 +64,7 @@ TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
         settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     std::int64_t largest = 0;
     for (int device : devices) {
-        // On a thread of its own, as the renderer's contexts are: the caller's thread may
-        // have another GL context current (Blender's UI), and making ours current there
-        // fails (EGL_BAD_ACCESS).
-        gl::GlThread thread(device);
-        const GLint64 value = thread.call([] {
-            GLint64 v = 0;
-            glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &v);
-            return v;
-        });
+        const std::int64_t value = gl::device_limits(device).max_storage_buffer_bytes;
         if (value > 0) largest = largest > 0 ? std::min<std::int64_t>(largest, value) : value;
     }
     return plan_tiles(settings.width, settings.height, point_bytes, pixel_bytes,

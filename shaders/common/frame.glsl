@@ -24,7 +24,7 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     uint photon_threads;
     uint hash_cell_count;
     uint pass_index;
-    uint max_depth;               // eye and photon bounces
+    uint max_bounces;               // eye and photon bounces
     uint emitter_count;
     float sppm_alpha;             // SPPM's fraction of new photons kept
     float radius_floor;           // radii never shrink below this (scene-relative)

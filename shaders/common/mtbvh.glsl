@@ -8,7 +8,8 @@
 // in bvh_nodes_visited and bvh_triangles_tested, exactly where TraversalCounts counts it on
 // the CPU: a wrong order choice costs only speed, and these counts are how it shows. Without
 // the define BVH_COUNT expands to nothing, so the renderer's code is unchanged. Define
-// GLSLPPM_INSTANCES when the buffers hold a two-level MTBVH (common/mtbvh_instances.glsl).
+// GLSLPPM_INSTANCES when the buffers hold a two-level MTBVH (common/mtbvh_instances.glsl has
+// its instance records; the same walk serves both levels).
 
 #include "common/bindings.glsl"
 
@@ -112,55 +113,32 @@ bool bvh_is_closer(float t, int id, float best_t, int best_id) {
     return t < best_t || (t == best_t && id < best_id);
 }
 
-// Offset of this ray's link set in bvh_links.
-int bvh_link_base(vec3 dir) {
+// Where a ray's links of one tree start, so that its (hit, miss) pair of node n is
+// bvh_links[link_base + n]: the tree's first link, plus the ray's order times the tree's node
+// count (its six link sets lie one after another), less its root (node indices are absolute).
+int bvh_tree_link_base(int root, int count, int first_link, vec3 dir) {
 #ifdef GLSLPPM_TBVH
-    return 0;
+    return first_link - root;
 #else
-    return bvh_select_order(dir) * int(bvh_node_count);
+    return first_link + bvh_select_order(dir) * count - root;
 #endif
 }
 
+// Offset of this ray's link set of the tree at node 0 (the only one, or the top one).
+int bvh_link_base(vec3 dir) { return bvh_tree_link_base(0, int(bvh_node_count), 0, dir); }
+
 #ifdef GLSLPPM_INSTANCES
 #include "common/mtbvh_instances.glsl"
+#define BVH_HIT(t, u, v, triangle, instance) Hit(t, u, v, triangle, instance)
 #else
-Hit closest_hit(Ray r) {
-    Hit best = Hit(r.tmax, 0.0, 0.0, -1);
-    int best_id = -1;  // original id of best.triangle, for the tie rule
-    if (bvh_node_count == 0u) return best;
-    vec3 inv_dir = bvh_safe_inverse_dir(r.dir);
-    int link_base = bvh_link_base(r.dir);
-    int node = 0;
-    while (node != -1) {
-        vec4 lo = bvh_nodes[2 * node];
-        vec4 hi = bvh_nodes[2 * node + 1];
-        BVH_COUNT(bvh_nodes_visited);
-        // Inclusive against the best t so far: an equal-t hit may still win on its id.
-        if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, best.t)) {
-            int count = floatBitsToInt(hi.w);
-            int first = floatBitsToInt(lo.w);
-            for (int i = first; i < first + count; ++i) {
-                vec4 a = triangles[3 * i];
-                vec4 b = triangles[3 * i + 1];
-                vec4 c = triangles[3 * i + 2];
-                BVH_COUNT(bvh_triangles_tested);
-                float t, u, v;
-                if (bvh_intersect_triangle(r, a.xyz, b.xyz, c.xyz, t, u, v)) {
-                    int id = floatBitsToInt(b.w);
-                    if (bvh_is_closer(t, id, best.t, best_id) &&
-                        bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a.xyz, b.xyz,
-                                                 c.xyz)) {
-                        best = Hit(t, u, v, i);
-                        best_id = id;
-                    }
-                }
-            }
-            node = bvh_links[link_base + node].x;
-        } else {
-            node = bvh_links[link_base + node].y;
-        }
-    }
-    return best;
+#define BVH_HIT(t, u, v, triangle, instance) Hit(t, u, v, triangle)
+#endif
+
+// Smaller t wins; equal t goes to the smaller (instance, ORIGINAL triangle id) pair, the order
+// of a flattened copy's ids; one level keeps instance -1, leaving the smaller id.
+bool bvh_is_closer(float t, int instance, int id, float best_t, int best_instance, int best_id) {
+    return t < best_t || (t == best_t && (instance < best_instance ||
+                                          (instance == best_instance && id < best_id)));
 }
 
 #ifdef BVH_ANY_HIT_FILTER
@@ -170,37 +148,91 @@ Hit closest_hit(Ray r) {
 bool bvh_any_hit_passes(int triangle, float u, float v);
 #endif
 
-bool any_hit(Ray r) {
-    if (bvh_node_count == 0u) return false;
-    vec3 inv_dir = bvh_safe_inverse_dir(r.dir);
-    int link_base = bvh_link_base(r.dir);
+// The one stackless walk of a one-level tree and of both levels of a two-level one
+// (GLSLPPM_INSTANCES); traverse_cpu.cpp's walk mirrors it line by line. In a two-level tree
+// a top leaf moves the ray into its instance's space and the walk goes on in that
+// instance's tree, along the moved ray's own link set; when that tree ends it resumes at the
+// top leaf's hit link: the one node index saved across the levels. first_hit: stop at the
+// first accepted hit (any_hit). Until a hit is accepted best.t is the ray's tmax and
+// bvh_is_closer holds for every triangle hit, so both modes visit the same nodes up to there.
+Hit bvh_walk(Ray world, bool first_hit) {
+    Hit best = BVH_HIT(world.tmax, 0.0, 0.0, -1, -1);
+    int best_instance = -1, best_id = -1;  // of best.triangle, for the tie rule
+    if (bvh_node_count == 0u) return best;
+    vec3 world_inv_dir = bvh_safe_inverse_dir(world.dir);
+    int world_link_base = bvh_link_base(world.dir);
+    Ray r = world;
+    vec3 inv_dir = world_inv_dir;
+    int link_base = world_link_base;
+    int instance = -1;  // whose tree the walk is in; -1: the top (or only) tree
+    int resume = -1;    // the top node to go on from when the instance's tree ends
     int node = 0;
     while (node != -1) {
         vec4 lo = bvh_nodes[2 * node];
         vec4 hi = bvh_nodes[2 * node + 1];
         BVH_COUNT(bvh_nodes_visited);
-        if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, r.tmax)) {
+        // Inclusive against the best t so far: an equal-t hit may still win on its id (until
+        // an any-hit walk accepts one, best.t is the ray's tmax).
+        if (bvh_hit_box(lo.xyz, hi.xyz, r.origin, inv_dir, r.tmin, first_hit ? r.tmax : best.t)) {
             int count = floatBitsToInt(hi.w);
             int first = floatBitsToInt(lo.w);
-            for (int i = first; i < first + count; ++i) {
-                BVH_COUNT(bvh_triangles_tested);
-                vec3 a = triangles[3 * i].xyz;
-                vec3 b = triangles[3 * i + 1].xyz;
-                vec3 c = triangles[3 * i + 2].xyz;
-                float t, u, v;
-                if (bvh_intersect_triangle(r, a, b, c, t, u, v) &&
-                    bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a, b, c)) {
-#ifdef BVH_ANY_HIT_FILTER
-                    if (bvh_any_hit_passes(i, u, v)) continue;
+#ifdef GLSLPPM_INSTANCES
+            if (instance < 0 && count > 0) {  // a top leaf: lo.w is its instance
+                ivec4 tree = bvh_instance_bases(first);
+                instance = first;
+                resume = bvh_links[link_base + node].x;
+                r = bvh_ray_to_instance(instance, world);
+                inv_dir = bvh_safe_inverse_dir(r.dir);
+                link_base = bvh_tree_link_base(tree.x, tree.y, tree.z, r.dir);
+                node = tree.y > 0 ? tree.x : -1;
+            } else
 #endif
-                    return true;
+            {
+                for (int i = first; i < first + count; ++i) {
+                    vec4 a = triangles[3 * i];
+                    vec4 b = triangles[3 * i + 1];
+                    vec4 c = triangles[3 * i + 2];
+                    BVH_COUNT(bvh_triangles_tested);
+                    float t, u, v;
+                    if (bvh_intersect_triangle(r, a.xyz, b.xyz, c.xyz, t, u, v)) {
+                        int id = floatBitsToInt(b.w);
+                        if ((first_hit ||
+                             bvh_is_closer(t, instance, id, best.t, best_instance, best_id)) &&
+                            bvh_confirm_triangle_hit(r.origin, inv_dir, r.tmin, t, a.xyz, b.xyz,
+                                                     c.xyz)) {
+#ifdef BVH_ANY_HIT_FILTER
+#ifdef GLSLPPM_INSTANCES
+                            if (first_hit && bvh_any_hit_passes_instanced(i, instance, u, v))
+                                continue;
+#else
+                            if (first_hit && bvh_any_hit_passes(i, u, v)) continue;
+#endif
+#endif
+                            best = BVH_HIT(t, u, v, i, instance);
+                            best_instance = instance;
+                            best_id = id;
+                            if (first_hit) return best;
+                        }
+                    }
                 }
+                node = bvh_links[link_base + node].x;
             }
-            node = bvh_links[link_base + node].x;
         } else {
             node = bvh_links[link_base + node].y;
         }
-    }
-    return false;
-}
+#ifdef GLSLPPM_INSTANCES
+        if (node == -1 && instance >= 0) {  // the instance's tree is done: back to the top
+            instance = -1;
+            r = world;
+            inv_dir = world_inv_dir;
+            link_base = world_link_base;
+            node = resume;
+        }
 #endif
+    }
+    return best;
+}
+
+Hit closest_hit(Ray r) { return bvh_walk(r, false); }
+
+bool any_hit(Ray r) { return bvh_walk(r, true).triangle >= 0; }

@@ -1,6 +1,6 @@
-// Test program for common/mtbvh_instances.glsl (tests/native/two_level_probe_test.cpp): per
-// ray, the answers of the two-level closest_hit and any_hit and the work of closest_hit, so
-// that the test can hold them to native/bvh/two_level_bvh.cpp bit for bit. Not a pipeline
+// Test program for common/mtbvh.glsl's walk of a two-level tree (GLSLPPM_INSTANCES;
+// tests/native/two_level_probe_test.cpp): per ray, the answers of closest_hit and any_hit and
+// the work of closest_hit, so that the test can hold them to native/bvh/traverse_cpu.cpp. Not a pipeline
 // stage.
 #define BVH_COUNT_VISITS 1
 #define GLSLPPM_INSTANCES 1

@@ -73,6 +73,14 @@ def check_rng(bench):
     check(positive(out.get("numbers_per_second")), f"rng rate {out.get('numbers_per_second')}")
     # Mean of 65,536 uniforms: standard error 0.29 / 256 = 0.0011; 5 sigma.
     check(abs(out["stream_mean"] - 0.5) < 0.0057, f"rng stream mean {out['stream_mean']}")
+    # A path that JSON must escape comes back as it was given.
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, 'stream "quoted" \\ name.bin')
+        out = run(bench, "rng", "--generator", "pcg", "--threads", "64", "--per-thread", "16",
+                  "--out", path, "--json")
+        if out is not None:
+            check(out["out"] == path and out["stream_numbers"] == 64 * 16,
+                  f"rng --out {path!r}: {out['out']!r}, {out['stream_numbers']} numbers")
 
 
 def check_passes(bench):

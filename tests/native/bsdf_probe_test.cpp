@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "gl/gl_thread.h"
+#include "gl_probe.h"
 #include "gl/shader_program.h"
 #include "render/gpu_layout.h"
 #include "render/microfacet_tables.h"
@@ -28,14 +28,9 @@ namespace glslppm {
 namespace {
 
 using gl::ComputeProgram;
-using gl::GlThread;
+using gl_probe::gl_thread;
 
 constexpr double kPi = 3.14159265358979323846;
-
-GlThread& gl_thread() {
-    static GlThread thread;
-    return thread;
-}
 
 struct Sample {
     glm::vec4 wi_ok;

@@ -12,7 +12,7 @@
 
 #include "bvh/aabb.h"
 #include "bvh/intersect.h"
-#include "bvh/procedural_mesh.h"
+#include "scenes/bumpy_sphere_mesh.h"
 
 namespace glslppm::bvh_test {
 

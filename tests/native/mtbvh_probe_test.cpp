@@ -16,19 +16,15 @@
 #include "bvh/packed_bvh.h"
 #include "bvh/traverse_cpu.h"
 #include "bvh_test_scenes.h"
-#include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "gl_probe.h"
+#include "render/gpu_layout.h"
 
 namespace glslppm {
 namespace {
 
 using gl::ComputeProgram;
-using gl::GlThread;
-
-GlThread& gl_thread() {
-    static GlThread thread;
-    return thread;
-}
+using gl_probe::gl_thread;
 
 struct Probe {
     glm::ivec4 head;  // order, link base, closest hit's original id, any hit
@@ -43,41 +39,21 @@ std::vector<Probe> run_probe(const std::vector<Ray>& rays, const PackedBvh* bvh,
         gl::Defines defines;
         if (tbvh) defines.push_back({"GLSLPPM_TBVH", "1"});
         ComputeProgram program("tests/mtbvh_probe.comp", defines);
-        std::vector<glm::vec4> packed_rays;
-        for (const Ray& r : rays) {
-            packed_rays.emplace_back(r.origin, r.tmin);
-            packed_rays.emplace_back(r.dir, r.tmax);
-        }
-        const glm::vec4 none(0.0f);
-        const void* data[5] = {bvh ? static_cast<const void*>(bvh->nodes.data()) : &none,
-                               bvh ? static_cast<const void*>(bvh->links.data()) : &none,
-                               bvh ? static_cast<const void*>(bvh->triangles.data()) : &none,
-                               packed_rays.data(), nullptr};
-        const std::size_t bytes[5] = {bvh ? bvh->nodes.size() * 16 : 16,
-                                      bvh ? bvh->links.size() * 8 : 16,
-                                      bvh ? bvh->triangles.size() * 16 : 16,
-                                      packed_rays.size() * 16, rays.size() * sizeof(Probe)};
-        GLuint buffers[5];
-        glGenBuffers(5, buffers);
-        for (GLuint b = 0; b < 5; ++b) {
-            glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[b]);
-            glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes[b]), data[b],
-                         GL_DYNAMIC_COPY);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, buffers[b]);
-        }
+        const std::vector<glm::vec4> packed_rays = gl_probe::pack_rays(rays);
+        const gl_probe::Buffers buffers{
+            {BINDING_BVH_NODES, bvh ? bvh->nodes.data() : nullptr,
+             bvh ? bvh->nodes.size() * 16 : 0},
+            {BINDING_BVH_LINKS, bvh ? bvh->links.data() : nullptr, bvh ? bvh->links.size() * 8 : 0},
+            {BINDING_TRIANGLES, bvh ? bvh->triangles.data() : nullptr,
+             bvh ? bvh->triangles.size() * 16 : 0},
+            {3, packed_rays.data(), packed_rays.size() * 16},
+            {4, nullptr, rays.size() * sizeof(Probe)}};
         program.use();
         glUniform1ui(program.uniform("bvh_node_count"), bvh ? bvh->node_count : node_count);
         glUniform1ui(program.uniform("u_count"), static_cast<GLuint>(rays.size()));
         glUniform1ui(program.uniform("u_trace"), bvh ? 1u : 0u);
-        glDispatchCompute(static_cast<GLuint>((rays.size() + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::vector<Probe> out(rays.size());
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[4]);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes[4]),
-                           out.data());
-        glDeleteBuffers(5, buffers);
-        EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
-        return out;
+        gl_probe::dispatch_items(rays.size());
+        return buffers.read<Probe>(4, rays.size());
     });
 }
 

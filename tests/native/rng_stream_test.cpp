@@ -8,8 +8,8 @@
 #include <cstring>
 #include <vector>
 
-#include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "gl_probe.h"
 #include "render/gpu_layout.h"
 #include "render/rng_seed.h"
 
@@ -17,7 +17,7 @@ namespace glslppm {
 namespace {
 
 using gl::ComputeProgram;
-using gl::GlThread;
+using gl_probe::gl_thread;
 
 // The constants of the paper's Figure 4.
 constexpr double kQ[4] = {1225, 1585, 2457, 2098};
@@ -59,11 +59,6 @@ float pcg_next(std::uint32_t& s) {
     return static_cast<float>(pcg_permute(old) >> 8u) * (1.0f / 16777216.0f);
 }
 
-GlThread& gl_thread() {
-    static GlThread thread;
-    return thread;
-}
-
 struct Stream {
     std::vector<float> values;              // values[k * threads + t]
     std::vector<float> paper_states;        // 4 per entry, RNG_PAPER
@@ -78,38 +73,21 @@ Stream run_stream(bool paper, std::uint32_t threads, std::uint32_t per_thread,
                                {{paper ? "RNG_PAPER" : "RNG_PCG", ""}, {"RNG_STREAM_STATES", ""}});
         const std::size_t n = std::size_t{threads} * per_thread;
         const std::size_t state_bytes = paper ? 16 : 4;
-        GLuint buffers[3];
-        glGenBuffers(3, buffers);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[0]);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, n * 4, nullptr, GL_DYNAMIC_COPY);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, n * state_bytes, nullptr, GL_DYNAMIC_COPY);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[1]);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[2]);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, std::max<std::size_t>(seeds.size() * 16, 16),
-                     seeds.empty() ? nullptr : seeds.data(), GL_DYNAMIC_COPY);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_RNG_STATES, buffers[2]);
+        const gl_probe::Buffers buffers{
+            {0, nullptr, n * 4},
+            {1, nullptr, n * state_bytes},
+            {BINDING_RNG_STATES, seeds.empty() ? nullptr : seeds.data(), seeds.size() * 16}};
         program.use();
         glUniform1ui(program.uniform("u_threads"), threads);
         glUniform1ui(program.uniform("u_per_thread"), per_thread);
         glUniform1ui(program.uniform("u_rng_seed"), pcg_seed);
-        glDispatchCompute((threads + 63) / 64, 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        gl_probe::dispatch_items(threads);
         Stream s;
-        s.values.resize(n);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[0]);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n * 4, s.values.data());
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[1]);
-        if (paper) {
-            s.paper_states.resize(n * 4);
-            glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n * 16, s.paper_states.data());
-        } else {
-            s.pcg_states.resize(n);
-            glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, n * 4, s.pcg_states.data());
-        }
-        glDeleteBuffers(3, buffers);
-        EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+        s.values = buffers.read<float>(0, n);
+        if (paper)
+            s.paper_states = buffers.read<float>(1, n * 4);
+        else
+            s.pcg_states = buffers.read<std::uint32_t>(1, n);
         return s;
     });
 }

@@ -1,5 +1,6 @@
-// The two-level traversal of shaders/common/mtbvh_instances.glsl, run on the real driver
-// through shaders/tests/two_level_probe.comp, held to the CPU traversal (two_level_bvh.h):
+// The two-level traversal of shaders/common/mtbvh.glsl (GLSLPPM_INSTANCES), run on the real
+// driver through shaders/tests/two_level_probe.comp, held to the CPU traversal
+// (traverse_cpu.cpp):
 // instance, triangle, t, u and v bit for bit, the any-hit answer, and the nodes and
 // triangles visited, on scenes of 1, 10 and 1,000 instances under rotations, non-uniform
 // scales, mirrors and translations of 1e5.
@@ -12,8 +13,8 @@
 #include <vector>
 
 #include "bvh/two_level_bvh.h"
-#include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "gl_probe.h"
 #include "instance_test_scenes.h"
 #include "render/gpu_layout.h"
 
@@ -21,12 +22,7 @@ namespace glslppm {
 namespace {
 
 using gl::ComputeProgram;
-using gl::GlThread;
-
-GlThread& gl_thread() {
-    static GlThread thread;
-    return thread;
-}
+using gl_probe::gl_thread;
 
 struct Probe {
     glm::ivec4 head;  // instance, original id, bits of t, any hit
@@ -36,38 +32,19 @@ struct Probe {
 std::vector<Probe> run_probe(const TwoLevelBvh& bvh, const std::vector<Ray>& rays) {
     return gl_thread().call([&] {
         ComputeProgram program("tests/two_level_probe.comp", {});
-        std::vector<glm::vec4> packed_rays;
-        for (const Ray& r : rays) {
-            packed_rays.emplace_back(r.origin, r.tmin);
-            packed_rays.emplace_back(r.dir, r.tmax);
-        }
-        const void* data[6] = {bvh.nodes.data(),   bvh.links.data(), bvh.triangles.data(),
-                               packed_rays.data(), nullptr,          bvh.instances.data()};
-        const std::size_t bytes[6] = {bvh.nodes.size() * 16,       bvh.links.size() * 8,
-                                      bvh.triangles.size() * 16,   packed_rays.size() * 16,
-                                      rays.size() * sizeof(Probe), bvh.instances.size() * 16};
-        const GLuint bindings[6] = {BINDING_BVH_NODES, BINDING_BVH_LINKS, BINDING_TRIANGLES, 3, 4,
-                                    BINDING_INSTANCES};
-        GLuint buffers[6];
-        glGenBuffers(6, buffers);
-        for (int b = 0; b < 6; ++b) {
-            glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[b]);
-            glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes[b]), data[b],
-                         GL_DYNAMIC_COPY);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bindings[b], buffers[b]);
-        }
+        const std::vector<glm::vec4> packed_rays = gl_probe::pack_rays(rays);
+        const gl_probe::Buffers buffers{
+            {BINDING_BVH_NODES, bvh.nodes.data(), bvh.nodes.size() * 16},
+            {BINDING_BVH_LINKS, bvh.links.data(), bvh.links.size() * 8},
+            {BINDING_TRIANGLES, bvh.triangles.data(), bvh.triangles.size() * 16},
+            {3, packed_rays.data(), packed_rays.size() * 16},
+            {4, nullptr, rays.size() * sizeof(Probe)},
+            {BINDING_INSTANCES, bvh.instances.data(), bvh.instances.size() * 16}};
         program.use();
         glUniform1ui(program.uniform("bvh_node_count"), bvh.top_node_count);
         glUniform1ui(program.uniform("u_count"), static_cast<GLuint>(rays.size()));
-        glDispatchCompute(static_cast<GLuint>((rays.size() + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::vector<Probe> out(rays.size());
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[4]);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes[4]),
-                           out.data());
-        glDeleteBuffers(6, buffers);
-        EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
-        return out;
+        gl_probe::dispatch_items(rays.size());
+        return buffers.read<Probe>(4, rays.size());
     });
 }
 

@@ -1,11 +1,13 @@
-"""Scenes the stability and fault tests share, built from numpy arrays as the built-in
-ones are in C++ (native/scenes/): the Cornell box replica, a closed box furnace, a lamp
-over a floor, and a render helper that returns film, stats and photons."""
+"""Scenes several test files share, built from numpy arrays as the built-in ones are in C++
+(native/scenes/): the Cornell box replica, a closed box furnace, a lamp over a floor, an
+axis-aligned box, an instanced scene (mirrored and scaled instances of a ball and a cube),
+Blender's equirectangular texel directions, and a render helper that returns film, stats
+and photons. Test files import from here, never from each other."""
 import math
 
 import numpy as np
 
-from conftest import look_at, merge, quad
+from conftest import look_at, merge, quad, sphere
 
 
 def shape_quad(a, b, c, d):
@@ -97,7 +99,7 @@ def inward_box(h=1.0):
 
 def box_furnace(g, albedo=0.5, emission=1.0):
     """Inside a closed box whose walls all emit Le and reflect albedo a, with one bounce
-    (max_depth=1) L = Le + a Le exactly: the irradiance is pi Le everywhere in a closed
+    (max_bounces=1) L = Le + a Le exactly: the irradiance is pi Le everywhere in a closed
     enclosure. The camera sees only the middle of one face (farther than any radius from an
     edge), where the photon density is uniform, so the kernel adds no bias and every path
     ends after one bounce: photons_emitted = passes * photons_per_pass exactly."""
@@ -129,3 +131,93 @@ def render(g, scene, passes, **settings):
 def block_means(image, size=4):
     h, w = image.shape[:2]
     return image.reshape(h // size, size, w // size, size, -1).mean(axis=(1, 3, 4))
+
+
+def direction_of_texel(x, y, width, height):
+    """The direction of a texel's centre in Blender's (Cycles') equirectangular mapping, Z up:
+    +X at u = 0.5, +Y at u = 0.25 (checked against Cycles by tests/blender/test_cycles.py)."""
+    u, v = (x + 0.5) / width, (y + 0.5) / height
+    phi, elevation = (0.5 - u) * 2 * math.pi, (v - 0.5) * math.pi   # u = 0.5 - atan2(y, x) / 2pi
+    return np.array([math.cos(elevation) * math.cos(phi), math.cos(elevation) * math.sin(phi),
+                     math.sin(elevation)])
+
+
+def axis_box(lo, hi):
+    """An axis-aligned box, outward-facing."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    faces = [
+        quad((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)),  # -y
+        quad((x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)),  # +y
+        quad((x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)),  # -z
+        quad((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)),  # +z
+        quad((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),  # -x
+        quad((x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)),  # +x
+    ]
+    return merge(*[(p, t, 0) for p, t in faces])[:2]
+
+
+def rotation(axis, angle):
+    axis = np.asarray(axis, np.float64) / np.linalg.norm(axis)
+    x, y, z = axis
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+                     [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+                     [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]])
+
+
+def placement(axis, angle, scale, translation):
+    m = np.eye(4)
+    m[:3, :3] = rotation(axis, angle) @ np.diag(scale)
+    m[:3, 3] = translation
+    return m
+
+
+def unit_cube():
+    """A unit cube without normals (flat shaded), 12 triangles."""
+    c = [(x, y, z) for x in (-.5, .5) for y in (-.5, .5) for z in (-.5, .5)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = [[a, b, c_] for a, b, c_, d in faces] + [[a, c_, d] for a, b, c_, d in faces]
+    return {"positions": np.array(c, np.float32), "indices": np.array(tris, np.uint32)}
+
+
+def ball():
+    p, t, n = sphere((0, 0, 0), 0.5, 12, 24)
+    return {"positions": p, "indices": t, "normals": n,
+            "material_ids": np.zeros(len(t), np.uint32)}
+
+
+def instanced_scene(g, offset=(0.0, 0.0, 0.0)):
+    """A floor and a wall placed once; a ball and a box placed eight times under rotations,
+    non-uniform scales, mirrors (negative determinants) and materials chosen by offset:
+    diffuse red, mirror, glass, diffuse green. `offset` moves everything (camera and light
+    too)."""
+    o = np.asarray(offset, np.float64)
+    fp, ft = quad((-3, 0, -3), (-3, 0, 3), (3, 0, 3), (3, 0, -3))
+    wp, wt = quad((-3, 0, -2), (3, 0, -2), (3, 4, -2), (-3, 4, -2))
+    positions = (np.concatenate([fp, wp]) + o).astype(np.float32)
+    indices = np.concatenate([ft, wt + 4]).astype(np.uint32)
+    ids = np.array([0, 0, 1, 1], np.uint32)
+    materials = [g.Material("diffuse", color=(.8, .8, .8)),
+                 g.Material("diffuse", color=(.6, .6, .7)),
+                 g.Material("diffuse", color=(.8, .2, .2)),
+                 g.Material("conductor", color=(.9, .9, .9)),
+                 g.Material("dielectric", ior=1.5),
+                 g.Material("diffuse", color=(.2, .8, .2))]
+    rng = np.random.default_rng(5)
+    matrices, meshes, offsets = [], [], []
+    for k in range(8):
+        scale = rng.uniform(0.4, 1.0, 3)
+        if k % 2:
+            scale[k // 2 % 3] *= -1.0  # a mirror
+        t = (rng.uniform(-2, 2), rng.uniform(0.4, 1.2), rng.uniform(-1.5, 1.5))
+        matrices.append(placement(rng.normal(size=3), rng.uniform(0, 6.28), scale, t + o))
+        meshes.append(k % 2)
+        offsets.append(2 + k // 2 % 4)  # each material on one mirrored instance
+    camera = g.Camera(to_world=look_at(o + (0, 2.5, 6), o + (0, 0.7, 0)), fov_x=0.9)
+    light = g.Light("point", power=400.0, position=tuple(o + (1.0, 3.5, 2.0)))
+    return dict(positions=positions, indices=indices, material_ids=ids, materials=materials,
+                lights=[light], camera=camera,
+                instance_meshes=[ball(), unit_cube()],
+                instances=np.array(matrices, np.float32),
+                instance_mesh=np.array(meshes, np.uint32),
+                instance_material_offset=np.array(offsets, np.uint32))

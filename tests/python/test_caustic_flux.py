@@ -143,7 +143,7 @@ def test_glass_ball_photon_flux_matches_fresnel_closed_form(glslppm):
     segments = 2 * rings
     silhouette = 0.5 * segments * radius * radius * math.sin(2.0 * math.pi / segments)
     beside_area = math.pi * beam * beam - silhouette
-    # 16 bounces at most (Settings' max_depth): in, k internal reflections, out, floor.
+    # 16 bounces at most (Settings' max_bounces): in, k internal reflections, out, floor.
     expected = np.array([ball_landing_area(m, radius, height, IOR, max_internal=13)
                          for m in limits]) / beside_area
     measured = through / beside

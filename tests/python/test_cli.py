@@ -77,3 +77,29 @@ def test_bad_numbers_are_errors_naming_the_option():
     for command in ([RENDER, "--help"], [BENCH, "--help"]):
         result = subprocess.run(command, capture_output=True, text=True, timeout=60)
         assert result.returncode == 0 and result.stdout.startswith("usage:"), command
+
+
+def test_max_bounces_and_its_older_name_max_depth_set_the_same_setting(glslppm, tmp_path):
+    """--max-bounces is Blender's name; --max-depth stays accepted for scripts written
+    before the rename. Both give the same image, bit for bit, and record max_bounces."""
+    images = []
+    for option in ("--max-bounces", "--max-depth"):
+        out = tmp_path / f"{option[2:]}.exr"
+        result = subprocess.run(
+            [RENDER, "--width", "16", "--height", "12", "--passes", "2", "--photons", "1024",
+             option, "2", "--out", str(out)], capture_output=True, text=True, timeout=300,
+            cwd="/")
+        assert result.returncode == 0, result.stderr
+        image, header = glslppm.read_exr(str(out))
+        assert header["max_bounces"] == "2"
+        images.append(image)
+    assert np.array_equal(images[0], images[1])
+    # One bounce fewer changes the image: the option is not ignored.
+    out = tmp_path / "one.exr"
+    subprocess.run([RENDER, "--width", "16", "--height", "12", "--passes", "2", "--photons",
+                    "1024", "--max-bounces", "1", "--out", str(out)], check=True, timeout=300,
+                   capture_output=True, cwd="/")
+    assert not np.array_equal(glslppm.read_exr(str(out))[0], images[0])
+    help_text = subprocess.run([RENDER, "--help"], capture_output=True, text=True,
+                               timeout=60).stdout
+    assert "--max-bounces N" in help_text and "--max-depth is accepted" in help_text

@@ -219,7 +219,7 @@ def test_closed_furnace_in_both_modes(glslppm, direct):
     g = glslppm
     albedo, emission, passes = 0.5, 1.0, 200
     r = g.Renderer(furnace_scene(g, albedo, emission),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024, seed=3,
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=1024, seed=3,
                               hash="exact", direct_light=direct))
     r.run(passes)
     image = r.film()[..., :3]
@@ -412,7 +412,7 @@ def test_one_bright_texel_casts_a_sharp_shadow_sampled(glslppm):
     texel's radiance times its solid angle times cos, within the noise of picking the texel
     among the bilinear footprint's neighbours."""
     g = glslppm
-    from test_environment import direction_of_texel
+    from scenes import direction_of_texel
     w, hgt = 64, 32
     x_texel, y_texel = 16, 24
     d = direction_of_texel(x_texel, y_texel, w, hgt)
@@ -487,8 +487,8 @@ def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):
     reflections (black walls end every other path), all above the mirror."""
     g = glslppm
     from conftest import merge, quad
-    from test_sppm import box
-    room = box((-2, -2, -2), (2, 2, 2))
+    from scenes import axis_box
+    room = axis_box((-2, -2, -2), (2, 2, 2))
     room = (room[0], room[1][:, ::-1].copy())   # inward-facing
     slab_top = quad((-0.5, 0.5, -0.5), (-0.5, 0.5, 0.5), (0.5, 0.5, 0.5), (0.5, 0.5, -0.5))
     positions, indices, ids = merge((*room, 0), (*slab_top, 1))

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import sphere
+from scenes import direction_of_texel
 
 
 def ortho_camera(g, position, rotation=None, scale=2.4):
@@ -14,15 +15,6 @@ def ortho_camera(g, position, rotation=None, scale=2.4):
         m[:3, :3] = rotation
     m[:3, 3] = position
     return g.Camera(m, projection="orthographic", ortho_scale=scale)
-
-
-def direction_of_texel(x, y, width, height):
-    """The direction of a texel's centre in Blender's (Cycles') equirectangular mapping, Z up:
-    +X at u = 0.5, +Y at u = 0.25 (checked against Cycles by tests/blender/test_cycles.py)."""
-    u, v = (x + 0.5) / width, (y + 0.5) / height
-    phi, elevation = (0.5 - u) * 2 * math.pi, (v - 0.5) * math.pi   # u = 0.5 - atan2(y, x) / 2pi
-    return np.array([math.cos(elevation) * math.cos(phi), math.cos(elevation) * math.sin(phi),
-                     math.sin(elevation)])
 
 
 @pytest.mark.parametrize("as_map", [False, True])

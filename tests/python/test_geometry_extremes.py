@@ -265,7 +265,7 @@ def test_grazing_reflection_off_a_tessellated_mirror_does_not_stick(glslppm, deg
     # Control: with no bounce after the mirror, the pixels that see it go black, so the
     # view above does look at the floor (at least 4 rows of pixels).
     r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=1024, seed=6,
-                                     max_depth=1))
+                                     max_bounces=1))
     r.run(1)
     assert (r.film()[..., 0] == 0.0).sum() >= 64
 

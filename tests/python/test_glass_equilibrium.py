@@ -47,7 +47,7 @@ def test_white_object_in_clear_glass_is_invisible(glslppm, case, direct):
     inner = g.Material(color=(1.0,) * 3, **inner_args)
     size, passes = 32, 160
     r = g.Renderer(equilibrium_scene(g, glass, inner),
-                   g.Settings(width=size, height=size, photons_per_pass=16384, max_depth=256,
+                   g.Settings(width=size, height=size, photons_per_pass=16384, max_bounces=256,
                               seed=2, direct_light=direct))
     r.run(passes)
     assert ("microfacet" in r.stats()["variant"].split(",")) == microfacet

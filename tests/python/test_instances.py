@@ -5,74 +5,8 @@ geometry allows; the path taken is reported in stats; bad instance tables are er
 import numpy as np
 import pytest
 
-from conftest import look_at, quad, sphere
-
-
-def rotation(axis, angle):
-    axis = np.asarray(axis, np.float64) / np.linalg.norm(axis)
-    x, y, z = axis
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
-                     [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
-                     [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]])
-
-
-def placement(axis, angle, scale, translation):
-    m = np.eye(4)
-    m[:3, :3] = rotation(axis, angle) @ np.diag(scale)
-    m[:3, 3] = translation
-    return m
-
-
-def box():
-    """A unit cube without normals (flat shaded), 12 triangles."""
-    c = [(x, y, z) for x in (-.5, .5) for y in (-.5, .5) for z in (-.5, .5)]
-    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    tris = [[a, b, c_] for a, b, c_, d in faces] + [[a, c_, d] for a, b, c_, d in faces]
-    return {"positions": np.array(c, np.float32), "indices": np.array(tris, np.uint32)}
-
-
-def ball():
-    p, t, n = sphere((0, 0, 0), 0.5, 12, 24)
-    return {"positions": p, "indices": t, "normals": n,
-            "material_ids": np.zeros(len(t), np.uint32)}
-
-
-def instanced_scene(g, offset=(0.0, 0.0, 0.0)):
-    """A floor and a wall placed once; a ball and a box placed eight times under rotations,
-    non-uniform scales, mirrors (negative determinants) and materials chosen by offset:
-    diffuse red, mirror, glass, diffuse green. `offset` moves everything (camera and light
-    too)."""
-    o = np.asarray(offset, np.float64)
-    fp, ft = quad((-3, 0, -3), (-3, 0, 3), (3, 0, 3), (3, 0, -3))
-    wp, wt = quad((-3, 0, -2), (3, 0, -2), (3, 4, -2), (-3, 4, -2))
-    positions = (np.concatenate([fp, wp]) + o).astype(np.float32)
-    indices = np.concatenate([ft, wt + 4]).astype(np.uint32)
-    ids = np.array([0, 0, 1, 1], np.uint32)
-    materials = [g.Material("diffuse", color=(.8, .8, .8)),
-                 g.Material("diffuse", color=(.6, .6, .7)),
-                 g.Material("diffuse", color=(.8, .2, .2)),
-                 g.Material("conductor", color=(.9, .9, .9)),
-                 g.Material("dielectric", ior=1.5),
-                 g.Material("diffuse", color=(.2, .8, .2))]
-    rng = np.random.default_rng(5)
-    matrices, meshes, offsets = [], [], []
-    for k in range(8):
-        scale = rng.uniform(0.4, 1.0, 3)
-        if k % 2:
-            scale[k // 2 % 3] *= -1.0  # a mirror
-        t = (rng.uniform(-2, 2), rng.uniform(0.4, 1.2), rng.uniform(-1.5, 1.5))
-        matrices.append(placement(rng.normal(size=3), rng.uniform(0, 6.28), scale, t + o))
-        meshes.append(k % 2)
-        offsets.append(2 + k // 2 % 4)  # each material on one mirrored instance
-    camera = g.Camera(to_world=look_at(o + (0, 2.5, 6), o + (0, 0.7, 0)), fov_x=0.9)
-    light = g.Light("point", power=400.0, position=tuple(o + (1.0, 3.5, 2.0)))
-    return dict(positions=positions, indices=indices, material_ids=ids, materials=materials,
-                lights=[light], camera=camera,
-                instance_meshes=[ball(), box()],
-                instances=np.array(matrices, np.float32),
-                instance_mesh=np.array(meshes, np.uint32),
-                instance_material_offset=np.array(offsets, np.uint32))
+from conftest import look_at
+from scenes import instanced_scene, placement
 
 
 def flatten(kw):

@@ -21,7 +21,7 @@ def furnace(g, leaf, passes, **settings):
     materials = [g.Material("mix", emission=emission, mix_a=1, mix_b=2, mix_factor=0.5),
                  g.Material("diffuse", color=(0.0,) * 3, emission=emission), leaf]
     r = g.Renderer(furnace_scene(g, 0.5, 1.0, materials=materials),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024,
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=1024,
                               seed=3, glossy_threshold=0.2, **settings))
     r.run(passes)
     image = r.film()[..., :3]

@@ -153,16 +153,16 @@ def test_refusals_name_the_setting(glslppm, scene):
     r.close()
 
 
-@pytest.mark.parametrize("albedo,max_depth", [(0.5, 24), (0.8, 64)])
-def test_closed_furnace(glslppm, albedo, max_depth):
+@pytest.mark.parametrize("albedo,max_bounces", [(0.5, 24), (0.8, 64)])
+def test_closed_furnace(glslppm, albedo, max_bounces):
     """PPPM converges to what SPPM converges to: L = Le / (1 - a) inside the closed diffuse
     sphere (tests/python/test_sppm.py checks SPPM against the same closed form and bound).
     Paths are traced whole within a pass, so there is no start-up bias; the depth limit
-    loses a^max_depth of the light (below 1e-6 here)."""
+    loses a^max_bounces of the light (below 1e-6 here)."""
     from closed_forms import furnace_scene
     g = glslppm
     r = g.Renderer(furnace_scene(g, albedo, 1.0, inward=True),
-                   settings(g, width=24, height=24, max_depth=max_depth, seed=3))
+                   settings(g, width=24, height=24, max_bounces=max_bounces, seed=3))
     r.run(100)
     image = r.film()[..., :3]
     r.close()
@@ -204,7 +204,7 @@ def test_two_workers_trace_instances_through_the_two_levels(glslppm):
     """Every worker gets the two-level MTBVH and its instance records: two workers on one
     device give the one worker's image of an instanced scene (mirrors, glass, 8 instances)
     within the merge bound, and the scene hash follows the instance table."""
-    from test_instances import instanced_scene
+    from scenes import instanced_scene
     g = glslppm
     kw = instanced_scene(g)
     scene = g.Scene(**kw)
@@ -253,7 +253,7 @@ def test_tiles_with_two_workers_give_the_one_worker_image(glslppm, scene):
     assert whole[..., :3].mean() > 0.05
     # A band's camera rays go through its window, so a visible point can move by float
     # rounding and gain or lose a photon lying on its radius: a whole photon's difference in
-    # one pixel. PPPM gathers a pass's max_depth photon steps at once (16 times SPPM's
+    # one pixel. PPPM gathers a pass's max_bounces photon steps at once (16 times SPPM's
     # photons per gather here), so this happens where SPPM's test_tiles sees none: measured
     # one pixel of 2304 (0.022). Every other pixel agrees to float rounding.
     difference = np.abs(two - whole)

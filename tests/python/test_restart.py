@@ -108,7 +108,7 @@ def test_pppm_restarts_every_worker_and_its_pass_indices(glslppm):
     g = glslppm
 
     def pppm(**extra):
-        return g.Settings(width=48, height=36, photons_per_pass=4096, seed=7, max_depth=8,
+        return g.Settings(width=48, height=36, photons_per_pass=4096, seed=7, max_bounces=8,
                           estimator="pppm", first_pass=3, **extra)
 
     def scene(camera, **extra):

@@ -44,7 +44,7 @@ def ortho_camera(g, eye, target, up, scale):
 
 def render(g, scene, size=64, passes=64, seed=1):
     r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=1024,
-                                     max_depth=1024, hash="exact", seed=seed))
+                                     max_bounces=1024, hash="exact", seed=seed))
     r.run(passes)
     image = r.film()[..., :3].astype(np.float64)
     assert np.isfinite(image).all()

@@ -13,6 +13,7 @@ import pytest
 
 from closed_forms import furnace_scene
 from conftest import look_at, merge, quad, sphere
+from scenes import axis_box
 
 
 @pytest.mark.parametrize("albedo,hash_mode,inward", [
@@ -29,7 +30,7 @@ def test_closed_furnace(glslppm, albedo, hash_mode, inward):
     emission = 1.0
     passes = 200 if albedo == 0.5 else 400
     r = g.Renderer(furnace_scene(g, albedo, emission, inward=inward),
-                   g.Settings(width=24, height=24, photons_per_pass=8192, max_depth=1024, seed=3,
+                   g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=1024, seed=3,
                               hash=hash_mode))
     r.run(passes)
     image = r.film()[..., :3]
@@ -144,20 +145,6 @@ def test_emitted_power_equals_light_power(glslppm):
     assert np.all(np.abs(mean - expected) <= 1e-4 * expected + 5 * spread), (mean, expected)
 
 
-def box(lo, hi):
-    """An axis-aligned box, outward-facing."""
-    (x0, y0, z0), (x1, y1, z1) = lo, hi
-    faces = [
-        quad((x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)),  # -y
-        quad((x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)),  # +y
-        quad((x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)),  # -z
-        quad((x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)),  # +z
-        quad((x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)),  # -x
-        quad((x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)),  # +x
-    ]
-    return merge(*[(p, t, 0) for p, t in faces])[:2]
-
-
 def mirror_z(positions, indices):
     """The mirror image about the plane z = 0: positions reflected, winding reversed."""
     p = positions.copy()
@@ -171,7 +158,7 @@ def test_scene_in_a_mirror_equals_the_mirrored_scene(glslppm):
     camera view; block means agree within their noise."""
     g = glslppm
     floor = quad((-3, 0, 0), (-3, 0, 3), (3, 0, 3), (3, 0, 0))
-    cube = box((-0.9, 0.0, 0.6), (-0.1, 0.8, 1.4))
+    cube = axis_box((-0.9, 0.0, 0.6), (-0.1, 0.8, 1.4))
     light_pos = (0.8, 2.0, 1.2)
     mirror = quad((-40, -40, 0), (40, -40, 0), (40, 40, 0), (-40, 40, 0))
     white = g.Material("diffuse", color=(0.7, 0.7, 0.7))

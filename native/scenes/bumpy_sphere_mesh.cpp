@@ -1,4 +1,4 @@
-#include "bvh/procedural_mesh.h"
+#include "scenes/bumpy_sphere_mesh.h"
 
 #include <algorithm>
 #include <cmath>

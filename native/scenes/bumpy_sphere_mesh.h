@@ -1,4 +1,5 @@
-// Deterministic procedural meshes for the BVH benchmark and tests.
+// A deterministic bumpy sphere mesh of any triangle count, for the BVH benchmark and tests
+// (the scenes of glslppm-render and the bench are the other generators of this folder).
 #pragma once
 
 #include <cstdint>
