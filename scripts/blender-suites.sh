@@ -41,6 +41,11 @@ run_suite() {
   fi
   local rc=$?
   grep -E "^(PASS|FAIL|SKIP|RESULT|FAILED|BENCH)" "$log"
+  # Each failure's traceback (the test's stderr, kept in the log, which the next run of the
+  # suite replaces), so that a CI log says why.
+  awk '/^FAIL / {show = 1; print "---- " $0; next}
+       /^(PASS|FAIL|SKIP|RESULT|FAILED)/ {show = 0}
+       show {print "    " $0}' "$log"
   local summary
   summary=$(grep -E "^RESULT" "$log" | tail -1)
   if [ -z "$summary" ]; then
