@@ -1,7 +1,7 @@
 // The GPU pipeline of one Renderer (native/render/renderer.h keeps it behind a pointer): the
 // GL thread, the compiled stage programs and every buffer, and a pass as its named stages
-// (run_pass: eye trace, photon trace, hash, gather, end of pass). Only renderer.cpp includes
-// this file.
+// (run_pass: eye trace, photon trace, hash, gather, end of pass). Only the Renderer's own
+// sources include this file (renderer.cpp, renderer_setup.cpp, renderer_readback.cpp).
 #pragma once
 
 #include <algorithm>
