@@ -139,6 +139,9 @@ void main() {
             weight = throughput;
             point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
                           (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
+#ifdef HAS_NORMAL_MAP
+            point_flags |= pack_octahedral(sh.ng) << VISIBLE_POINT_NORMAL_SHIFT;
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             direct += throughput * direct_light_sampled_lobes(s.position, s.geometric_normal, sh,
                                                               wo, p_smooth > 0.0, light_pick,

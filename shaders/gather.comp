@@ -17,6 +17,20 @@ layout(local_size_x = LOCAL_SIZE) in;
 
 shared float group_max_radius[LOCAL_SIZE];
 
+#ifdef HAS_MICROFACET
+// f(wo, wi) for photon p arriving from wi; on normal-mapped surfaces times the factor its
+// deposit stored, which turns the photons' density (per area of the true surface) into the
+// shading normal's cosine (photon_trace.comp).
+vec3 photon_f(Shading sh, vec3 wo, uint p, bool rough_only) {
+    vec4 incoming = photons[3 * p + 1];
+    vec3 f = bsdf_f(sh, wo, incoming.xyz, rough_only, false);
+#ifdef HAS_NORMAL_MAP
+    f *= incoming.w;
+#endif
+    return f;
+}
+#endif
+
 void main() {
     uint i = thread_index();
     float radius_after = 0.0;
@@ -43,6 +57,9 @@ void main() {
             Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w),
                                          (point_flags & VISIBLE_POINT_ENTERING) != 0u);
             bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
+#ifdef HAS_NORMAL_MAP
+            sh.ng = unpack_octahedral(point_flags >> VISIBLE_POINT_NORMAL_SHIFT);
+#endif
             vec3 wo = wo_v.xyz;
             vec3 weight = w_flags.xyz;
 #else
@@ -76,7 +93,7 @@ void main() {
                 // count their survivor twice.
 #ifdef HAS_MICROFACET
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
-                    vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
+                    vec3 f = photon_f(sh, wo, p, rough_only);
                     float count = float(entry.y);
                     m += count;
                     phi += count * f * photons[3 * p + 2].xyz;
@@ -97,8 +114,7 @@ void main() {
 #ifdef HAS_MICROFACET
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
                         m += 1.0;
-                        phi += bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
-                               photons[3 * p + 2].xyz;
+                        phi += photon_f(sh, wo, p, rough_only) * photons[3 * p + 2].xyz;
                     }
 #else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&

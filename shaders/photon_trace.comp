@@ -60,6 +60,7 @@ void main() {
     vec4 stored = vec4(0.0);  // flux.w = 1 when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
+    float shading_factor = 0.0;  // HAS_NORMAL_MAP: |wi.ns| / |wi.ng| at the deposit
     Hit hit = closest_hit(make_ray(origin, dir));
     if (hit.triangle < 0) {
         bounces = -1.0;  // left the scene: a new path next pass
@@ -90,6 +91,9 @@ void main() {
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
                 stored = vec4(flux, 1.0);
+#ifdef HAS_NORMAL_MAP
+                shading_factor = shading_cosine_ratio(incoming, sh.n, s.geometric_normal);
+#endif
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             vec3 wi, w;
@@ -106,6 +110,12 @@ void main() {
                     bounces = -1.0;
                 } else {
                     flux *= w / q;
+#ifdef HAS_NORMAL_MAP
+                    // Veach's adjoint BSDF for shading normals (thesis, eq. 5.17): photons
+                    // carry |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) on top of the sample's weight.
+                    flux *= shading_cosine_ratio(-dir, sh.n, s.geometric_normal) /
+                            max(shading_cosine_ratio(wi, sh.n, s.geometric_normal), 1.0e-6);
+#endif
                     // About a smooth shading normal the sample may cross the true surface to
                     // the other side than its lobe meant: mirror it back across the surface.
                     vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
@@ -181,7 +191,7 @@ void main() {
 #endif
     photon_paths[3 * i + 2] = vec4(flux, 0.0);
     photons[3 * i + 0] = position_key;
-    photons[3 * i + 1] = vec4(incoming, 0.0);
+    photons[3 * i + 1] = vec4(incoming, shading_factor);
     photons[3 * i + 2] = stored;
     rng_store(state_index, rng);
     atomicAdd(pass_rays, 1u);

@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass, replace
 
 from .image import image_mean_color
+from .normal_map import normal_map_of
 from .node_inputs import (clamp01, input_socket, linked_node, linked_output,
                           socket_color, socket_color_texture, socket_scalar, socket_value)
 from .scene_data import MaterialData
@@ -83,7 +84,12 @@ def convert_material(material, warn, textures=None):
     root = context.shader(output.inputs["Surface"])
     if _depth(root) > MAX_MIX_DEPTH:
         root = _limit_depth(root, MAX_MIX_DEPTH, material_warn)
-    return flatten(root)
+    entries = flatten(root)
+    # The renderer reads the normal map of the triangle's own material, the root.
+    mapped = normal_map_of(output.inputs["Surface"], material_warn, textures)
+    if mapped is not None:
+        entries[0] = replace(entries[0], normal_texture=mapped[0], normal_strength=mapped[1])
+    return entries
 
 
 def volume_only(material):

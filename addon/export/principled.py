@@ -25,9 +25,10 @@ The node is a tree of Mix materials, as Cycles composes its closures:
   quarter of Clearcoat at IOR 1.5, as Cycles 3.x scales it). Tint and the coat's
   darkening of the base are not modelled: a warning says so.
 
-Sheen, subsurface, anisotropy, thin film and normal maps have no counterpart yet: each is
-left out with a warning naming the material and the node. Emission is added to every lobe
-below the alpha (Principled's emission is covered by its alpha, as in Cycles).
+Sheen, subsurface, anisotropy, thin film and the coat's own normal have no counterpart yet:
+each is left out with a warning naming the material and the node (the Normal input is read by
+normal_map.py). Emission is added to every lobe below the alpha (Principled's emission is
+covered by its alpha, as in Cycles).
 """
 
 import math
@@ -148,10 +149,11 @@ def _warn_unmodelled(node, context, v2, warn):
         warn("anisotropy is not supported; rendering isotropic")
     if active("Thin Film Thickness"):
         warn("thin film is not rendered")
-    for name in ("Normal", "Coat Normal", "Clearcoat Normal"):
+    # Its Normal input is read by normal_map.py with every BSDF's.
+    for name in ("Coat Normal", "Clearcoat Normal"):
         socket = input_socket(node, name)
         if socket is not None and socket.is_linked:
-            warn(f"its {name} input is ignored (normal and bump maps are not supported yet)")
+            warn(f"its {name} input is ignored (the coat shares the base's normal)")
 
 
 def _f0(ior):

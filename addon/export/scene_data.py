@@ -35,9 +35,12 @@ class MaterialData:
     mix_channel: str = "luminance"
     mix_mode: str = "constant"       # "constant", "fresnel" (IOR mix_ior), "facing" (blend)
     mix_ior: float = 1.5
+    normal_texture: int = -1         # tangent-space Normal Map image (the whole material's)
+    normal_strength: float = 1.0     # the Normal Map node's Strength
 
     def textured(self):
-        return max(self.color_texture, self.roughness_texture, self.mix_texture) >= 0
+        return max(self.color_texture, self.roughness_texture, self.mix_texture,
+                   self.normal_texture) >= 0
 
 
 @dataclass
@@ -115,6 +118,7 @@ class SceneData:
     instance_meshes: list = field(default_factory=list)
     instances: object = None
     instance_mesh: object = None
+    tangents: object = None          # float32 (V, 4) or None: normal maps' tangent frames
 
     @property
     def triangle_count(self):

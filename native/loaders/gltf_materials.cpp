@@ -403,7 +403,20 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
     }
     if (m.emissiveTexture.index >= 0)
         warn(element, "emissiveTexture is not supported: emissiveFactor alone is used");
-    if (m.normalTexture.index >= 0) warn(element, "normalTexture is not supported: ignored");
+    if (m.normalTexture.index >= 0) {
+        // Tangent space, +Y up as Blender's; the texels are numbers (linear). glTF's scale
+        // (x and y of the texel times it) becomes the Normal Map's Strength, as Blender's
+        // importer maps it: equal at 1, close for tilts below 45 degrees.
+        tinygltf::TextureInfo info;
+        info.index = m.normalTexture.index;
+        info.texCoord = m.normalTexture.texCoord;
+        info.extensions = m.normalTexture.extensions;
+        out.normal_texture = data_texture(info, element + ".normalTexture");
+        const double scale = m.normalTexture.scale;
+        if (!std::isfinite(scale) || scale < 0.0)
+            fail(element, "normalTexture.scale must be finite and >= 0");
+        out.normal_strength = float(scale);
+    }
     return out;
 }
 

@@ -129,10 +129,15 @@ struct GpuMaterial {
     std::uint32_t options;        // MaterialOption bits and fields below
     float mix_ior;
     std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
-    std::uint32_t unused;
+    std::uint32_t normal_map;     // see normal_map_word
 };
 static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
               offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
+
+// GpuMaterial::normal_map: 0 for none, else the normal texture's index + 1 in the low 16 bits
+// and the strength as a half float in the high 16 (GLSL's unpackHalf2x16; 11 bits of
+// precision: strength 0.3 reads 0.29988). Read by shaders/common/surface.glsl.
+inline constexpr std::uint32_t kMaxNormalMapTextures = 0xFFFFu;
 
 // GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
 inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's

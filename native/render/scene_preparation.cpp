@@ -8,9 +8,12 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <glm/gtc/packing.hpp>
+
 #include "bvh/traverse_cpu.h"
 #include "render/microfacet_tables.h"
 #include "scene/scene_validation.h"
+#include "scene/tangent_space.h"
 
 namespace glslppm {
 namespace {
@@ -28,7 +31,7 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
         const Material& m = scene.materials[k];
         bool warned = false;
-        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture}) {
+        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture, m.normal_texture}) {
             if (t < 0) continue;  // indices were checked by validate_scene
             if (!has_uvs) {
                 if (!warned)
@@ -50,9 +53,21 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
 
 }  // namespace
 
+std::uint32_t normal_map_word(const Material& m) {
+    if (m.normal_texture < 0) return 0u;
+    if (m.normal_texture >= static_cast<std::int32_t>(kMaxNormalMapTextures))
+        throw SceneError("a normal map's texture index " + std::to_string(m.normal_texture) +
+                         " is past the " + std::to_string(kMaxNormalMapTextures - 1) +
+                         " a material record holds");
+    return static_cast<std::uint32_t>(m.normal_texture + 1) |
+           glm::packHalf1x16(m.normal_strength) << 16;
+}
+
 // Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
 // model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
 bool needs_microfacet(const Material& m) {
+    // The lobes bend a normal-mapped shading normal towards the surface (shading_at).
+    if (m.normal_texture >= 0) return true;
     switch (m.kind) {
         case MaterialKind::Diffuse: return false;
         case MaterialKind::Conductor:
@@ -109,6 +124,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                     (m.multiscatter ? kOptionMultiscatter : 0u) | (m.schlick ? kOptionSchlick : 0u) |
                     (m.tint_reflection ? kOptionTintReflection : 0u);
         g.table = -1;
+        g.normal_map = textures ? normal_map_word(m) : 0u;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
         if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
             if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
@@ -259,6 +275,22 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         geometry.mesh.uvs = {};
         for (MeshView& m : instance_meshes) m.uvs = {};
     }
+    // Normal maps read each vertex's tangent: meshes without them get tangents from their
+    // uvs (scene/tangent_space.h). An earlier MTBVH may lack them: it is built again.
+    bool normal_map = false;
+    for (const Material& m : geometry.materials) normal_map |= use.materials && m.normal_texture >= 0;
+    if (normal_map) {
+        built = nullptr;
+        auto with_tangents = [&](MeshView& m) {
+            if (!m.tangents.empty() || m.uvs.empty()) return;
+            validate_mesh(m, static_cast<std::uint32_t>(geometry.materials.size()));  // indices
+            p.generated_tangents.push_back(
+                generate_tangents(m.positions, m.triangles, m.normals, m.uvs));
+            m.tangents = p.generated_tangents.back();
+        };
+        with_tangents(geometry.mesh);
+        for (MeshView& m : instance_meshes) with_tangents(m);
+    }
     const auto material_count = static_cast<std::uint32_t>(geometry.materials.size());
     const ValidMesh mesh = validate_mesh(geometry.mesh, material_count);
     std::vector<ValidMesh> valid_instance_meshes;
@@ -364,6 +396,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
+    feature(normal_map, "HAS_NORMAL_MAP", "normal-map");
     // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
     // materials no triangle names). Not part of the full variant: these lobes replace the
     // closed model's code, with its own random numbers, rather than add branches to it.

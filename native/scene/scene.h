@@ -79,6 +79,12 @@ struct Material {
     TextureChannel mix_channel = TextureChannel::Luminance;
     MixFactor mix_mode = MixFactor::Constant;
     float mix_ior = 1.5f;  // Fresnel's index, or Layer Weight's blend
+    // Blender's Normal Map node in tangent space (glTF's normalTexture): the texel's rgb
+    // (linear, 2 rgb - 1) in the vertex's (tangent, bitangent, normal) frame, blended with
+    // the interpolated normal by `normal_strength` as Blender blends it. Read on the
+    // triangle's own material (a Mix's root): it applies to all the Mix's leaves.
+    std::int32_t normal_texture = -1;
+    float normal_strength = 1.0f;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
@@ -177,11 +183,12 @@ struct OwnedMesh {
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> uvs;
     std::vector<std::uint32_t> material_ids;
+    std::vector<glm::vec4> tangents;
 
     // Appends another mesh's triangles, all with one material.
     void append(const std::vector<glm::vec3>& p, const std::vector<glm::uvec3>& t,
                 std::uint32_t material);
-    MeshView view() const { return {positions, triangles, normals, uvs, material_ids}; }
+    MeshView view() const { return {positions, triangles, normals, uvs, material_ids, tangents}; }
     // Multiplies every position by `factor` (normals and uvs unchanged).
     void scale(float factor);
 };

@@ -70,6 +70,9 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
     Checker::texture_index(name + ".color_texture", m.color_texture, textures);
     Checker::in_range(name + ".roughness", m.roughness, 0.0f, 1.0f, false, false, "[0, 1]");
     Checker::texture_index(name + ".roughness_texture", m.roughness_texture, textures);
+    Checker::texture_index(name + ".normal_texture", m.normal_texture, textures);
+    Checker::in_range(name + ".normal_strength", m.normal_strength, 0.0f, 1.0e3f, false, false,
+                      "[0, 1000]");
     if (m.kind != MaterialKind::Mix) return;
     for (auto [field, k] : {std::pair{".mix_a", m.mix_a}, std::pair{".mix_b", m.mix_b}})
         if (k < 0 || k >= static_cast<std::int32_t>(materials))

@@ -9,8 +9,6 @@
 #include "common/textures.glsl"
 #include "common/microfacet.glsl"
 
-// Five vec4 per material (GpuMaterial in native/render/gpu_layout.h).
-const int MATERIAL_STRIDE = 5;
 vec3 material_color(int m) { return materials[MATERIAL_STRIDE * m].xyz; }
 int material_kind(int m) { return int(materials[MATERIAL_STRIDE * m].w); }
 vec3 material_emission(int m) { return materials[MATERIAL_STRIDE * m + 1].xyz; }

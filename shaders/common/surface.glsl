@@ -4,6 +4,7 @@
 
 #include "common/mtbvh.glsl"
 #include "common/scene_buffers.glsl"
+#include "common/textures.glsl"
 
 // The unit normal of a triangle's winding. The edges are scaled by their largest component
 // first: the cross product squares them, which overflows or underflows a float for
@@ -14,6 +15,64 @@ vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
                   max(abs(e2.y), abs(e2.z)));
     return normalize(cross(e1 / m, e2 / m));
 }
+
+#ifdef HAS_NORMAL_MAP
+// GpuMaterial::normal_map (native/render/gpu_layout.h): 0, or the texture's index + 1 in the
+// low 16 bits and the strength as a half float in the high 16.
+uint material_normal_map(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].w); }
+
+// A unit vector in the low 30 bits: the octahedral encoding, 15 bits per coordinate, as
+// pack_tangent writes it (native/scene/tangent_space.cpp).
+vec3 unpack_octahedral(uint bits) {
+    vec2 o = vec2(float(int(bits & 0x7FFFu) - 16383),
+                  float(int((bits >> 15) & 0x7FFFu) - 16383)) / 16383.0;
+    vec3 t = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+    if (t.z < 0.0)
+        t.xy = (1.0 - abs(o.yx)) * vec2(o.x >= 0.0 ? 1.0 : -1.0, o.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(t);
+}
+
+uint pack_octahedral(vec3 v) {
+    vec3 t = v / (abs(v.x) + abs(v.y) + abs(v.z));
+    vec2 o = t.z >= 0.0 ? t.xy
+                        : (1.0 - abs(t.yx)) * vec2(t.x >= 0.0 ? 1.0 : -1.0, t.y >= 0.0 ? 1.0 : -1.0);
+    uvec2 q = uvec2(ivec2(round(clamp(o, -1.0, 1.0) * 16383.0)) + 16383);
+    return (q.x & 0x7FFFu) | (q.y & 0x7FFFu) << 15;
+}
+
+// pack_tangent's word: the direction, and the bitangent's sign in bit 31.
+vec4 unpack_tangent(float word) {
+    uint bits = floatBitsToUint(word);
+    return vec4(unpack_octahedral(bits), (bits & 0x80000000u) != 0u ? -1.0 : 1.0);
+}
+
+// Blender's Normal Map node in tangent space (as Cycles' svm_node_normal_map): the texel,
+// 2 rgb - 1, in the frame (t, sign n x t, n) of the interpolated normal n as the mesh has it,
+// then blended with n by the strength. t is made orthogonal to n here, as MikkTSpace's
+// per-pixel reconstruction does.
+vec3 normal_mapped(int material, vec3 n, vec4 tangent, vec2 uv) {
+    uint word = material_normal_map(material);
+#ifdef HAS_TEXTURES
+    if (word != 0u) {
+        vec3 c = 2.0 * sample_texture(int(word & 0xFFFFu) - 1, uv).rgb - 1.0;
+        vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+        float lt = length(t);
+        if (lt > 1.0e-6) {
+            t /= lt;
+            vec3 mapped = c.x * t + c.y * tangent.w * cross(n, t) + c.z * n;
+            float lm = length(mapped);
+            if (lm > 0.0) {
+                float strength = unpackHalf2x16(word >> 16).x;
+                vec3 blended = n + (mapped / lm - n) * strength;
+                float lb = length(blended);
+                if (lb > 0.0) return blended / lb;
+            }
+        }
+    }
+#endif
+    return n;
+}
+#endif
 
 struct Surface {
     vec3 position;
@@ -59,15 +118,6 @@ Surface surface_at(Ray ray, Hit hit) {
     // Interpolating the vertices is more accurate than origin + t * dir far from the origin.
     s.position = a.xyz + hit.u * (b.xyz - a.xyz) + hit.v * (c.xyz - a.xyz);
     s.geometric_normal = triangle_normal(a.xyz, b.xyz, c.xyz);
-#ifdef HAS_NORMALS
-    vec3 n = (1.0 - hit.u - hit.v) * vertex_normals[3 * t + 0].xyz +
-             hit.u * vertex_normals[3 * t + 1].xyz + hit.v * vertex_normals[3 * t + 2].xyz;
-    float len = length(n);
-    s.normal = len > 0.0 ? n / len : s.geometric_normal;
-    if (dot(s.normal, s.geometric_normal) < 0.0) s.normal = -s.normal;
-#else
-    s.normal = s.geometric_normal;
-#endif
     s.material = floatBitsToInt(a.w);
 #ifdef HAS_TEXTURES
     vec4 uv01 = vertex_uvs[2 * t + 0];
@@ -75,6 +125,27 @@ Surface surface_at(Ray ray, Hit hit) {
     s.uv = (1.0 - hit.u - hit.v) * uv01.xy + hit.u * uv01.zw + hit.v * uv2;
 #else
     s.uv = vec2(0.0);
+#endif
+#ifdef HAS_NORMALS
+    vec3 w = vec3(1.0 - hit.u - hit.v, hit.u, hit.v);
+    vec4 n0 = vertex_normals[3 * t + 0], n1 = vertex_normals[3 * t + 1],
+         n2 = vertex_normals[3 * t + 2];
+    vec3 n = w.x * n0.xyz + w.y * n1.xyz + w.z * n2.xyz;
+    float len = length(n);
+    s.normal = len > 0.0 ? n / len : s.geometric_normal;
+    bool flipped = dot(s.normal, s.geometric_normal) < 0.0;
+#ifdef HAS_NORMAL_MAP
+    // The tangent is interpolated like the normal; the bitangent's sign is the face's
+    // (MikkTSpace gives the corners of a face one sign).
+    vec4 t0 = unpack_tangent(n0.w);
+    vec3 tangent = w.x * t0.xyz + w.y * unpack_tangent(n1.w).xyz + w.z * unpack_tangent(n2.w).xyz;
+    s.normal = normal_mapped(s.material, s.normal, vec4(tangent, t0.w), s.uv);
+#endif
+    // On the geometric normal's side; a normal map tilts it, and shading_at bends it back
+    // where it would reflect the view under the surface.
+    if (flipped) s.normal = -s.normal;
+#else
+    s.normal = s.geometric_normal;
 #endif
 #ifdef GLSLPPM_INSTANCES
     instance_surface_to_world(s, hit.instance);
