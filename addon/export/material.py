@@ -88,7 +88,7 @@ def convert_material(material, warn, textures=None):
     # The renderer reads the normal map of the triangle's own material, the root.
     mapped = normal_map_of(output.inputs["Surface"], material_warn, textures)
     if mapped is not None:
-        entries[0] = replace(entries[0], normal_texture=mapped[0], normal_strength=mapped[1])
+        entries[0] = replace(entries[0], **mapped)
     return entries
 
 

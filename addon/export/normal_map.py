@@ -1,12 +1,14 @@
-"""Normal Map nodes (tangent space) on a material's BSDFs: one image and strength per
+"""Normal Map (tangent space) and Bump nodes on a material's BSDFs: one image per
 material, which the renderer applies to the material's shading normal (all its Mix
-leaves alike). The tangents come from the mesh (``mesh.calc_tangents``, MikkTSpace, as
-Cycles takes them), read in ``mesh.py``.
+leaves alike). A Normal Map's tangents come from the mesh (``mesh.calc_tangents``,
+MikkTSpace, as Cycles takes them), read in ``mesh.py``; the Normal Map's UV Map is read
+as the mesh's render UV map. A Bump's Height is an Image Texture's Color (its luminance,
+as Blender converts a colour to a float); its Strength, Distance and Invert are kept.
 
 What has no counterpart warns, naming the material and the node: other normal spaces
-(object, world, Blender's object/world), a Normal Map whose Color is not an Image
-Texture, Bump nodes, and BSDFs of one material with different normal maps (the first
-found is used for all).
+(object, world, Blender's object/world), a Normal Map or Bump fed by something other than
+an Image Texture, a Bump over another normal (its Normal input), and BSDFs of one material
+with different maps (the first found is used for all).
 """
 
 from .node_inputs import image_texture_index, input_socket, linked_node, socket_value
@@ -30,8 +32,8 @@ def _bsdfs(socket, seen):
 
 
 def normal_map_of(surface_socket, warn, textures):
-    """(texture index, strength) of the Normal Map feeding the BSDFs behind a material's
-    Surface socket, or None."""
+    """The MaterialData fields of the Normal Map or Bump feeding the BSDFs behind a
+    material's Surface socket (a dict), or None."""
     found = None
     for bsdf in _bsdfs(surface_socket, set()):
         socket = input_socket(bsdf, "Normal")
@@ -50,6 +52,8 @@ def normal_map_of(surface_socket, warn, textures):
 
 
 def _tangent_normal_map(node, bsdf, warn, textures):
+    if node.type == 'BUMP':
+        return _bump(node, warn, textures)
     if node.type != 'NORMAL_MAP':
         warn(f"the {node.bl_label} node '{node.name}' on the Normal of {bsdf.bl_label} "
              f"'{bsdf.name}' is not supported; the smooth normal is used")
@@ -69,4 +73,26 @@ def _tangent_normal_map(node, bsdf, warn, textures):
     index = image_texture_index(image_node, warn, textures)
     if index < 0:
         return None
-    return index, strength
+    return {"normal_texture": index, "normal_strength": strength}
+
+
+def _bump(node, warn, textures):
+    source = node.inputs["Height"]
+    image_node = linked_node(source)
+    if (textures is None or image_node is None or image_node.type != 'TEX_IMAGE'
+            or source.links[0].from_socket.name != "Color"):
+        warn(f"Bump '{node.name}': its Height is not an Image Texture's Color; the smooth "
+             "normal is used")
+        return None
+    if linked_node(node.inputs["Normal"]) is not None:
+        warn(f"Bump '{node.name}': the normal under the bump (its Normal input) is ignored")
+    for name in ("Strength", "Distance"):
+        if linked_node(node.inputs[name]) is not None:
+            warn(f"Bump '{node.name}': a linked {name} is read as its default value")
+    index = image_texture_index(image_node, warn, textures)
+    if index < 0:
+        return None
+    distance = socket_value(node.inputs["Distance"], warn)
+    return {"bump_texture": index,
+            "bump_strength": min(max(socket_value(node.inputs["Strength"], warn), 0.0), 1.0),
+            "bump_distance": -distance if node.invert else distance}

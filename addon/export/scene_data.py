@@ -37,10 +37,13 @@ class MaterialData:
     mix_ior: float = 1.5
     normal_texture: int = -1         # tangent-space Normal Map image (the whole material's)
     normal_strength: float = 1.0     # the Normal Map node's Strength
+    bump_texture: int = -1           # Bump node's Height image (luminance); not with a normal map
+    bump_strength: float = 1.0
+    bump_distance: float = 1.0       # negative: Invert
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
-                   self.normal_texture) >= 0
+                   self.normal_texture, self.bump_texture) >= 0
 
 
 @dataclass

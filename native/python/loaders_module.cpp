@@ -120,6 +120,7 @@ py::list materials_list(const Scene& s) {
         d["mix_ior"] = m.mix_ior;
         d["normal_texture"] = m.normal_texture;
         d["normal_strength"] = m.normal_strength;
+        d["bump_texture"] = m.bump_texture;
         out.append(d);
     }
     return out;

@@ -116,7 +116,8 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                        bool tint_reflection, int mix_a, int mix_b, float mix_factor,
                        int mix_texture, const std::string& mix_channel,
                        const std::string& mix_mode, float mix_ior, int normal_texture,
-                       float normal_strength) {
+                       float normal_strength, int bump_texture, float bump_strength,
+                       float bump_distance) {
     Material m;
     m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
@@ -141,6 +142,9 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                                                "Material mix_channel");
     m.normal_texture = normal_texture;
     m.normal_strength = normal_strength;
+    m.bump_texture = bump_texture;
+    m.bump_strength = bump_strength;
+    m.bump_distance = bump_distance;
     m.mix_mode = parse_name<MixFactor>(mix_mode, kMixModes, "Material mix_mode");
     m.mix_ior = mix_ior;
     return m;
@@ -462,7 +466,9 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("mix_a") = -1, py::arg("mix_b") = -1, py::arg("mix_factor") = 0.5f,
              py::arg("mix_texture") = -1, py::arg("mix_channel") = "luminance",
              py::arg("mix_mode") = "constant", py::arg("mix_ior") = 1.5f,
-             py::arg("normal_texture") = -1, py::arg("normal_strength") = 1.0f);
+             py::arg("normal_texture") = -1, py::arg("normal_strength") = 1.0f,
+             py::arg("bump_texture") = -1, py::arg("bump_strength") = 1.0f,
+             py::arg("bump_distance") = 1.0f);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

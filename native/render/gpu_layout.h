@@ -134,10 +134,13 @@ struct GpuMaterial {
 static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
               offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
 
-// GpuMaterial::normal_map: 0 for none, else the normal texture's index + 1 in the low 16 bits
-// and the strength as a half float in the high 16 (GLSL's unpackHalf2x16; 11 bits of
-// precision: strength 0.3 reads 0.29988). Read by shaders/common/surface.glsl.
-inline constexpr std::uint32_t kMaxNormalMapTextures = 0xFFFFu;
+// GpuMaterial::normal_map: 0 for none, else the normal (or bump) texture's index + 1 in the
+// low 15 bits, bit 15 set for a bump map, and the strength as a half float in the high 16
+// (GLSL's unpackHalf2x16; 11 bits of precision: strength 0.3 reads 0.29988). A bump map's
+// distance is a half float in the options' high 16 bits. Read by shaders/common/surface.glsl.
+inline constexpr std::uint32_t kMaxNormalMapTextures = 0x7FFFu;
+inline constexpr std::uint32_t kNormalMapBump = 0x8000u;
+inline constexpr std::uint32_t kOptionBumpDistanceShift = 16;
 
 // GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
 inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's

@@ -31,7 +31,8 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
         const Material& m = scene.materials[k];
         bool warned = false;
-        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture, m.normal_texture}) {
+        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture, m.normal_texture,
+                            m.bump_texture}) {
             if (t < 0) continue;  // indices were checked by validate_scene
             if (!has_uvs) {
                 if (!warned)
@@ -54,20 +55,22 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
 }  // namespace
 
 std::uint32_t normal_map_word(const Material& m) {
-    if (m.normal_texture < 0) return 0u;
-    if (m.normal_texture >= static_cast<std::int32_t>(kMaxNormalMapTextures))
-        throw SceneError("a normal map's texture index " + std::to_string(m.normal_texture) +
+    const bool bump = m.bump_texture >= 0;
+    const std::int32_t texture = bump ? m.bump_texture : m.normal_texture;
+    if (texture < 0) return 0u;
+    if (texture >= static_cast<std::int32_t>(kMaxNormalMapTextures))
+        throw SceneError("a normal or bump map's texture index " + std::to_string(texture) +
                          " is past the " + std::to_string(kMaxNormalMapTextures - 1) +
                          " a material record holds");
-    return static_cast<std::uint32_t>(m.normal_texture + 1) |
-           glm::packHalf1x16(m.normal_strength) << 16;
+    return static_cast<std::uint32_t>(texture + 1) | (bump ? kNormalMapBump : 0u) |
+           glm::packHalf1x16(bump ? m.bump_strength : m.normal_strength) << 16;
 }
 
 // Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
 // model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
 bool needs_microfacet(const Material& m) {
     // The lobes bend a normal-mapped shading normal towards the surface (shading_at).
-    if (m.normal_texture >= 0) return true;
+    if (m.normal_texture >= 0 || m.bump_texture >= 0) return true;
     switch (m.kind) {
         case MaterialKind::Diffuse: return false;
         case MaterialKind::Conductor:
@@ -125,6 +128,8 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                     (m.tint_reflection ? kOptionTintReflection : 0u);
         g.table = -1;
         g.normal_map = textures ? normal_map_word(m) : 0u;
+        if (textures && m.bump_texture >= 0)
+            g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
         if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
             if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
@@ -276,9 +281,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         for (MeshView& m : instance_meshes) m.uvs = {};
     }
     // Normal maps read each vertex's tangent: meshes without them get tangents from their
-    // uvs (scene/tangent_space.h). An earlier MTBVH may lack them: it is built again.
+    // uvs (scene/tangent_space.h). An earlier MTBVH may lack them: it is built again. Bump
+    // maps compile the same variant (they need no tangents; the normals they perturb are
+    // packed with them).
     bool normal_map = false;
-    for (const Material& m : geometry.materials) normal_map |= use.materials && m.normal_texture >= 0;
+    for (const Material& m : geometry.materials)
+        normal_map |= use.materials && (m.normal_texture >= 0 || m.bump_texture >= 0);
     if (normal_map) {
         built = nullptr;
         auto with_tangents = [&](MeshView& m) {

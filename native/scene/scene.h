@@ -85,6 +85,13 @@ struct Material {
     // triangle's own material (a Mix's root): it applies to all the Mix's leaves.
     std::int32_t normal_texture = -1;
     float normal_strength = 1.0f;
+    // Blender's Bump node with an image's luminance as its Height: the normal tilts against
+    // the height's gradient on the surface (from finite differences of the texture in uv),
+    // normalize(n - distance grad h), blended with n by the strength, as Cycles computes it.
+    // A negative distance is Blender's Invert. Not together with a normal map.
+    std::int32_t bump_texture = -1;
+    float bump_strength = 1.0f;
+    float bump_distance = 1.0f;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

@@ -97,6 +97,11 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
             h.value(m.normal_texture);
             h.value(m.normal_strength);
         }
+        if (m.bump_texture >= 0) {
+            h.value(m.bump_texture);
+            h.value(m.bump_strength);
+            h.value(m.bump_distance);
+        }
     }
     h.value(static_cast<std::uint64_t>(s.lights.size()));
     for (const Light& l : s.lights) {

@@ -71,6 +71,14 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
     Checker::in_range(name + ".roughness", m.roughness, 0.0f, 1.0f, false, false, "[0, 1]");
     Checker::texture_index(name + ".roughness_texture", m.roughness_texture, textures);
     Checker::texture_index(name + ".normal_texture", m.normal_texture, textures);
+    Checker::texture_index(name + ".bump_texture", m.bump_texture, textures);
+    if (m.normal_texture >= 0 && m.bump_texture >= 0)
+        Checker::fail(name + ".bump_texture", "is set beside normal_texture: a material has "
+                                              "one or the other");
+    Checker::in_range(name + ".bump_strength", m.bump_strength, 0.0f, 1.0e3f, false, false,
+                      "[0, 1000]");
+    Checker::in_range(name + ".bump_distance", m.bump_distance, -1.0e4f, 1.0e4f, false, false,
+                      "[-10000, 10000]");
     Checker::in_range(name + ".normal_strength", m.normal_strength, 0.0f, 1.0e3f, false, false,
                       "[0, 1000]");
     if (m.kind != MaterialKind::Mix) return;

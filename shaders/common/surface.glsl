@@ -18,8 +18,13 @@ vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
 
 #ifdef HAS_NORMAL_MAP
 // GpuMaterial::normal_map (native/render/gpu_layout.h): 0, or the texture's index + 1 in the
-// low 16 bits and the strength as a half float in the high 16.
+// low 15 bits, bit 15 for a bump map, the strength as a half float in the high 16; a bump
+// map's distance is a half float in the high 16 bits of the options.
 uint material_normal_map(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].w); }
+const uint NORMAL_MAP_BUMP = 0x8000u;
+float material_bump_distance(int m) {
+    return unpackHalf2x16(floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x) >> 16).x;
+}
 
 // A unit vector in the low 30 bits: the octahedral encoding, 15 bits per coordinate, as
 // pack_tangent writes it (native/scene/tangent_space.cpp).
@@ -53,8 +58,8 @@ vec4 unpack_tangent(float word) {
 vec3 normal_mapped(int material, vec3 n, vec4 tangent, vec2 uv) {
     uint word = material_normal_map(material);
 #ifdef HAS_TEXTURES
-    if (word != 0u) {
-        vec3 c = 2.0 * sample_texture(int(word & 0xFFFFu) - 1, uv).rgb - 1.0;
+    if (word != 0u && (word & NORMAL_MAP_BUMP) == 0u) {
+        vec3 c = 2.0 * sample_texture(int(word & 0x7FFFu) - 1, uv).rgb - 1.0;
         vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
         float lt = length(t);
         if (lt > 1.0e-6) {
@@ -64,6 +69,50 @@ vec3 normal_mapped(int material, vec3 n, vec4 tangent, vec2 uv) {
             if (lm > 0.0) {
                 float strength = unpackHalf2x16(word >> 16).x;
                 vec3 blended = n + (mapped / lm - n) * strength;
+                float lb = length(blended);
+                if (lb > 0.0) return blended / lb;
+            }
+        }
+    }
+#endif
+    return n;
+}
+#endif
+
+#ifdef HAS_NORMAL_MAP
+// Blender's Bump node with an image's luminance as its Height (as Cycles' svm_node_set_bump):
+// n' = normalize(n - distance grad h), then blended with n by the strength. grad h is the
+// height's gradient on the triangle: dh/du grad u + dh/dv grad v, the derivatives by central
+// differences half a texel either side (exact for the bilinear texture within a texel), and
+// grad u, grad v the dual basis of the triangle's dp/du, dp/dv in the plane normal to n.
+vec3 bump_mapped(int material, vec3 n, vec2 uv, vec3 p0, vec3 p1, vec3 p2, vec2 w0, vec2 w1,
+                 vec2 w2) {
+    uint word = material_normal_map(material);
+#ifdef HAS_TEXTURES
+    if ((word & NORMAL_MAP_BUMP) != 0u) {
+        int k = int(word & 0x7FFFu) - 1;
+        vec2 texel = 0.5 / vec2(texture_info[2 * k].zw);
+        const vec3 gray = vec3(0.2126, 0.7152, 0.0722);  // Blender's colour to float
+        float dhdu = dot(sample_texture(k, uv + vec2(texel.x, 0.0)).rgb -
+                         sample_texture(k, uv - vec2(texel.x, 0.0)).rgb, gray) / (2.0 * texel.x);
+        float dhdv = dot(sample_texture(k, uv + vec2(0.0, texel.y)).rgb -
+                         sample_texture(k, uv - vec2(0.0, texel.y)).rgb, gray) / (2.0 * texel.y);
+        // dp/du and dp/dv from p - p0 = e1 a + e2 b, uv - w0 = d1 a + d2 b.
+        vec3 e1 = p1 - p0, e2 = p2 - p0;
+        vec2 d1 = w1 - w0, d2 = w2 - w0;
+        float det = d1.x * d2.y - d2.x * d1.y;
+        if (det != 0.0) {
+            vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+            vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
+            // The dual basis: grad u . dpdu = 1, grad u . dpdv = 0, both normal to n.
+            vec3 ru = cross(dpdv, n), rv = cross(n, dpdu);
+            float j = dot(dpdu, ru);
+            if (j != 0.0) {
+                vec3 grad = (dhdu * ru + dhdv * rv) / j;
+                float distance = material_bump_distance(material);
+                float strength = unpackHalf2x16(word >> 16).x;
+                vec3 bumped = normalize(n - distance * grad);
+                vec3 blended = strength * bumped + (1.0 - strength) * n;
                 float lb = length(blended);
                 if (lb > 0.0) return blended / lb;
             }
@@ -140,6 +189,9 @@ Surface surface_at(Ray ray, Hit hit) {
     vec4 t0 = unpack_tangent(n0.w);
     vec3 tangent = w.x * t0.xyz + w.y * unpack_tangent(n1.w).xyz + w.z * unpack_tangent(n2.w).xyz;
     s.normal = normal_mapped(s.material, s.normal, vec4(tangent, t0.w), s.uv);
+#ifdef HAS_TEXTURES
+    s.normal = bump_mapped(s.material, s.normal, s.uv, a.xyz, b.xyz, c.xyz, uv01.xy, uv01.zw, uv2);
+#endif
 #endif
     // On the geometric normal's side; a normal map tilts it, and shading_at bends it back
     // where it would reflect the view under the surface.
