@@ -124,7 +124,7 @@ void main() {
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            direct += throughput * material_emission(sh.material);
+            direct += throughput * material_emission_at(s.material, sh.material, s.uv);
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
         float p_smooth = bsdf_smooth_probability(sh, wo);
@@ -163,7 +163,7 @@ void main() {
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            direct += throughput * material_emission(s.material);
+            direct += throughput * material_emission_at(s.material, s.material, s.uv);
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {

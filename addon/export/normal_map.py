@@ -17,8 +17,12 @@ from .node_inputs import image_texture_index, input_socket, linked_node, socket_
 _SHADER_PASSTHROUGH = {'MIX_SHADER': (1, 2), 'ADD_SHADER': (0, 1)}
 
 
-def _bsdfs(socket, seen):
+def shader_nodes(socket):
     """The shader nodes feeding a shader socket, through Mix and Add Shaders."""
+    return _bsdfs(socket, set())
+
+
+def _bsdfs(socket, seen):
     node = linked_node(socket)
     if node is None or node.as_pointer() in seen:
         return
@@ -35,7 +39,7 @@ def normal_map_of(surface_socket, warn, textures):
     """The MaterialData fields of the Normal Map or Bump feeding the BSDFs behind a
     material's Surface socket (a dict), or None."""
     found = None
-    for bsdf in _bsdfs(surface_socket, set()):
+    for bsdf in shader_nodes(surface_socket):
         socket = input_socket(bsdf, "Normal")
         node = linked_node(socket) if socket is not None else None
         if node is None:

@@ -40,10 +40,11 @@ class MaterialData:
     bump_texture: int = -1           # Bump node's Height image (luminance); not with a normal map
     bump_strength: float = 1.0
     bump_distance: float = 1.0       # negative: Invert
+    emission_texture: int = -1       # emission x texel (the whole material's)
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
-                   self.normal_texture, self.bump_texture) >= 0
+                   self.normal_texture, self.bump_texture, self.emission_texture) >= 0
 
 
 @dataclass

@@ -401,8 +401,10 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
         warn(element, "alphaMode " + m.alphaMode + " is not one of OPAQUE, MASK, BLEND: "
                       "rendered opaque");
     }
+    // emissiveTexture (sRGB, as the base colour's) multiplies emissiveFactor on the whole
+    // material, the root of its Mix tree.
     if (m.emissiveTexture.index >= 0)
-        warn(element, "emissiveTexture is not supported: emissiveFactor alone is used");
+        out.emission_texture = texture(m.emissiveTexture, element + ".emissiveTexture");
     if (m.normalTexture.index >= 0) {
         // Tangent space, +Y up as Blender's; the texels are numbers (linear). glTF's scale
         // (x and y of the texel times it) becomes the Normal Map's Strength, as Blender's

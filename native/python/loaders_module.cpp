@@ -121,6 +121,7 @@ py::list materials_list(const Scene& s) {
         d["normal_texture"] = m.normal_texture;
         d["normal_strength"] = m.normal_strength;
         d["bump_texture"] = m.bump_texture;
+        d["emission_texture"] = m.emission_texture;
         out.append(d);
     }
     return out;

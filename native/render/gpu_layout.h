@@ -112,7 +112,7 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 inline constexpr unsigned kRadiusStatsThreads = 256;
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
-// shaders/common/bsdf.glsl and lobes.glsl: five vec4 per material, then the albedo tables
+// shaders/common/bsdf.glsl and lobes.glsl: six vec4 per material, then the albedo tables
 // (render/microfacet_tables.h) the materials' `table` fields point into.
 struct GpuMaterial {
     glm::vec3 color;              // base colour (times its texture)
@@ -130,9 +130,13 @@ struct GpuMaterial {
     float mix_ior;
     std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
     std::uint32_t normal_map;     // see normal_map_word
+    std::int32_t emission_texture;  // texture index or -1: emission = emission * texel
+    std::uint32_t spare[3];
 };
-static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
-              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
+static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, color_texture) == 32 &&
+              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64 &&
+              offsetof(GpuMaterial, emission_texture) == 80);
+inline constexpr int kGpuMaterialVec4 = sizeof(GpuMaterial) / 16;  // MATERIAL_STRIDE
 
 // GpuMaterial::normal_map: 0 for none, else the normal (or bump) texture's index + 1 in the
 // low 15 bits, bit 15 set for a bump map, and the strength as a half float in the high 16

@@ -32,7 +32,7 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
         const Material& m = scene.materials[k];
         bool warned = false;
         for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture, m.normal_texture,
-                            m.bump_texture}) {
+                            m.bump_texture, m.emission_texture}) {
             if (t < 0) continue;  // indices were checked by validate_scene
             if (!has_uvs) {
                 if (!warned)
@@ -86,7 +86,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         bool microfacet) {
     std::vector<GpuMaterial> records;
     std::vector<glm::vec4> tables;
-    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * 5);
+    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * kGpuMaterialVec4);
     auto add_table = [&](AlbedoLobe lobe, float ior) {
         const std::int32_t at = tables_base + static_cast<std::int32_t>(tables.size());
         const std::vector<float> t = albedo_table(lobe, ior);
@@ -128,6 +128,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                     (m.tint_reflection ? kOptionTintReflection : 0u);
         g.table = -1;
         g.normal_map = textures ? normal_map_word(m) : 0u;
+        g.emission_texture = textures ? m.emission_texture : -1;
         if (textures && m.bump_texture >= 0)
             g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
@@ -141,8 +142,8 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
         }
         records.push_back(g);
     }
-    std::vector<glm::vec4> out(records.size() * 5);
-    static_assert(sizeof(GpuMaterial) == 5 * sizeof(glm::vec4));
+    std::vector<glm::vec4> out(records.size() * kGpuMaterialVec4);
+    static_assert(sizeof(GpuMaterial) == kGpuMaterialVec4 * sizeof(glm::vec4));
     if (!records.empty()) std::memcpy(out.data(), records.data(), records.size() * sizeof(GpuMaterial));
     out.insert(out.end(), tables.begin(), tables.end());
     return out;
@@ -405,6 +406,10 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
     feature(normal_map, "HAS_NORMAL_MAP", "normal-map");
+    bool emission_texture = false;
+    for (const Material& m : geometry.materials)
+        emission_texture |= use.materials && m.emission_texture >= 0;
+    feature(emission_texture, "HAS_EMISSION_TEXTURE", "emission-texture");
     // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
     // materials no triangle names). Not part of the full variant: these lobes replace the
     // closed model's code, with its own random numbers, rather than add branches to it.

@@ -92,6 +92,10 @@ struct Material {
     std::int32_t bump_texture = -1;
     float bump_strength = 1.0f;
     float bump_distance = 1.0f;
+    // Emission colour from an image: radiance = emission * texel (Blender's Emission node
+    // or Principled's Emission Color fed by an Image Texture, glTF's emissiveTexture). Read
+    // on the triangle's own material (a Mix's root), like the normal map.
+    std::int32_t emission_texture = -1;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

@@ -72,6 +72,7 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
     Checker::texture_index(name + ".roughness_texture", m.roughness_texture, textures);
     Checker::texture_index(name + ".normal_texture", m.normal_texture, textures);
     Checker::texture_index(name + ".bump_texture", m.bump_texture, textures);
+    Checker::texture_index(name + ".emission_texture", m.emission_texture, textures);
     if (m.normal_texture >= 0 && m.bump_texture >= 0)
         Checker::fail(name + ".bump_texture", "is set beside normal_texture: a material has "
                                               "one or the other");

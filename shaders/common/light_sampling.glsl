@@ -89,8 +89,11 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         ls.distance = sqrt(d2);
         ls.wi = to / ls.distance;
         float cos_l = -dot(triangle_normal(a.xyz, b.xyz, c.xyz), ls.wi);
-        if (b.w > 0.5) ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
-        else if (cos_l > 0.0) ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        if (triangle_emitter_two_sided(b.w))
+            ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
+        else if (cos_l > 0.0)
+            ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        ls.radiance_over_pdf *= triangle_emitter_texel(b.w, bc);
         return ls;
     }
 #endif

@@ -1,8 +1,8 @@
 """Materials as Blender users build them, against Cycles in the same Blender: rough
-metal, frosted glass, plastic, Mix Shader, a roughness map, a normal map, an alpha cut-out
-and a glossy caustic. Each scene is small (48x48 pixels) and compared on a grid of regions; the
-tolerance is stated in each test and the measured errors are printed and put in the
-failure message.
+metal, frosted glass, plastic, Mix Shader, a roughness map, a normal map, an emission
+image, an alpha cut-out and a glossy caustic. Each scene is small (48x48 pixels) and
+compared on a grid of regions; the tolerance is stated in each test and the measured
+errors are printed and put in the failure message.
 
 Cycles renders unclamped and undenoised with a 1-pixel box filter (as GLSLPPM's jittered
 pixels). Its noise at the sample counts below is what limits the bounds: a region of
@@ -293,6 +293,37 @@ def test_normal_mapped_plane_matches_cycles():
     seam = np.ones(ours.shape[:2], dtype=bool)
     seam[23:25, :] = False   # the map's two halves meet at y = 0 (bilinear texels)
     _compare("normal-mapped plane", ours, reference, 4, 0.01, 0.005, mask=seam)
+
+
+def test_emission_texture_matches_cycles():
+    """An Emission shader (strength 3) whose Color is an image (Non-Color float: red rising
+    along u, green falling along v, 64x64 texels) on a quad tilted over a white floor:
+    the quad seen directly and the coloured light it throws, each texel's radiance carried
+    by photons and light samples weighted by their texel (the quad's two triangles are
+    picked by their mean texel). Worst region of 4x4 within 1%, mean within 0.5% (measured
+    under Blender 3.4: 0.23% / 0.09%; the floor's own regions agree within 0.5% of theirs)."""
+    helpers.reset_scene(size=SIZE)
+    n = 64
+    c = (np.arange(n) + 0.5) / n
+    pixels = np.ones((n, n, 4), dtype=np.float32)
+    pixels[..., 0] = 0.1 + 1.9 * c[None, :]
+    pixels[..., 1] = 2.0 - 1.9 * c[:, None]
+    pixels[..., 2] = 0.3
+    material = helpers.emission_material("Screen", (1.0, 1.0, 1.0), 3.0)
+    tree = material.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = _image("ScreenImage", pixels)
+    emitter = next(node for node in tree.nodes if node.type == 'EMISSION')
+    tree.links.new(texture.outputs["Color"], emitter.inputs["Color"])
+    _uv_quad("Screen", [(-1.0, 0.6, 0.3), (1.0, 0.6, 0.3), (1.0, 1.0, 1.8), (-1.0, 1.0, 1.8)],
+             material)
+    _floor(helpers.diffuse_material("White", (0.8, 0.8, 0.8)), size=3.0)
+    helpers.set_world((0.0, 0.0, 0.0))
+    add_camera((0.0, -3.5, 3.0), helpers.look_at_rotation((0.0, -3.5, 3.0), (0, 0.2, 0.4)),
+               lens=35.0)
+    ours, reference, warnings = _render_both("emission_texture", 256, 65536, 1024)
+    assert not warnings, warnings
+    _compare("emission texture", ours, reference, 4, 0.01, 0.005)
 
 
 def test_alpha_cut_out_leaf_matches_cycles():

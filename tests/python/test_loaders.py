@@ -998,3 +998,23 @@ def test_gltf_normal_texture_tilts_the_shading(glslppm, tmp_path):
     got = float(r.film()[4:-4, 4:-4, 0].mean())
     want = 0.8 / math.pi * 3.0 * float(np.dot(mapped, sun_from))
     assert got == pytest.approx(want, rel=0.003), (got, want)
+
+
+def test_gltf_emissive_texture_multiplies_the_factor(glslppm, tmp_path):
+    """emissiveTexture: an sRGB image on the root material, its factor (times
+    KHR_materials_emissive_strength) the emission it multiplies."""
+    g = Gltf()
+    g.extension("KHR_materials_emissive_strength")
+    g.doc["images"] = [{"uri": _data_png([[255, 128, 0, 255], [0, 0, 255, 255]])}]
+    g.doc["textures"] = [{"source": 0}]
+    g.doc["materials"] = [{"name": "screen", "emissiveFactor": [1.0, 0.5, 1.0],
+                           "emissiveTexture": {"index": 0},
+                           "extensions": {"KHR_materials_emissive_strength":
+                                          {"emissiveStrength": 3.0}}}]
+    g.node(mesh=g.mesh(QUAD, QUAD_TRIS, material=0, uvs=QUAD_UV))
+    _, c, warnings = load(glslppm, g.write(tmp_path / "emissive.gltf"))
+    assert not _material_warnings(warnings), warnings
+    root = c["materials"][0]
+    assert root["emission_texture"] >= 0
+    assert c["textures"][root["emission_texture"]]["encoding"] == "srgb8"
+    np.testing.assert_allclose(root["emission"], [3.0, 1.5, 3.0])
