@@ -77,8 +77,14 @@ def mesh_geometry(mesh, need_uvs=False, check_cancel=None, need_tangents=False):
     tangents = None
     if need_tangents and uvs is not None:
         tangents = _corner_tangents(mesh, _render_uv_layer(mesh), corner_loops)
+        made = uv_tangents(positions, normals, uvs)
         if tangents is None:
-            tangents = uv_tangents(positions, normals, uvs)
+            tangents = made
+        else:
+            # Corners whose uvs span nothing get no tangent from Blender (zero or NaN): the
+            # renderer refuses those, so they take the made ones.
+            bad = ~(np.linalg.norm(tangents[:, :3], axis=1) > 1e-12)
+            tangents[bad] = made[bad]
     return MeshGeometry(positions, normals, uvs, slot_indices, tangents)
 
 
