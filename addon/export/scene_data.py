@@ -27,6 +27,7 @@ class MaterialData:
     roughness_channel: str = "luminance"
     multiscatter: bool = True        # Blender's "Multiscatter GGX"; False: "GGX"
     schlick: bool = False            # conductor: Schlick Fresnel from the colour
+    f82_tint: tuple = (1.0, 1.0, 1.0)  # Schlick conductor: Blender 4.x's F82 tint
     tint_reflection: bool = False    # dielectric: the colour tints reflection too
     mix_a: int = -1                  # mix: the material picked with probability 1 - factor
     mix_b: int = -1                  # mix: the one picked with probability factor

@@ -131,7 +131,7 @@ struct GpuMaterial {
     std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
     std::uint32_t normal_map;     // see normal_map_word
     std::int32_t emission_texture;  // texture index or -1: emission = emission * texel
-    std::uint32_t spare[3];
+    glm::vec3 f82_tint;             // Schlick conductor's F82 tint (white: none)
 };
 static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, color_texture) == 32 &&
               offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64 &&

@@ -70,6 +70,9 @@ struct Material {
     // plain single-scatter GGX ("GGX").
     bool multiscatter = true;
     bool schlick = false;          // conductor
+    // Schlick conductor: Blender 4.x's F82 tint (Principled v2 metal's Specular Tint), the
+    // reflectance at about 82 degrees as Schlick's times this colour; white leaves Schlick.
+    glm::vec3 f82_tint{1.0f};
     bool tint_reflection = false;  // dielectric
     // Mix only: the two materials (indices into the table) and the factor.
     std::int32_t mix_a = -1;

@@ -65,6 +65,7 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
         Checker::fail(name + ".kind", "is not a material kind");
     Checker::colour(name + ".color", m.color);
     Checker::colour(name + ".emission", m.emission);
+    Checker::colour(name + ".f82_tint", m.f82_tint);
     if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::Plastic)
         Checker::positive(name + ".ior", m.ior);
     Checker::texture_index(name + ".color_texture", m.color_texture, textures);
