@@ -143,7 +143,7 @@ void main() {
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            ADD_LIGHT(emitted, throughput * material_emission(sh.material));
+            ADD_LIGHT(emitted, throughput * material_emission_at(s.material, sh.material, s.uv));
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
         float p_smooth = bsdf_smooth_probability(sh, wo);
@@ -160,6 +160,9 @@ void main() {
                           (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
 #ifdef PASS_STRIDE
             point_albedo = throughput * sh.color;
+#endif
+#ifdef HAS_NORMAL_MAP
+            point_flags |= pack_octahedral(sh.ng) << VISIBLE_POINT_NORMAL_SHIFT;
 #endif
 #ifdef DIRECT_LIGHT_SAMPLED
             ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
@@ -182,7 +185,7 @@ void main() {
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            ADD_LIGHT(emitted, throughput * material_emission(s.material));
+            ADD_LIGHT(emitted, throughput * material_emission_at(s.material, s.material, s.uv));
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
         if (kind == MATERIAL_DIFFUSE) {

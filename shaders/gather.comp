@@ -78,6 +78,9 @@ void main() {
             Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w),
                                          (point_flags & VISIBLE_POINT_ENTERING) != 0u);
             bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
+#ifdef HAS_NORMAL_MAP
+            sh.ng = unpack_octahedral(point_flags >> VISIBLE_POINT_NORMAL_SHIFT);
+#endif
             vec3 wo = wo_v.xyz;
             vec3 weight = w_flags.xyz;
 #else

@@ -109,6 +109,12 @@ void main() {
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
                 stored = vec4(flux, 1.0);
+#ifdef HAS_NORMAL_MAP
+                // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
+                // density (per area of the true surface) into the shading normal's cosine:
+                // folded into the stored flux, since the gather multiplies the two.
+                stored.xyz *= shading_cosine_ratio(incoming, sh.n, s.geometric_normal);
+#endif
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             vec3 wi, w;
@@ -128,6 +134,12 @@ void main() {
                     // Through a cut-out the photon has not scattered: its class stays.
                     if (sh.kind != MATERIAL_TRANSPARENT)
                         PATH_SCATTERED(bsdf_sample_is_smooth(sh, -dir, u_dir));
+#ifdef HAS_NORMAL_MAP
+                    // Veach's adjoint BSDF for shading normals (thesis, eq. 5.17): photons
+                    // carry |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) on top of the sample's weight.
+                    flux *= shading_cosine_ratio(-dir, sh.n, s.geometric_normal) /
+                            max(shading_cosine_ratio(wi, sh.n, s.geometric_normal), 1.0e-6);
+#endif
                     // About a smooth shading normal the sample may cross the true surface to
                     // the other side than its lobe meant: mirror it back across the surface.
                     vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;

@@ -18,7 +18,7 @@ def native_scene(native, data):
         textures=textures, environment_texture=data.environment_texture,
         environment_to_world=data.environment_to_world,
         instance_meshes=data.instance_meshes or None, instances=data.instances,
-        instance_mesh=data.instance_mesh)
+        instance_mesh=data.instance_mesh, tangents=data.tangents)
 
 
 def film_options(scene):

@@ -25,8 +25,10 @@ import math
 from dataclasses import dataclass, replace
 
 from .image import image_mean_color
-from .node_inputs import (clamp01, input_socket, linked_node, linked_output,
-                          socket_color, socket_color_texture, socket_scalar, socket_value)
+from .normal_map import normal_map_of, shader_nodes
+from .node_inputs import (clamp01, image_texture_index, input_socket, linked_node,
+                          linked_output, socket_color, socket_color_texture, socket_scalar,
+                          socket_value)
 from .scene_data import MaterialData
 
 DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
@@ -83,7 +85,16 @@ def convert_material(material, warn, textures=None):
     root = context.shader(output.inputs["Surface"])
     if _depth(root) > MAX_MIX_DEPTH:
         root = _limit_depth(root, MAX_MIX_DEPTH, material_warn)
-    return flatten(root)
+    entries = flatten(root)
+    # The renderer reads the normal map and the emission image of the triangle's own
+    # material, the root.
+    mapped = normal_map_of(output.inputs["Surface"], material_warn, textures) or {}
+    emission_texture = emission_texture_of(output.inputs["Surface"], context)
+    if emission_texture >= 0:
+        mapped["emission_texture"] = emission_texture
+    if mapped:
+        entries[0] = replace(entries[0], **mapped)
+    return entries
 
 
 def volume_only(material):
@@ -340,8 +351,41 @@ def emission(node, color_name, old_color_name, warn, strength_name="Emission Str
     strength = socket_value(strength_socket, warn) if strength_socket is not None else 1.0
     if strength <= 0.0 or color_socket is None:
         return (0.0, 0.0, 0.0)
+    if _emission_image(color_socket, warn) is not None:
+        return (strength, strength, strength)  # times the texel: emission_texture_of
     color = socket_color(color_socket, warn, clamp=False)
     return tuple(max(0.0, c * strength) for c in color)
+
+
+def _emission_image(socket, context):
+    """The Image Texture node on an emission colour input, where the export has a texture
+    table (context.textures), else None."""
+    node = linked_node(socket)
+    if getattr(context, "textures", None) is None or node is None or node.type != 'TEX_IMAGE':
+        return None
+    return node
+
+
+_EMISSION_COLORS = {'EMISSION': ("Color",), 'BSDF_PRINCIPLED': ("Emission Color", "Emission")}
+
+
+def emission_texture_of(surface_socket, context):
+    """The texture index of the image on an Emission node's or a Principled BSDF's emission
+    colour behind a material's Surface (the renderer applies it to the whole material, as
+    the normal map), or -1; a second, different image warns and is left out."""
+    found = -1
+    for node in shader_nodes(surface_socket):
+        socket = input_socket(node, *_EMISSION_COLORS.get(node.type, ()))
+        image_node = _emission_image(socket, context) if socket is not None else None
+        if image_node is None:
+            continue
+        index = image_texture_index(image_node, context, context.textures)
+        if found < 0:
+            found = index
+        elif index != found:
+            context(f"{node.bl_label} '{node.name}' has an emission image other than the "
+                    "material's first; the first is used for the whole material")
+    return found
 
 
 def _ior(ior):

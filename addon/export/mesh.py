@@ -20,6 +20,7 @@ class MeshGeometry:
     normals: object              # float32 (3T, 3), or None when every face is flat
     uvs: object                  # float32 (3T, 2) or None
     slot_indices: np.ndarray     # int32 (T,): material slot of each triangle
+    tangents: object = None      # float32 (3T, 4): MikkTSpace tangent, bitangent sign; or None
 
     @property
     def triangle_count(self):
@@ -33,13 +34,15 @@ class MeshGeometry:
         return MeshGeometry(self.positions[corners],
                             None if self.normals is None else self.normals[corners],
                             None if self.uvs is None else self.uvs[corners],
-                            self.slot_indices[keep])
+                            self.slot_indices[keep],
+                            None if self.tangents is None else self.tangents[corners])
 
 
-def mesh_geometry(mesh, need_uvs=False, check_cancel=None):
+def mesh_geometry(mesh, need_uvs=False, check_cancel=None, need_tangents=False):
     """Reads an (evaluated) mesh; returns None for a mesh without faces. check_cancel()
     runs between the steps (each a few tenths of a second for millions of triangles)
-    and may raise to stop."""
+    and may raise to stop. need_tangents (normal maps): the render UV map's MikkTSpace
+    tangents, as Cycles reads them."""
     check_cancel = check_cancel or (lambda: None)
     mesh.calc_loop_triangles()
     check_cancel()
@@ -71,7 +74,62 @@ def mesh_geometry(mesh, need_uvs=False, check_cancel=None):
         loop_uvs = np.empty(2 * len(mesh.loops), dtype=np.float32)
         layer.data.foreach_get("uv", loop_uvs)
         uvs = loop_uvs.reshape(-1, 2)[corner_loops]
-    return MeshGeometry(positions, normals, uvs, slot_indices)
+    tangents = None
+    if need_tangents and uvs is not None:
+        tangents = _corner_tangents(mesh, _render_uv_layer(mesh), corner_loops)
+        made = uv_tangents(positions, normals, uvs)
+        if tangents is None:
+            tangents = made
+        else:
+            # Corners whose uvs span nothing get no tangent from Blender (zero or NaN): the
+            # renderer refuses those, so they take the made ones.
+            bad = ~(np.linalg.norm(tangents[:, :3], axis=1) > 1e-12)
+            tangents[bad] = made[bad]
+    return MeshGeometry(positions, normals, uvs, slot_indices, tangents)
+
+
+def _corner_tangents(mesh, layer, corner_loops):
+    """Blender's MikkTSpace tangents per corner (loop.tangent, loop.bitangent_sign; the same
+    calls in 3.x and 4.x), or None where Blender cannot make them (faces of more than four
+    corners: "Tangent space can only be computed for tris/quads")."""
+    try:
+        mesh.calc_tangents(uvmap=layer.name)
+    except RuntimeError:
+        return None
+    loop_tangents = np.empty(3 * len(mesh.loops), dtype=np.float32)
+    mesh.loops.foreach_get("tangent", loop_tangents)
+    signs = np.empty(len(mesh.loops), dtype=np.float32)
+    mesh.loops.foreach_get("bitangent_sign", signs)
+    mesh.free_tangents()
+    tangents = np.concatenate([loop_tangents.reshape(-1, 3), signs[:, None]], axis=1)
+    return np.ascontiguousarray(tangents[corner_loops])
+
+
+def uv_tangents(positions, normals, uvs):
+    """Per-triangle tangents (dp/du made orthogonal to each corner's normal, the sign of
+    dp/dv against n x t) for corners Blender gave none: what the renderer makes itself from
+    the uvs (native/scene/tangent_space.h), here for unshared corners."""
+    p = positions.reshape(-1, 3, 3).astype(np.float64)
+    w = uvs.reshape(-1, 3, 2).astype(np.float64)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    d1, d2 = w[:, 1] - w[:, 0], w[:, 2] - w[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    safe = np.where(det == 0.0, 1.0, det)[:, None]
+    dpdu = (e1 * d2[:, 1:2] - e2 * d1[:, 1:2]) / safe
+    dpdv = (e2 * d1[:, 0:1] - e1 * d2[:, 0:1]) / safe
+    n = (np.repeat(np.cross(e1, e2), 3, axis=0) if normals is None
+         else normals.astype(np.float64))
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
+    dpdu, dpdv = np.repeat(dpdu, 3, axis=0), np.repeat(dpdv, 3, axis=0)
+    t = dpdu - n * np.sum(n * dpdu, axis=1, keepdims=True)
+    length = np.linalg.norm(t, axis=1, keepdims=True)
+    # A corner whose uvs span nothing gets any tangent orthogonal to its normal.
+    other = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    fallback = np.cross(n, other)
+    fallback /= np.linalg.norm(fallback, axis=1, keepdims=True)
+    t = np.where(length > 1e-12, t / np.maximum(length, 1e-30), fallback)
+    sign = np.where(np.sum(np.cross(n, t) * dpdv, axis=1) < 0.0, -1.0, 1.0)
+    return np.concatenate([t, sign[:, None]], axis=1).astype(np.float32)
 
 
 def _needs_normals(mesh):
@@ -106,9 +164,10 @@ def _render_uv_layer(mesh):
 def transform_geometry(geometry, matrix):
     """World-space copies of positions and normals under a 4x4 object-to-world matrix.
 
-    Normals transform by the inverse transpose. A mirroring matrix (negative
-    determinant) reverses the winding, so corners 1 and 2 swap to keep each
-    triangle's geometric normal (counter-clockwise front) facing the same side.
+    Normals transform by the inverse transpose, tangents by the matrix. A mirroring matrix
+    (negative determinant) reverses the winding, so corners 1 and 2 swap to keep each
+    triangle's geometric normal (counter-clockwise front) facing the same side, and the
+    bitangent's sign flips (as Cycles flips it for negatively scaled objects).
     Returns a world-space MeshGeometry.
     """
     matrix = np.asarray(matrix, dtype=np.float64)
@@ -125,11 +184,20 @@ def transform_geometry(geometry, matrix):
         lengths = np.linalg.norm(normals, axis=1, keepdims=True)
         np.divide(normals, lengths, out=normals, where=lengths > 0.0)
     uvs = geometry.uvs
+    tangents = None
+    if geometry.tangents is not None:
+        tangents = geometry.tangents.copy()
+        turned = geometry.tangents[:, :3] @ linear.T.astype(np.float32)
+        lengths = np.linalg.norm(turned, axis=1, keepdims=True)
+        np.divide(turned, lengths, out=turned, where=lengths > 0.0)
+        tangents[:, :3] = turned
     if np.linalg.det(linear) < 0.0:
-        positions, normals, uvs = (
+        positions, normals, uvs, tangents = (
             None if corners is None else _swap_corners(corners)
-            for corners in (positions, normals, uvs))
-    return MeshGeometry(positions, normals, uvs, geometry.slot_indices)
+            for corners in (positions, normals, uvs, tangents))
+        if tangents is not None:
+            tangents[:, 3] = -tangents[:, 3]
+    return MeshGeometry(positions, normals, uvs, geometry.slot_indices, tangents)
 
 
 def _swap_corners(corners):

@@ -9,8 +9,9 @@ The node is a tree of Mix materials, as Cycles composes its closures:
           Mix(coat weight, base, white GGX of the coat's roughness))
         base = Mix(metallic, Mix(transmission, plastic, glass), metal)
 
-- metal: a GGX conductor with Schlick Fresnel from the base colour (v2's F82 tint from a
-  non-white Specular Tint is not modelled: warned);
+- metal: a GGX conductor with Schlick Fresnel from the base colour, and v2's F82 tint from
+  its Specular Tint (as Cycles 4.x: reflectance at about 82 degrees is Schlick's times the
+  tint); v2's tint of the dielectric reflection is not modelled (warned);
 - glass: a GGX dielectric tinting its transmission by the base colour; v1 tints its
   reflection too (its glass reflection starts at the base colour), v2 does not;
 - plastic, v2: a white GGX dielectric layer over a Lambert base of the base colour,
@@ -25,9 +26,10 @@ The node is a tree of Mix materials, as Cycles composes its closures:
   quarter of Clearcoat at IOR 1.5, as Cycles 3.x scales it). Tint and the coat's
   darkening of the base are not modelled: a warning says so.
 
-Sheen, subsurface, anisotropy, thin film and normal maps have no counterpart yet: each is
-left out with a warning naming the material and the node. Emission is added to every lobe
-below the alpha (Principled's emission is covered by its alpha, as in Cycles).
+Sheen, subsurface, anisotropy, thin film and the coat's own normal have no counterpart yet:
+each is left out with a warning naming the material and the node (the Normal input is read by
+normal_map.py). Emission is added to every lobe below the alpha (Principled's emission is
+covered by its alpha, as in Cycles).
 """
 
 import math
@@ -56,9 +58,13 @@ def convert_principled(node, context):
         level = max(context.value(node.inputs["Specular IOR Level"]), 0.0)
         layer_ior = _ior_from_f0(min(_f0(ior) * 2.0 * level, 0.999), ior < 1.0)
         glass_ior = layer_ior
-        if _non_white(context.value_color(node, "Specular Tint")):
-            warn("Specular Tint (F82 tint of metals, tinted dielectric reflection) is not "
-                 "rendered")
+        specular_tint = tuple(min(max(c, 0.0), 1.0)
+                              for c in context.value_color(node, "Specular Tint"))
+        metallic_only = (not node.inputs["Metallic"].is_linked
+                         and node.inputs["Metallic"].default_value >= 1.0)
+        if _non_white(specular_tint) and not metallic_only:
+            warn("Specular Tint of the dielectric reflection is not rendered (the metal's "
+                 "F82 tint is)")
     else:
         specular = max(context.value(node.inputs["Specular"]), 0.0)
         layer_ior = _ior_from_f0(min(0.08 * specular, 0.999), False)
@@ -71,6 +77,8 @@ def convert_principled(node, context):
                             multiscatter=multiscatter, **{**roughness, **kwargs})
 
     metal = lobe("conductor", schlick=True)
+    if v2 and _non_white(specular_tint):
+        metal = replace(metal, f82_tint=specular_tint)
     if abs(layer_ior - 1.0) < 1e-6:
         # No specular (Specular or Specular IOR Level 0): the diffuse base alone.
         plastic = MaterialData("diffuse", base_color, color_texture=base_texture)
@@ -148,10 +156,11 @@ def _warn_unmodelled(node, context, v2, warn):
         warn("anisotropy is not supported; rendering isotropic")
     if active("Thin Film Thickness"):
         warn("thin film is not rendered")
-    for name in ("Normal", "Coat Normal", "Clearcoat Normal"):
+    # Its Normal input is read by normal_map.py with every BSDF's.
+    for name in ("Coat Normal", "Clearcoat Normal"):
         socket = input_socket(node, name)
         if socket is not None and socket.is_linked:
-            warn(f"its {name} input is ignored (normal and bump maps are not supported yet)")
+            warn(f"its {name} input is ignored (the coat shares the base's normal)")
 
 
 def _f0(ior):

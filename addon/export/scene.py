@@ -63,6 +63,7 @@ class SceneBuilder:
         self._positions = []
         self._normals = []
         self._uvs = []
+        self._tangents = []
         self._material_ids = []
         self._material_index = {}
         self._material_size = {}
@@ -112,10 +113,16 @@ class SceneBuilder:
         texture."""
         return any(m.textured() for m in self.material_entries(index))
 
+    def material_normal_mapped(self, index):
+        """True when the material rooted at index has a normal map (its mesh needs
+        tangents)."""
+        return self.materials[index].normal_texture >= 0
+
     def add_light(self, light):
         self.lights.append(light)
 
-    def add_triangles(self, positions, material_ids, normals=None, uvs=None, source="mesh"):
+    def add_triangles(self, positions, material_ids, normals=None, uvs=None, source="mesh",
+                      tangents=None):
         """World-space corners (3T, 3); material_ids is one index or a (T,) array.
         Triangles with a non-finite corner are dropped here with a warning."""
         count = len(positions) // 3
@@ -131,6 +138,7 @@ class SceneBuilder:
             positions = positions[keep]
             normals = None if normals is None else normals[keep]
             uvs = None if uvs is None else uvs[keep]
+            tangents = None if tangents is None else tangents[keep]
             material_ids = material_ids[finite]
         if normals is not None:
             bad = ~np.isfinite(normals).all(axis=1)
@@ -140,6 +148,7 @@ class SceneBuilder:
         self._positions.append(positions)
         self._normals.append(normals)
         self._uvs.append(uvs)
+        self._tangents.append(tangents)
         self._material_ids.append(np.ascontiguousarray(material_ids))
 
     def add_instance(self, key, matrix, make_mesh):
@@ -185,6 +194,15 @@ class SceneBuilder:
                  for p, u in zip(self._positions, self._uvs)], np.float32)
         material_ids = _concatenate(self._material_ids, np.uint32)
         return positions, indices, normals, uvs, material_ids
+
+    def tangents(self):
+        """(V, 4) float32 tangents when a normal-mapped mesh has them, else None; the
+        other meshes' corners get (1, 0, 0, 1), which no normal map reads."""
+        if all(t is None for t in self._tangents):
+            return None
+        return _concatenate(
+            [t if t is not None else np.tile(np.float32([1, 0, 0, 1]), (len(p), 1))
+             for p, t in zip(self._positions, self._tangents)], np.float32)
 
 
 def _concatenate(arrays, dtype):
@@ -256,6 +274,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                      "(Output > Motion Blur)")
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
+        tangents=builder.tangents(),
         material_ids=material_ids, materials=builder.materials or [DEFAULT_MATERIAL],
         lights=builder.lights, camera=camera, environment=environment,
         width=width, height=height, textures=builder.textures.textures,
@@ -291,7 +310,8 @@ def export_tables(depsgraph, previous):
     light or world edit needs, with no mesh read again. None when the edit reaches the
     geometry's side of the table, and the whole scene must be exported: a material that is
     gone, one whose node tree now has another number of entries (its mixed parts), or one
-    that starts or stops reading a texture (the meshes' uvs are read only for those)."""
+    that starts or stops reading a texture or a normal map (the meshes' uvs and tangents
+    are read only for those)."""
     start = time.perf_counter()
     builder = SceneBuilder()
     materials = {m.name_full: m for m in depsgraph.ids if isinstance(m, _material_type())}
@@ -312,6 +332,10 @@ def export_tables(depsgraph, previous):
         entries = builder.material_entries(index)
         if builder.material_textured(index) != any(
                 m.textured() for m in previous.materials[index:index + len(entries)]):
+            return None
+        # A normal map needs its meshes' tangents, read only for normal-mapped materials.
+        if (builder.material_normal_mapped(index) !=
+                (previous.materials[index].normal_texture >= 0)):
             return None
     for instance in depsgraph.object_instances:
         if instance.object.type == 'LIGHT':
@@ -359,7 +383,7 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
     builder.check_cancel()
     slots = np.clip(geometry.slot_indices, 0, len(slot_materials) - 1)
     builder.add_triangles(world.positions, slot_materials[slots], world.normals, world.uvs,
-                          source=f"object '{obj.name}'")
+                          source=f"object '{obj.name}'", tangents=world.tangents)
 
 
 def _export_instance(obj, matrix, builder, geometry_cache):
@@ -405,6 +429,8 @@ def _instance_mesh(geometry, slot_materials, obj, builder):
             "normals": None if normals is None else np.ascontiguousarray(normals, np.float32),
             "uvs": (None if geometry.uvs is None
                     else np.ascontiguousarray(geometry.uvs, np.float32)),
+            "tangents": (None if geometry.tangents is None
+                         else np.ascontiguousarray(geometry.tangents, np.float32)),
             "material_ids": np.ascontiguousarray(slot_materials[slots], dtype=np.uint32)}
 
 
@@ -450,6 +476,7 @@ def _read_object(obj, builder):
     only when one of the object's materials has a texture."""
     slot_materials = _slot_materials(obj, builder)
     need_uvs = any(builder.material_textured(int(i)) for i in slot_materials)
+    need_tangents = any(builder.material_normal_mapped(int(i)) for i in slot_materials)
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "
@@ -462,7 +489,7 @@ def _read_object(obj, builder):
         builder.warn(f"object '{obj.name}' could not be converted to a mesh: {error}")
         return None, None
     try:
-        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel)
+        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel, need_tangents)
                     if mesh is not None else None)
     finally:
         obj.to_mesh_clear()

@@ -27,6 +27,7 @@ class MaterialData:
     roughness_channel: str = "luminance"
     multiscatter: bool = True        # Blender's "Multiscatter GGX"; False: "GGX"
     schlick: bool = False            # conductor: Schlick Fresnel from the colour
+    f82_tint: tuple = (1.0, 1.0, 1.0)  # Schlick conductor: Blender 4.x's F82 tint
     tint_reflection: bool = False    # dielectric: the colour tints reflection too
     mix_a: int = -1                  # mix: the material picked with probability 1 - factor
     mix_b: int = -1                  # mix: the one picked with probability factor
@@ -35,9 +36,16 @@ class MaterialData:
     mix_channel: str = "luminance"
     mix_mode: str = "constant"       # "constant", "fresnel" (IOR mix_ior), "facing" (blend)
     mix_ior: float = 1.5
+    normal_texture: int = -1         # tangent-space Normal Map image (the whole material's)
+    normal_strength: float = 1.0     # the Normal Map node's Strength
+    bump_texture: int = -1           # Bump node's Height image (luminance); not with a normal map
+    bump_strength: float = 1.0
+    bump_distance: float = 1.0       # negative: Invert
+    emission_texture: int = -1       # emission x texel (the whole material's)
 
     def textured(self):
-        return max(self.color_texture, self.roughness_texture, self.mix_texture) >= 0
+        return max(self.color_texture, self.roughness_texture, self.mix_texture,
+                   self.normal_texture, self.bump_texture, self.emission_texture) >= 0
 
 
 @dataclass
@@ -118,6 +126,7 @@ class SceneData:
     # The material table's roots in order, as ((material name or None, object visibility),
     # root index): what export_tables replays after a material, light or world edit.
     material_keys: list = field(default_factory=list)
+    tangents: object = None          # float32 (V, 4) or None: normal maps' tangent frames
 
     @property
     def triangle_count(self):

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "scene/tangent_space.h"
+
 namespace glslppm {
 namespace {
 
@@ -53,7 +55,10 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     const MeshView& view = mesh.view;
     const std::size_t n = packed.triangle_count;
     packed.triangles.resize(3 * n);
-    if (!view.normals.empty()) packed.normals.resize(3 * n);
+    // Tangents ride in the normals' w (scene/tangent_space.h); a mesh with tangents but no
+    // normals packs its faces' normals.
+    const bool tangents = !view.tangents.empty();
+    if (!view.normals.empty() || tangents) packed.normals.resize(3 * n);
     if (!view.uvs.empty()) packed.uvs.resize(2 * n);
     auto fill = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
@@ -66,9 +71,18 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
             packed.triangles[3 * i + 1] =
                 glm::vec4(view.positions[tri.y], int_bits(static_cast<std::int32_t>(id)));
             packed.triangles[3 * i + 2] = glm::vec4(view.positions[tri.z], 0.0f);
-            if (!view.normals.empty()) {
-                for (int k = 0; k < 3; ++k)
-                    packed.normals[3 * i + k] = glm::vec4(view.normals[tri[k]], 0.0f);
+            if (!view.normals.empty() || tangents) {
+                const glm::vec3 face =
+                    view.normals.empty()
+                        ? glm::normalize(glm::cross(view.positions[tri.y] - view.positions[tri.x],
+                                                    view.positions[tri.z] - view.positions[tri.x]))
+                        : glm::vec3(0.0f);
+                for (int k = 0; k < 3; ++k) {
+                    const float w =
+                        tangents ? std::bit_cast<float>(pack_tangent(view.tangents[tri[k]])) : 0.0f;
+                    packed.normals[3 * i + k] =
+                        glm::vec4(view.normals.empty() ? face : view.normals[tri[k]], w);
+                }
             }
             if (!view.uvs.empty()) {
                 packed.uvs[2 * i] = glm::vec4(view.uvs[tri.x], view.uvs[tri.y]);

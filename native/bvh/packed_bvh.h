@@ -13,8 +13,9 @@
 //                (v0.xyz, intBitsToFloat(material id)),
 //                (v1.xyz, intBitsToFloat(original triangle id)),
 //                (v2.xyz, 0)
-//   normals    empty unless the mesh has normals; 3 vec4 per packed triangle:
-//                (n0.xyz, 0), (n1.xyz, 0), (n2.xyz, 0)
+//   normals    empty unless the mesh has normals or tangents; 3 vec4 per packed triangle:
+//                (n0.xyz, t0), (n1.xyz, t1), (n2.xyz, t2), t the vertex's tangent packed
+//                by pack_tangent (scene/tangent_space.h) as float bits, or 0 without tangents
 //   uvs        empty unless the mesh has uvs; 2 vec4 per packed triangle:
 //                (u0, v0, u1, v1), (u2, v2, 0, 0)
 //

@@ -14,6 +14,7 @@
 #include "loaders/gltf_accessors.h"
 #include "loaders/gltf_materials.h"
 #include "loaders/gltf_punctual.h"
+#include "scene/tangent_space.h"
 #include "loaders/vertex_normals.h"
 
 namespace glslppm {
@@ -39,6 +40,20 @@ struct Loader {
     std::vector<std::shared_ptr<OwnedMesh>> instance_meshes{};
     bool any_normals = false;
     bool any_uvs = false;
+    bool any_tangents = false;
+
+    // Whether any primitive of the file has TANGENT (the others then get tangents made from
+    // their uvs; a file without any leaves them to the renderer).
+    int has_tangents = -1;  // unknown until asked
+    bool file_has_tangents() {
+        if (has_tangents < 0) {
+            has_tangents = 0;
+            for (const tinygltf::Mesh& m : model.meshes)
+                for (const tinygltf::Primitive& p : m.primitives)
+                    has_tangents |= p.attributes.count("TANGENT") ? 1 : 0;
+        }
+        return has_tangents == 1;
+    }
     int default_material = -1;
 
     [[noreturn]] void fail(const std::string& element, const std::string& what) const {
@@ -252,7 +267,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
     if (target.triangles.size() + triangles.size() > kMaxTriangles)
         fail(element, "the scene exceeds " + std::to_string(kMaxTriangles) + " triangles");
 
-    std::vector<float> normals, uvs;
+    std::vector<float> normals, uvs, tangents;
     if (const int a = attribute("NORMAL"); a >= 0) {
         normals = gltf::read_floats(model, a, 3, element + ".attributes.NORMAL", file);
         if (normals.size() != positions.size())
@@ -266,6 +281,13 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
             fail(element + ".attributes.TEXCOORD_0", "has " + std::to_string(uvs.size() / 2) +
                                                          " elements, POSITION has " +
                                                          std::to_string(vertex_count));
+    }
+    if (const int a = attribute("TANGENT"); a >= 0) {
+        tangents = gltf::read_floats(model, a, 4, element + ".attributes.TANGENT", file);
+        if (tangents.size() / 4 != vertex_count)
+            fail(element + ".attributes.TANGENT", "has " + std::to_string(tangents.size() / 4) +
+                                                      " elements, POSITION has " +
+                                                      std::to_string(vertex_count));
     }
     const std::uint32_t material = material_of(p.material, element);
 
@@ -293,13 +315,40 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
         target.uvs.push_back(uvs.empty()
                                  ? glm::vec2(0.0f)
                                  : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
+        // TANGENT turns with the surface; its w keeps its meaning with v flipped (Blender's
+        // exporter writes Blender's own bitangent sign beside flipped uvs), and flips with
+        // a mirroring transform. Without TANGENT, tangents come from the uvs below.
+        if (!tangents.empty()) {
+            const glm::vec3 t = linear * glm::vec3(tangents[4 * v], tangents[4 * v + 1],
+                                                   tangents[4 * v + 2]);
+            const float length = glm::length(t);
+            const float sign = (tangents[4 * v + 3] < 0.0f ? -1.0f : 1.0f) * (mirrored ? -1.0f : 1.0f);
+            target.tangents.push_back(length > 0.0f && std::isfinite(length)
+                                          ? glm::vec4(t / length, sign)
+                                          : glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+        }
     }
+    any_tangents |= !tangents.empty();
     any_normals |= !normals.empty();
     any_uvs |= !uvs.empty();
     for (glm::uvec3 t : triangles) {
         if (mirrored) std::swap(t.y, t.z);
         target.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
         target.material_ids.push_back(material);
+    }
+    if (tangents.empty() && file_has_tangents()) {
+        // This primitive's own tangents from its uvs (scene/tangent_space.h), so that a
+        // mesh mixing primitives with and without TANGENT keeps one array.
+        std::vector<glm::uvec3> local(target.triangles.end() - std::ptrdiff_t(triangles.size()),
+                                      target.triangles.end());
+        for (glm::uvec3& t : local) t -= glm::uvec3(std::uint32_t(base));
+        const std::span<const glm::vec3> own_normals =
+            normals.empty() ? std::span<const glm::vec3>()
+                            : std::span<const glm::vec3>(target.normals).subspan(base, vertex_count);
+        const std::vector<glm::vec4> made = generate_tangents(
+            std::span<const glm::vec3>(target.positions).subspan(base, vertex_count), local,
+            own_normals, std::span<const glm::vec2>(target.uvs).subspan(base, vertex_count));
+        target.tangents.insert(target.tangents.end(), made.begin(), made.end());
     }
 }
 
@@ -480,6 +529,8 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
     else
         fill_missing_normals(*mesh);
     if (!loader.any_uvs) mesh->uvs.clear();
+    // No TANGENT anywhere: the renderer makes them where a normal map needs them.
+    if (!loader.any_tangents) mesh->tangents.clear();
     // Instance meshes: vertices of primitives without normals keep zero normals (the
     // renderer's geometric normal); arrays no primitive had are dropped.
     for (const std::shared_ptr<OwnedMesh>& m : loader.instance_meshes) {
@@ -487,6 +538,7 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
                         [](const glm::vec3& n) { return n == glm::vec3(0.0f); }))
             m->normals.clear();
         if (!loader.any_uvs) m->uvs.clear();
+        if (!loader.any_tangents) m->tangents.clear();
     }
     std::vector<Instance> instances = std::move(out.scene.instances);
     Scene scene = make_scene(mesh);

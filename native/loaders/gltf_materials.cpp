@@ -401,9 +401,24 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
         warn(element, "alphaMode " + m.alphaMode + " is not one of OPAQUE, MASK, BLEND: "
                       "rendered opaque");
     }
+    // emissiveTexture (sRGB, as the base colour's) multiplies emissiveFactor on the whole
+    // material, the root of its Mix tree.
     if (m.emissiveTexture.index >= 0)
-        warn(element, "emissiveTexture is not supported: emissiveFactor alone is used");
-    if (m.normalTexture.index >= 0) warn(element, "normalTexture is not supported: ignored");
+        out.emission_texture = texture(m.emissiveTexture, element + ".emissiveTexture");
+    if (m.normalTexture.index >= 0) {
+        // Tangent space, +Y up as Blender's; the texels are numbers (linear). glTF's scale
+        // (x and y of the texel times it) becomes the Normal Map's Strength, as Blender's
+        // importer maps it: equal at 1, close for tilts below 45 degrees.
+        tinygltf::TextureInfo info;
+        info.index = m.normalTexture.index;
+        info.texCoord = m.normalTexture.texCoord;
+        info.extensions = m.normalTexture.extensions;
+        out.normal_texture = data_texture(info, element + ".normalTexture");
+        const double scale = m.normalTexture.scale;
+        if (!std::isfinite(scale) || scale < 0.0)
+            fail(element, "normalTexture.scale must be finite and >= 0");
+        out.normal_strength = float(scale);
+    }
     return out;
 }
 

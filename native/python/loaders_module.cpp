@@ -118,6 +118,10 @@ py::list materials_list(const Scene& s) {
         d["mix_channel"] = channel_name(m.mix_channel);
         d["mix_mode"] = mix_mode_name(m.mix_mode);
         d["mix_ior"] = m.mix_ior;
+        d["normal_texture"] = m.normal_texture;
+        d["normal_strength"] = m.normal_strength;
+        d["bump_texture"] = m.bump_texture;
+        d["emission_texture"] = m.emission_texture;
         out.append(d);
     }
     return out;
@@ -157,6 +161,7 @@ py::dict scene_contents(const Scene& s) {
     d["triangles"] = array_of<std::uint32_t>(s.mesh.triangles, 3);
     d["normals"] = array_of<float>(s.mesh.normals, 3);
     d["uvs"] = array_of<float>(s.mesh.uvs, 2);
+    d["tangents"] = array_of<float>(s.mesh.tangents, 4);
     py::array_t<std::uint32_t> ids(static_cast<py::ssize_t>(s.mesh.material_ids.size()));
     if (!s.mesh.material_ids.empty())
         std::memcpy(ids.mutable_data(), s.mesh.material_ids.data(), s.mesh.material_ids.size() * 4);

@@ -117,7 +117,10 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                        const std::string& roughness_channel, bool multiscatter, bool schlick,
                        bool tint_reflection, int mix_a, int mix_b, float mix_factor,
                        int mix_texture, const std::string& mix_channel,
-                       const std::string& mix_mode, float mix_ior) {
+                       const std::string& mix_mode, float mix_ior, int normal_texture,
+                       float normal_strength, int bump_texture, float bump_strength,
+                       float bump_distance, int emission_texture,
+                       std::array<float, 3> f82_tint) {
     Material m;
     m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
@@ -140,6 +143,13 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.mix_texture = mix_texture;
     m.mix_channel = parse_name<TextureChannel>(mix_channel, kTextureChannels,
                                                "Material mix_channel");
+    m.normal_texture = normal_texture;
+    m.normal_strength = normal_strength;
+    m.bump_texture = bump_texture;
+    m.bump_strength = bump_strength;
+    m.bump_distance = bump_distance;
+    m.emission_texture = emission_texture;
+    m.f82_tint = {f82_tint[0], f82_tint[1], f82_tint[2]};
     m.mix_mode = parse_name<MixFactor>(mix_mode, kMixModes, "Material mix_mode");
     m.mix_ior = mix_ior;
     return m;
@@ -193,7 +203,7 @@ MeshView take_mesh(const py::handle& item, const std::string& name, ArrayOwner& 
     for (const auto& kv : d) {
         const std::string key = py::str(kv.first);
         if (key != "positions" && key != "indices" && key != "normals" && key != "uvs" &&
-            key != "material_ids")
+            key != "material_ids" && key != "tangents")
             throw py::value_error(name + ": unknown key '" + key + "'");
     }
     if (!d.contains("positions") || !d.contains("indices"))
@@ -215,6 +225,11 @@ MeshView take_mesh(const py::handle& item, const std::string& name, ArrayOwner& 
         auto a = take_array<float>(d["uvs"], (n + "uvs").c_str(), 2, "float32");
         owner.arrays.push_back(a);
         m.uvs = {reinterpret_cast<const glm::vec2*>(a.data()), std::size_t(a.shape(0))};
+    }
+    if (d.contains("tangents") && !d["tangents"].is_none()) {
+        auto a = take_array<float>(d["tangents"], (n + "tangents").c_str(), 4, "float32");
+        owner.arrays.push_back(a);
+        m.tangents = {reinterpret_cast<const glm::vec4*>(a.data()), std::size_t(a.shape(0))};
     }
     if (d.contains("material_ids") && !d["material_ids"].is_none()) {
         auto a = take_array<std::uint32_t>(d["material_ids"], (n + "material_ids").c_str(), 0,
@@ -280,7 +295,7 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
                     std::vector<Texture> textures, int environment_texture,
                     const py::object& environment_to_world, const py::object& instance_meshes,
                     const py::object& instances, const py::object& instance_mesh,
-                    const py::object& instance_material_offset) {
+                    const py::object& instance_material_offset, const py::object& tangents) {
     auto owner = std::make_shared<ArrayOwner>();
     Scene scene;
     add_instances(scene, *owner, instance_meshes, instances, instance_mesh,
@@ -299,6 +314,11 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
         auto u = take_array<float>(uvs, "uvs", 2, "float32");
         owner->arrays.push_back(u);
         scene.mesh.uvs = {reinterpret_cast<const glm::vec2*>(u.data()), std::size_t(u.shape(0))};
+    }
+    if (!tangents.is_none()) {
+        auto a = take_array<float>(tangents, "tangents", 4, "float32");
+        owner->arrays.push_back(a);
+        scene.mesh.tangents = {reinterpret_cast<const glm::vec4*>(a.data()), std::size_t(a.shape(0))};
     }
     if (!material_ids.is_none()) {
         auto m = take_array<std::uint32_t>(material_ids, "material_ids", 0, "uint32");
@@ -476,7 +496,11 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("schlick") = false, py::arg("tint_reflection") = false,
              py::arg("mix_a") = -1, py::arg("mix_b") = -1, py::arg("mix_factor") = 0.5f,
              py::arg("mix_texture") = -1, py::arg("mix_channel") = "luminance",
-             py::arg("mix_mode") = "constant", py::arg("mix_ior") = 1.5f);
+             py::arg("mix_mode") = "constant", py::arg("mix_ior") = 1.5f,
+             py::arg("normal_texture") = -1, py::arg("normal_strength") = 1.0f,
+             py::arg("bump_texture") = -1, py::arg("bump_strength") = 1.0f,
+             py::arg("bump_distance") = 1.0f, py::arg("emission_texture") = -1,
+             py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f});
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
@@ -576,7 +600,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("environment_to_world") = py::none(),
              py::arg("instance_meshes") = py::none(), py::arg("instances") = py::none(),
              py::arg("instance_mesh") = py::none(),
-             py::arg("instance_material_offset") = py::none())
+             py::arg("instance_material_offset") = py::none(), py::arg("tangents") = py::none())
         .def_property_readonly("instance_count", [](const Scene& s) { return s.instances.size(); })
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def("arrays", [](const Scene& s) {

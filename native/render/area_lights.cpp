@@ -68,6 +68,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
     mesh->triangles.assign(in.triangles.begin(), in.triangles.end());
     mesh->normals.assign(in.normals.begin(), in.normals.end());
     mesh->uvs.assign(in.uvs.begin(), in.uvs.end());
+    mesh->tangents.assign(in.tangents.begin(), in.tangents.end());
     if (in.material_ids.empty())
         mesh->material_ids.assign(in.triangles.size(), 0u);
     else
@@ -98,6 +99,8 @@ SceneGeometry with_area_lights(const Scene& scene) {
         const glm::vec3 front = glm::normalize(glm::vec3(light.to_world * glm::vec4(0, 0, -1, 0)));
         if (!mesh->normals.empty()) mesh->normals.insert(mesh->normals.end(), p.size(), front);
         if (!mesh->uvs.empty()) mesh->uvs.insert(mesh->uvs.end(), p.size(), glm::vec2(0.0f));
+        if (!mesh->tangents.empty())  // any tangent: a light has no normal map
+            mesh->tangents.insert(mesh->tangents.end(), p.size(), glm::vec4(1, 0, 0, 1));
         mesh->append(p, t, material);
     }
     g.mesh = mesh->view();

@@ -1,5 +1,6 @@
 #include "render/emitters.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -10,6 +11,47 @@ constexpr float kPi = 3.14159265358979f;
 
 float as_float(int v) { return std::bit_cast<float>(v); }
 float weight_of(glm::vec3 power) { return (power.x + power.y + power.z) / 3.0f; }
+
+float srgb_to_linear(std::uint8_t v) {
+    const float c = static_cast<float>(v) / 255.0f;
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// A texel's linear rgb, nearest (the mean below needs no filtering).
+glm::vec3 texel_at(const Texture& t, glm::vec2 uv) {
+    if (t.wrap == TextureWrap::Clip && (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f))
+        return glm::vec3(0.0f);
+    uv -= glm::floor(uv);
+    const int x = std::min(t.width - 1, static_cast<int>(uv.x * static_cast<float>(t.width)));
+    const int y = std::min(t.height - 1, static_cast<int>(uv.y * static_cast<float>(t.height)));
+    const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(t.width) +
+                               static_cast<std::size_t>(x));
+    if (!t.srgb8.empty())
+        return {srgb_to_linear(t.srgb8[i]), srgb_to_linear(t.srgb8[i + 1]),
+                srgb_to_linear(t.srgb8[i + 2])};
+    return {t.linear[i], t.linear[i + 1], t.linear[i + 2]};
+}
+
+// The mean texel over a triangle's uvs: 16 x 16 stratified points, uniform in area. Only the
+// emitter's pick probability reads it (photons and light samples weigh each point by its
+// own texel over that probability), so an inexact mean costs noise, never bias; it is
+// floored at 1e-3 of the brightest channel's untextured weight, so that a triangle whose
+// bright texels fall between the points is still picked.
+glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2) {
+    constexpr int n = 16;
+    glm::vec3 sum(0.0f);
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            float a = (static_cast<float>(i) + 0.5f) / n, b = (static_cast<float>(j) + 0.5f) / n;
+            if (a + b > 1.0f) {  // fold the square onto the triangle
+                a = 1.0f - a;
+                b = 1.0f - b;
+            }
+            sum += texel_at(t, w0 + a * (w1 - w0) + b * (w2 - w0));
+        }
+    }
+    return sum / static_cast<float>(n * n);
+}
 
 }  // namespace
 
@@ -26,12 +68,18 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                             const EnvironmentMap* environment) {
     EmitterTable table;
     std::vector<std::array<glm::vec4, 4>> list;
-    auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power) {
-        if (!(weight_of(power) > 0.0f)) return;  // dark; bad values were rejected earlier
+    std::vector<double> weights;  // what each emitter is picked by: its power
+    // `power` is what the record holds (the shader's flux is power / pick probability);
+    // `emitted`, where given, the power the emitter radiates on average (a textured one).
+    auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power,
+                   glm::vec3 emitted = glm::vec3(-1.0f)) {
+        if (emitted.x < 0.0f) emitted = power;
+        if (!(weight_of(emitted) > 0.0f)) return;  // dark; bad values were rejected earlier
         list.push_back({glm::vec4(a, as_float(static_cast<int>(kind))), b, glm::vec4(c, 0.0f),
                         glm::vec4(power, 0.0f)});
+        weights.push_back(weight_of(emitted));
         table.has[static_cast<int>(kind)] = true;
-        table.total_power += power;
+        table.total_power += emitted;
     };
 
     // Emissive triangles radiate L over their area: power pi L A from each side that emits.
@@ -50,8 +98,24 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         const bool two_sided = static_cast<std::size_t>(material) < scene.materials.size() &&
                                scene.materials[static_cast<std::size_t>(material)].emission_two_sided;
         const float sides = two_sided ? 2.0f : 1.0f;
-        add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2,
-            emission * (kPi * area * sides));
+        const glm::vec3 power = emission * (kPi * area * sides);
+        // A textured emitter (materials' emission_texture, where uvs are uploaded) holds its
+        // untextured power and is picked by its mean: the shader weighs each point by its
+        // texel, so that photons and light samples follow the image (emitters.glsl). b.w
+        // then holds -(1 + 2 t + two_sided), exact in a float below 2^24.
+        const int texture = materials[static_cast<std::size_t>(material)].emission_texture;
+        if (texture >= 0 && !bvh.uvs.empty() && 2.0 * t + 2.0 < 16777216.0) {
+            const glm::vec4 uv01 = bvh.uvs[2 * t], uv2 = bvh.uvs[2 * t + 1];
+            const glm::vec3 mean = mean_texel(scene.textures[static_cast<std::size_t>(texture)],
+                                              glm::vec2(uv01), glm::vec2(uv01.z, uv01.w),
+                                              glm::vec2(uv2));
+            const float floor = 1e-3f * std::max(power.x, std::max(power.y, power.z));
+            const float code = -(1.0f + 2.0f * static_cast<float>(t) + (two_sided ? 1.0f : 0.0f));
+            add(EmitterKind::Triangle, v0, glm::vec4(v1, code), v2, power,
+                glm::max(power * mean, glm::vec3(floor)));
+            continue;
+        }
+        add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2, power);
     }
     const float r = bounds.radius();
     for (const Light& light : scene.lights) {
@@ -100,10 +164,10 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
             "the scene has no lights: nothing emits (add a light, an emissive material or a "
             "world colour)");
     double total = 0.0;
-    for (const auto& e : list) total += weight_of(glm::vec3(e[3]));
+    for (const double w : weights) total += w;
     double running = 0.0;
     for (std::size_t k = 0; k < list.size(); ++k) {
-        const double p = weight_of(glm::vec3(list[k][3])) / total;
+        const double p = weights[k] / total;
         running += p;
         list[k][2].w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
         list[k][3].w = static_cast<float>(p);

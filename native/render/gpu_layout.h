@@ -116,7 +116,7 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 inline constexpr unsigned kRadiusStatsThreads = 256;
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
-// shaders/common/bsdf.glsl and lobes.glsl: five vec4 per material, then the albedo tables
+// shaders/common/bsdf.glsl and lobes.glsl: six vec4 per material, then the albedo tables
 // (render/microfacet_tables.h) the materials' `table` fields point into.
 struct GpuMaterial {
     glm::vec3 color;              // base colour (times its texture)
@@ -133,10 +133,22 @@ struct GpuMaterial {
     std::uint32_t options;        // MaterialOption bits and fields below
     float mix_ior;
     std::int32_t table;           // albedo table, as a vec4 index into the buffer, or -1
-    std::uint32_t unused;
+    std::uint32_t normal_map;     // see normal_map_word
+    std::int32_t emission_texture;  // texture index or -1: emission = emission * texel
+    glm::vec3 f82_tint;             // Schlick conductor's F82 tint (white: none)
 };
-static_assert(sizeof(GpuMaterial) == 80 && offsetof(GpuMaterial, color_texture) == 32 &&
-              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64);
+static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, color_texture) == 32 &&
+              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64 &&
+              offsetof(GpuMaterial, emission_texture) == 80);
+inline constexpr int kGpuMaterialVec4 = sizeof(GpuMaterial) / 16;  // MATERIAL_STRIDE
+
+// GpuMaterial::normal_map: 0 for none, else the normal (or bump) texture's index + 1 in the
+// low 15 bits, bit 15 set for a bump map, and the strength as a half float in the high 16
+// (GLSL's unpackHalf2x16; 11 bits of precision: strength 0.3 reads 0.29988). A bump map's
+// distance is a half float in the options' high 16 bits. Read by shaders/common/surface.glsl.
+inline constexpr std::uint32_t kMaxNormalMapTextures = 0x7FFFu;
+inline constexpr std::uint32_t kNormalMapBump = 0x8000u;
+inline constexpr std::uint32_t kOptionBumpDistanceShift = 16;
 
 // GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
 inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's

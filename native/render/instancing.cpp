@@ -86,8 +86,10 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
                                              bool keep_uvs) {
     auto out = std::make_shared<OwnedMesh>();
     bool normals = !world.normals.empty(), uvs = keep_uvs && !world.uvs.empty();
+    bool tangents = !world.tangents.empty();
     for (const MeshView& m : scene.instance_meshes) {
         normals |= !m.normals.empty();
+        tangents |= !m.tangents.empty();
         uvs |= keep_uvs && !m.uvs.empty();
     }
     auto append = [&](const MeshView& m, const glm::mat4& to_world, std::uint32_t offset,
@@ -109,6 +111,15 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
                 out->uvs.resize(out->positions.size(), glm::vec2(0.0f));
             else
                 out->uvs.insert(out->uvs.end(), m.uvs.begin(), m.uvs.end());
+        }
+        // Tangents turn with the surface (A t); a mirror reverses the bitangent's side of the
+        // tangent, so its sign flips (as Cycles does for negatively scaled objects).
+        if (tangents) {
+            if (m.tangents.empty())
+                out->tangents.resize(out->positions.size(), glm::vec4(1, 0, 0, 1));
+            const float flip = transform && glm::determinant(a) < 0.0f ? -1.0f : 1.0f;
+            for (const glm::vec4& t : m.tangents)
+                out->tangents.push_back(transform ? glm::vec4(a * glm::vec3(t), flip * t.w) : t);
         }
         // A mirror reverses the winding; swapping two corners keeps each triangle's front
         // side where it was, as Blender does with negatively scaled objects.

@@ -8,10 +8,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <glm/gtc/packing.hpp>
+
 #include "bvh/traverse_cpu.h"
 #include "render/camera_ray.h"
 #include "render/microfacet_tables.h"
 #include "scene/scene_validation.h"
+#include "scene/tangent_space.h"
 
 namespace glslppm {
 namespace {
@@ -29,7 +32,8 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
         const Material& m = scene.materials[k];
         bool warned = false;
-        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture}) {
+        for (const int t : {m.color_texture, m.roughness_texture, m.mix_texture, m.normal_texture,
+                            m.bump_texture, m.emission_texture}) {
             if (t < 0) continue;  // indices were checked by validate_scene
             if (!has_uvs) {
                 if (!warned)
@@ -51,9 +55,23 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
 
 }  // namespace
 
+std::uint32_t normal_map_word(const Material& m) {
+    const bool bump = m.bump_texture >= 0;
+    const std::int32_t texture = bump ? m.bump_texture : m.normal_texture;
+    if (texture < 0) return 0u;
+    if (texture >= static_cast<std::int32_t>(kMaxNormalMapTextures))
+        throw SceneError("a normal or bump map's texture index " + std::to_string(texture) +
+                         " is past the " + std::to_string(kMaxNormalMapTextures - 1) +
+                         " a material record holds");
+    return static_cast<std::uint32_t>(texture + 1) | (bump ? kNormalMapBump : 0u) |
+           glm::packHalf1x16(bump ? m.bump_strength : m.normal_strength) << 16;
+}
+
 // Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
 // model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
 bool needs_microfacet(const Material& m) {
+    // The lobes bend a normal-mapped shading normal towards the surface (shading_at).
+    if (m.normal_texture >= 0 || m.bump_texture >= 0) return true;
     switch (m.kind) {
         case MaterialKind::Diffuse: return false;
         case MaterialKind::Conductor:
@@ -69,7 +87,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         bool microfacet) {
     std::vector<GpuMaterial> records;
     std::vector<glm::vec4> tables;
-    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * 5);
+    const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * kGpuMaterialVec4);
     auto add_table = [&](AlbedoLobe lobe, float ior) {
         const std::int32_t at = tables_base + static_cast<std::int32_t>(tables.size());
         const std::vector<float> t = albedo_table(lobe, ior);
@@ -110,6 +128,11 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                     (m.multiscatter ? kOptionMultiscatter : 0u) | (m.schlick ? kOptionSchlick : 0u) |
                     (m.tint_reflection ? kOptionTintReflection : 0u);
         g.table = -1;
+        g.normal_map = textures ? normal_map_word(m) : 0u;
+        g.emission_texture = textures ? m.emission_texture : -1;
+        g.f82_tint = m.f82_tint;
+        if (textures && m.bump_texture >= 0)
+            g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
         if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
             if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
@@ -121,8 +144,8 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
         }
         records.push_back(g);
     }
-    std::vector<glm::vec4> out(records.size() * 5);
-    static_assert(sizeof(GpuMaterial) == 5 * sizeof(glm::vec4));
+    std::vector<glm::vec4> out(records.size() * kGpuMaterialVec4);
+    static_assert(sizeof(GpuMaterial) == kGpuMaterialVec4 * sizeof(glm::vec4));
     if (!records.empty()) std::memcpy(out.data(), records.data(), records.size() * sizeof(GpuMaterial));
     out.insert(out.end(), tables.begin(), tables.end());
     return out;
@@ -263,6 +286,25 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         geometry.mesh.uvs = {};
         for (MeshView& m : instance_meshes) m.uvs = {};
     }
+    // Normal maps read each vertex's tangent: meshes without them get tangents from their
+    // uvs (scene/tangent_space.h). An earlier MTBVH may lack them: it is built again. Bump
+    // maps compile the same variant (they need no tangents; the normals they perturb are
+    // packed with them).
+    bool normal_map = false;
+    for (const Material& m : geometry.materials)
+        normal_map |= use.materials && (m.normal_texture >= 0 || m.bump_texture >= 0);
+    if (normal_map) {
+        built = nullptr;
+        auto with_tangents = [&](MeshView& m) {
+            if (!m.tangents.empty() || m.uvs.empty()) return;
+            validate_mesh(m, static_cast<std::uint32_t>(geometry.materials.size()));  // indices
+            p.generated_tangents.push_back(
+                generate_tangents(m.positions, m.triangles, m.normals, m.uvs));
+            m.tangents = p.generated_tangents.back();
+        };
+        with_tangents(geometry.mesh);
+        for (MeshView& m : instance_meshes) with_tangents(m);
+    }
     const auto material_count = static_cast<std::uint32_t>(geometry.materials.size());
     const ValidMesh mesh = validate_mesh(geometry.mesh, material_count);
     std::vector<ValidMesh> valid_instance_meshes;
@@ -368,6 +410,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
+    feature(normal_map, "HAS_NORMAL_MAP", "normal-map");
+    bool emission_texture = false;
+    for (const Material& m : geometry.materials)
+        emission_texture |= use.materials && m.emission_texture >= 0;
+    feature(emission_texture, "HAS_EMISSION_TEXTURE", "emission-texture");
     // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
     // materials no triangle names). Not part of the full variant: these lobes replace the
     // closed model's code, with its own random numbers, rather than add branches to it.

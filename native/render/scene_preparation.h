@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <list>
 #include <memory>
 #include <string>
 #include <utility>
@@ -54,7 +55,13 @@ struct PreparedScene {
     FrameBlock frame{};
     float initial_radius = 0.0f;
     std::vector<std::string> warnings;
+    // Tangents made from the uvs for normal-mapped meshes that came without (the MeshViews
+    // of `geometry` and the instance meshes point into these; a list never moves them).
+    std::list<std::vector<glm::vec4>> generated_tangents;
 };
+
+// GpuMaterial::normal_map for a material (render/gpu_layout.h).
+std::uint32_t normal_map_word(const Material& m);
 
 // Whether a material needs the lobes of shaders/common/lobes.glsl (HAS_MICROFACET).
 bool needs_microfacet(const Material& m);

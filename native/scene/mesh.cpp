@@ -33,6 +33,9 @@ ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
     if (!mesh.uvs.empty() && mesh.uvs.size() != vertex_count)
         throw SceneError("uvs: has " + std::to_string(mesh.uvs.size()) +
                          " rows but positions has " + std::to_string(vertex_count));
+    if (!mesh.tangents.empty() && mesh.tangents.size() != vertex_count)
+        throw SceneError("tangents: has " + std::to_string(mesh.tangents.size()) +
+                         " rows but positions has " + std::to_string(vertex_count));
     if (!mesh.material_ids.empty() && mesh.material_ids.size() != mesh.triangles.size())
         throw SceneError("material_ids: has " + std::to_string(mesh.material_ids.size()) +
                          " entries but indices has " + std::to_string(mesh.triangles.size()) +
@@ -45,6 +48,13 @@ ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
     for (std::size_t i = 0; i < mesh.uvs.size(); ++i)
         if (!std::isfinite(mesh.uvs[i].x) || !std::isfinite(mesh.uvs[i].y))
             fail("uvs", i, "component is NaN or Inf");
+
+    for (std::size_t i = 0; i < mesh.tangents.size(); ++i) {
+        const glm::vec4 t = mesh.tangents[i];
+        if (!finite(glm::vec3(t)) || !std::isfinite(t.w))
+            fail("tangents", i, "component is NaN or Inf");
+        if (!(glm::length(glm::vec3(t)) > 0.0f)) fail("tangents", i, "tangent has zero length");
+    }
 
     ValidMesh valid{mesh, {}, {}};
     valid.stats.input_triangles = mesh.triangles.size();

@@ -26,6 +26,9 @@ struct MeshView {
     std::span<const glm::vec3> normals;       // (V,3) or empty: geometric normals are used
     std::span<const glm::vec2> uvs;           // (V,2) or empty: no texture coordinates
     std::span<const std::uint32_t> material_ids;  // (T,) or empty: material 0 everywhere
+    // (V,4) or empty: tangent dp/du in xyz, bitangent sign in w (scene/tangent_space.h);
+    // read only by normal-mapped materials, generated from the uvs where absent.
+    std::span<const glm::vec4> tangents;
 };
 
 struct MeshStats {

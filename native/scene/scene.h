@@ -70,6 +70,9 @@ struct Material {
     // plain single-scatter GGX ("GGX").
     bool multiscatter = true;
     bool schlick = false;          // conductor
+    // Schlick conductor: Blender 4.x's F82 tint (Principled v2 metal's Specular Tint), the
+    // reflectance at about 82 degrees as Schlick's times this colour; white leaves Schlick.
+    glm::vec3 f82_tint{1.0f};
     bool tint_reflection = false;  // dielectric
     // Mix only: the two materials (indices into the table) and the factor.
     std::int32_t mix_a = -1;
@@ -79,6 +82,23 @@ struct Material {
     TextureChannel mix_channel = TextureChannel::Luminance;
     MixFactor mix_mode = MixFactor::Constant;
     float mix_ior = 1.5f;  // Fresnel's index, or Layer Weight's blend
+    // Blender's Normal Map node in tangent space (glTF's normalTexture): the texel's rgb
+    // (linear, 2 rgb - 1) in the vertex's (tangent, bitangent, normal) frame, blended with
+    // the interpolated normal by `normal_strength` as Blender blends it. Read on the
+    // triangle's own material (a Mix's root): it applies to all the Mix's leaves.
+    std::int32_t normal_texture = -1;
+    float normal_strength = 1.0f;
+    // Blender's Bump node with an image's luminance as its Height: the normal tilts against
+    // the height's gradient on the surface (from finite differences of the texture in uv),
+    // normalize(n - distance grad h), blended with n by the strength, as Cycles computes it.
+    // A negative distance is Blender's Invert. Not together with a normal map.
+    std::int32_t bump_texture = -1;
+    float bump_strength = 1.0f;
+    float bump_distance = 1.0f;
+    // Emission colour from an image: radiance = emission * texel (Blender's Emission node
+    // or Principled's Emission Color fed by an Image Texture, glTF's emissiveTexture). Read
+    // on the triangle's own material (a Mix's root), like the normal map.
+    std::int32_t emission_texture = -1;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
@@ -177,11 +197,12 @@ struct OwnedMesh {
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> uvs;
     std::vector<std::uint32_t> material_ids;
+    std::vector<glm::vec4> tangents;
 
     // Appends another mesh's triangles, all with one material.
     void append(const std::vector<glm::vec3>& p, const std::vector<glm::uvec3>& t,
                 std::uint32_t material);
-    MeshView view() const { return {positions, triangles, normals, uvs, material_ids}; }
+    MeshView view() const { return {positions, triangles, normals, uvs, material_ids, tangents}; }
     // Multiplies every position by `factor` (normals and uvs unchanged).
     void scale(float factor);
 };

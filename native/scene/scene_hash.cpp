@@ -55,6 +55,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
     h.array(s.mesh.normals);
     h.array(s.mesh.uvs);
     h.array(s.mesh.material_ids);
+    if (!s.mesh.tangents.empty()) h.array(s.mesh.tangents);  // scenes without keep their old hash
     // Instanced meshes in their own space and the instances placing them (scene.h).
     h.value(static_cast<std::uint64_t>(s.instance_meshes.size()));
     for (const MeshView& m : s.instance_meshes) {
@@ -63,6 +64,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.array(m.normals);
         h.array(m.uvs);
         h.array(m.material_ids);
+        if (!m.tangents.empty()) h.array(m.tangents);  // scenes without keep their old hash
     }
     h.value(static_cast<std::uint64_t>(s.instances.size()));
     for (const Instance& i : s.instances) {
@@ -91,6 +93,17 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(m.mix_channel);
         h.value(m.mix_mode);
         h.value(m.mix_ior);
+        if (m.normal_texture >= 0) {  // materials without keep their old hash
+            h.value(m.normal_texture);
+            h.value(m.normal_strength);
+        }
+        if (m.emission_texture >= 0) h.value(m.emission_texture);
+        if (m.f82_tint != glm::vec3(1.0f)) h.value(m.f82_tint);
+        if (m.bump_texture >= 0) {
+            h.value(m.bump_texture);
+            h.value(m.bump_strength);
+            h.value(m.bump_distance);
+        }
     }
     h.value(static_cast<std::uint64_t>(s.lights.size()));
     for (const Light& l : s.lights) {

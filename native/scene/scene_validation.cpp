@@ -65,11 +65,24 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
         Checker::fail(name + ".kind", "is not a material kind");
     Checker::colour(name + ".color", m.color);
     Checker::colour(name + ".emission", m.emission);
+    Checker::colour(name + ".f82_tint", m.f82_tint);
     if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::Plastic)
         Checker::positive(name + ".ior", m.ior);
     Checker::texture_index(name + ".color_texture", m.color_texture, textures);
     Checker::in_range(name + ".roughness", m.roughness, 0.0f, 1.0f, false, false, "[0, 1]");
     Checker::texture_index(name + ".roughness_texture", m.roughness_texture, textures);
+    Checker::texture_index(name + ".normal_texture", m.normal_texture, textures);
+    Checker::texture_index(name + ".bump_texture", m.bump_texture, textures);
+    Checker::texture_index(name + ".emission_texture", m.emission_texture, textures);
+    if (m.normal_texture >= 0 && m.bump_texture >= 0)
+        Checker::fail(name + ".bump_texture", "is set beside normal_texture: a material has "
+                                              "one or the other");
+    Checker::in_range(name + ".bump_strength", m.bump_strength, 0.0f, 1.0e3f, false, false,
+                      "[0, 1000]");
+    Checker::in_range(name + ".bump_distance", m.bump_distance, -1.0e4f, 1.0e4f, false, false,
+                      "[-10000, 10000]");
+    Checker::in_range(name + ".normal_strength", m.normal_strength, 0.0f, 1.0e3f, false, false,
+                      "[0, 1000]");
     if (m.kind != MaterialKind::Mix) return;
     for (auto [field, k] : {std::pair{".mix_a", m.mix_a}, std::pair{".mix_b", m.mix_b}})
         if (k < 0 || k >= static_cast<std::int32_t>(materials))

@@ -9,14 +9,22 @@
 #include "common/textures.glsl"
 #include "common/microfacet.glsl"
 
-// Five vec4 per material (GpuMaterial in native/render/gpu_layout.h).
-const int MATERIAL_STRIDE = 5;
 vec3 material_color(int m) { return materials[MATERIAL_STRIDE * m].xyz; }
 int material_kind(int m) { return int(materials[MATERIAL_STRIDE * m].w); }
 vec3 material_emission(int m) { return materials[MATERIAL_STRIDE * m + 1].xyz; }
 float material_ior(int m) { return materials[MATERIAL_STRIDE * m + 1].w; }
 int material_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].x); }
 int material_flags(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].y); }
+
+// The emission seen at a surface of material `root` (the triangle's own) whose leaf `m` is
+// hit at uv: the leaf's radiance times the root's emission texture (HAS_EMISSION_TEXTURE).
+vec3 material_emission_at(int root, int m, vec2 uv) {
+#if defined(HAS_EMISSION_TEXTURE) && defined(HAS_TEXTURES)
+    int k = floatBitsToInt(materials[MATERIAL_STRIDE * root + 5].x);
+    if (k >= 0) return material_emission(m) * sample_texture(k, uv).rgb;
+#endif
+    return material_emission(m);
+}
 
 // Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
 // through; some surfaces are hidden from camera rays; some cast no shadow (photons and

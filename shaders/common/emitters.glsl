@@ -9,6 +9,7 @@
 #include "common/sampling.glsl"
 #include "common/surface.glsl"
 #include "common/environment.glsl"
+#include "common/textures.glsl"
 
 uint pick_emitter(float u) {
     uint lo = 0u, hi = emitter_count - 1u;
@@ -26,6 +27,32 @@ float spot_attenuation(vec3 axis, vec3 dir, float cos_half, float smooth_width) 
     if (c <= cos_half) return 0.0;
     float t = c - cos_half;
     return t < smooth_width ? smoothstep(0.0, smooth_width, t) : 1.0;
+}
+
+// A triangle emitter's b.w (native/render/emitters.cpp): 0 or 1 for one or two sides, or,
+// for a textured emitter, -(1 + 2 t + two sided), t its packed triangle.
+bool triangle_emitter_two_sided(float bw) {
+#ifdef HAS_EMISSION_TEXTURE
+    if (bw < 0.0) return ((int(-bw) - 1) & 1) != 0;
+#endif
+    return bw > 0.5;
+}
+
+// What a point (barycentrics bc of the record's b and c) of a triangle emitter radiates
+// over what its record holds: the texel of its material's emission texture there, else 1.
+// The record holds the untextured power and is picked by the textured mean, so a photon's
+// or light sample's weight, texel / pick probability, is right in expectation.
+vec3 triangle_emitter_texel(float bw, vec2 bc) {
+#if defined(HAS_EMISSION_TEXTURE) && defined(HAS_TEXTURES)
+    if (bw < 0.0) {
+        int t = (int(-bw) - 1) >> 1;
+        int k = floatBitsToInt(materials[MATERIAL_STRIDE * floatBitsToInt(triangles[3 * t].w) + 5].x);
+        vec4 uv01 = vertex_uvs[2 * t + 0];
+        vec2 uv2 = vertex_uvs[2 * t + 1].xy;
+        if (k >= 0) return sample_texture(k, uv01.xy + bc.x * (uv01.zw - uv01.xy) + bc.y * (uv2 - uv01.xy)).rgb;
+    }
+#endif
+    return vec3(1.0);
 }
 
 // Samples a photon's origin, direction and flux; `ng` is the surface normal at the origin
@@ -47,13 +74,13 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
         vec2 bc = sample_triangle(u1, u2);
         vec3 p = a.xyz + bc.x * (b.xyz - a.xyz) + bc.y * (c.xyz - a.xyz);
         vec3 n = triangle_normal(a.xyz, b.xyz, c.xyz);
-        if (b.w > 0.5) {
+        if (triangle_emitter_two_sided(b.w)) {
             n = u3 < 0.5 ? -n : n;
             u3 = u3 < 0.5 ? 2.0 * u3 : 2.0 * u3 - 1.0;
         }
         dir = sample_cosine_hemisphere(n, u3, u4);
         origin = offset_origin(p, n, dir);
-        flux = power;
+        flux = power * triangle_emitter_texel(b.w, bc);
         return;
     }
 #endif

@@ -89,8 +89,11 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         ls.distance = sqrt(d2);
         ls.wi = to / ls.distance;
         float cos_l = -dot(triangle_normal(a.xyz, b.xyz, c.xyz), ls.wi);
-        if (b.w > 0.5) ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
-        else if (cos_l > 0.0) ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        if (triangle_emitter_two_sided(b.w))
+            ls.radiance_over_pdf = power * (abs(cos_l) / (2.0 * PI * d2));
+        else if (cos_l > 0.0)
+            ls.radiance_over_pdf = power * (cos_l / (PI * d2));
+        ls.radiance_over_pdf *= triangle_emitter_texel(b.w, bc);
         return ls;
     }
 #endif
@@ -240,6 +243,11 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
 #endif
     float cos_theta = abs(dot(ng, ls.wi));
     vec3 f = bsdf_f(sh, wo, ls.wi, rough_only, false);
+#ifdef HAS_NORMAL_MAP
+    // A normal map's tilt shades by the shading normal's cosine (the photons' deposits are
+    // scaled to match: photon_trace.comp); elsewhere the true surface's, as the photons have it.
+    f *= shading_cosine_ratio(ls.wi, sh.n, ng);
+#endif
     if (cos_theta > 0.0 && ls.distance > 0.0 && any(greaterThan(ls.radiance_over_pdf, vec3(0.0))) &&
         any(greaterThan(f, vec3(0.0)))) {
         Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
@@ -271,6 +279,9 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
             ++rays;
 #ifdef BVH_ANY_HIT_FILTER
             shadow_ray_seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+#endif
+#ifdef HAS_NORMAL_MAP
+            f_rough *= shading_cosine_ratio(wi, sh.n, ng);
 #endif
             if (!any_hit(escape))
                 result += f_rough * environment_radiance(wi) *

@@ -9,11 +9,14 @@
 layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
 #endif
 
-// Materials, 5 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables.
+// Materials, 6 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables;
+// their accessors are in common/bsdf.glsl and common/lobes.glsl.
 layout(std430, binding = BINDING_MATERIALS) readonly buffer Materials { vec4 materials[]; };
+const int MATERIAL_STRIDE = 6;
 
 #ifdef HAS_NORMALS
-// Vertex normals, 3 per packed triangle (n.xyz, 0).
+// Vertex normals, 3 per packed triangle (n.xyz, 0), or (n.xyz, packed tangent) where normal
+// maps need tangents (HAS_NORMAL_MAP; native/scene/tangent_space.h).
 layout(std430, binding = BINDING_NORMALS) readonly buffer Normals { vec4 vertex_normals[]; };
 #endif
 

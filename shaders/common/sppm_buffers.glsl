@@ -31,6 +31,9 @@ layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 vis
 
 const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
 const uint VISIBLE_POINT_ENTERING = 2u;   // wo is on the geometric front (a dielectric's outside)
+// HAS_NORMAL_MAP: bits 2-31 hold the geometric normal on wo's side (pack_octahedral), which
+// the gather's diffuse lobes read (bump_shadowing in common/lobes.glsl).
+const uint VISIBLE_POINT_NORMAL_SHIFT = 2u;
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
 layout(std430, binding = BINDING_PIXEL_STATS) buffer PixelStats { vec4 pixel_stats[]; };

@@ -500,7 +500,8 @@ def test_image_texture_colour_spaces_and_fallbacks():
     assert data.uvs is None
     assert any("missing" in w for w in data.warnings), data.warnings
 
-    # An image on an input that takes no texture (emission colour): its mean colour.
+    # An image on an emission colour: the emission is the strength, times the image's
+    # texel (emission_texture, the material's root), with no warning.
     glow = node_material("Glow", "ShaderNodeEmission", Strength=2.0)
     tree = glow.node_tree
     texture = tree.nodes.new("ShaderNodeTexImage")
@@ -508,8 +509,12 @@ def test_image_texture_colour_spaces_and_fallbacks():
     emission = next(node for node in tree.nodes if node.type == 'EMISSION')
     tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
     data = _single(glow)
-    assert_close(_material_of(data).emission, [2 * 128 / 255] * 3, 1e-5, "mean colour")
-    assert any("mean colour" in w for w in data.warnings), data.warnings
+    glowing = _material_of(data)
+    assert_close(glowing.emission, [2.0] * 3, 1e-6, "emission strength")
+    assert glowing.emission_texture >= 0, glowing
+    assert_close(data.textures[glowing.emission_texture].pixels[..., :3],
+                 np.full((2, 2, 3), 128 / 255), 1e-6, "emission image")
+    assert not any("mean colour" in w for w in data.warnings), data.warnings
 
 
 def missing_image():
@@ -811,3 +816,51 @@ def test_material_edit_exports_tables_without_reading_meshes():
     output = next(n for n in tree.nodes if n.type == 'OUTPUT_MATERIAL')
     tree.links.new(mix.outputs[0], output.inputs["Surface"])
     assert helpers.ADDON.export.export_tables(_tables_export(), before) is None
+
+def test_normal_map_and_bump_export():
+    """A Normal Map (tangent space) on a BSDF's Normal: the material's normal texture and
+    strength, the mesh's MikkTSpace tangents (unit, orthogonal to the normals, sign +-1)
+    beside its uvs; a Bump from an image's Color: texture, strength, distance, Invert as a
+    negative distance; neither warns."""
+    image = bpy.data.images.new("Tilt", 2, 2, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.pixels.foreach_set([0.75, 0.5, 0.9, 1.0] * 4)
+    for kind in ("normal", "bump"):
+        material = node_material(f"Mapped-{kind}", "ShaderNodeBsdfDiffuse")
+        tree = material.node_tree
+        texture = tree.nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        diffuse = next(node for node in tree.nodes if node.type == 'BSDF_DIFFUSE')
+        if kind == "normal":
+            node = tree.nodes.new("ShaderNodeNormalMap")
+            node.inputs["Strength"].default_value = 0.7
+            tree.links.new(texture.outputs["Color"], node.inputs["Color"])
+        else:
+            node = tree.nodes.new("ShaderNodeBump")
+            node.inputs["Strength"].default_value = 0.4
+            node.inputs["Distance"].default_value = 0.2
+            node.invert = True
+            tree.links.new(texture.outputs["Color"], node.inputs["Height"])
+        tree.links.new(node.outputs["Normal"], diffuse.inputs["Normal"])
+        for obj in list(bpy.data.objects):
+            bpy.data.objects.remove(obj)
+        _camera()
+        cube = add_cube(material=material)
+        layer = cube.data.uv_layers.new()
+        layer.data.foreach_set("uv", [0, 0, 1, 0, 1, 1, 0, 1] * len(cube.data.polygons))
+        data = export()
+        assert not data.warnings, data.warnings
+        root = _material_of(data)
+        if kind == "normal":
+            assert root.normal_texture >= 0 and abs(root.normal_strength - 0.7) < 1e-6, root
+            t = data.tangents
+            assert t is not None and t.shape == (len(data.positions), 4), t
+            assert_close(np.linalg.norm(t[:, :3], axis=1), np.ones(len(t)), 1e-5, "unit")
+            assert_close(np.sum(t[:, :3] * data.normals, axis=1) if data.normals is not None
+                         else np.zeros(len(t)), np.zeros(len(t)), 1e-5, "orthogonal")
+            assert set(np.unique(t[:, 3])) <= {-1.0, 1.0}, np.unique(t[:, 3])
+        else:
+            assert root.bump_texture >= 0 and root.normal_texture < 0, root
+            assert abs(root.bump_strength - 0.4) < 1e-6, root
+            assert abs(root.bump_distance + 0.2) < 1e-6, root
+            assert data.tangents is None

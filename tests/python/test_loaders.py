@@ -921,3 +921,100 @@ def test_cli_scene_without_lights_says_so(glslppm, tmp_path):
     result = run_cli("--scene", g.write(tmp_path / "dark.gltf"))
     assert result.returncode == 1
     assert "no lights" in result.stderr, result.stderr
+
+
+def test_gltf_normal_texture_with_and_without_tangent(glslppm, tmp_path):
+    """normalTexture: its texels read as numbers, its scale as the strength; TANGENT turns
+    with the node (and its w flips under a mirror); a primitive without TANGENT in a file
+    with some gets tangents from its uvs (dp/du, sign from dp/dv with v flipped up)."""
+    g = Gltf()
+    g.doc["images"] = [{"uri": _data_png([[191, 128, 255, 255], [191, 128, 255, 255]])}]
+    g.doc["textures"] = [{"source": 0}]
+    g.doc["materials"] = [{"name": "bumpy", "normalTexture": {"index": 0, "scale": 0.5}}]
+    tangent = np.tile([1.0, 0.0, 0.0, -1.0], (4, 1)).astype(np.float32)
+
+    def with_tangent():  # one mesh per node: world triangles, not instances
+        mesh = g.mesh(QUAD, QUAD_TRIS, material=0, uvs=QUAD_UV)
+        g.doc["meshes"][mesh]["primitives"][0]["attributes"]["TANGENT"] = g.accessor(
+            tangent, "VEC4")
+        return mesh
+
+    g.node(mesh=with_tangent(),
+           rotation=[0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)])
+    g.node(mesh=with_tangent(), scale=[-1.0, 1.0, 1.0], translation=[5.0, 0.0, 0.0])
+    g.node(mesh=g.mesh(QUAD + [0, 0, 1], QUAD_TRIS, material=0, uvs=QUAD_UV))
+    _, c, warnings = load(glslppm, g.write(tmp_path / "normal.gltf"))
+    assert not _material_warnings(warnings), warnings
+    m = c["materials"][0]
+    assert m["normal_strength"] == 0.5
+    data = c["textures"][m["normal_texture"]]
+    assert data["encoding"] == "linear"
+    np.testing.assert_allclose(data["pixels"][0, 0, :3], [191 / 255, 128 / 255, 1.0], rtol=1e-6)
+    t = c["tangents"]
+    assert t.shape == (12, 4)
+    # Rotated 90 degrees about z: the x tangent turns to +y, its sign kept.
+    np.testing.assert_allclose(t[0:4], np.tile([0, 1, 0, -1], (4, 1)), atol=1e-6)
+    # Mirrored in x: the tangent turns to -x and the sign flips.
+    np.testing.assert_allclose(t[4:8], np.tile([-1, 0, 0, 1], (4, 1)), atol=1e-6)
+    # From the uvs: u runs along +x; glTF's v runs along +y, ours (flipped) along -y, so the
+    # bitangent n x t = +y is against dp/dv: sign -1.
+    np.testing.assert_allclose(t[8:12], np.tile([1, 0, 0, -1], (4, 1)), atol=1e-6)
+
+
+def test_gltf_normal_texture_tilts_the_shading(glslppm, tmp_path):
+    """A normalTexture of one texel tilting the normal 30 degrees along +x, on a quad lit by
+    a sun 25 degrees the other way: the quad reads rho / pi E cos(55 degrees), as Blender
+    renders the file (the flat quad would read cos(25 degrees))."""
+    tilt = math.radians(30.0)
+    texel = [round(255 * (math.sin(tilt) + 1) / 2), 128, round(255 * (math.cos(tilt) + 1) / 2),
+             255]
+    g = Gltf()
+    g.doc["images"] = [{"uri": _data_png([texel, texel])}]
+    g.doc["textures"] = [{"source": 0}]
+    g.doc["materials"] = [{"name": "tilted", "normalTexture": {"index": 0},
+                           "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
+                                                    "metallicFactor": 0, "roughnessFactor": 1}}]
+    big = (QUAD - [0.5, 0.5, 0]) * 4
+    g.node(mesh=g.mesh(big, QUAD_TRIS, material=0, uvs=QUAD_UV,
+                       normals=np.tile([0.0, 0.0, 1.0], (4, 1))))
+    scene, c, _ = load(glslppm, g.write(tmp_path / "tilt.gltf"))
+    mapped = (np.array(texel[:3]) / 255.0) * 2 - 1
+    mapped /= np.linalg.norm(mapped)
+    n = glslppm
+    sun = math.radians(-25.0)
+    sun_from = np.array([math.sin(sun), 0.0, math.cos(sun)])
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 3.0
+    textures = [n.Texture(t["pixels"].astype(np.float32) if t["encoding"] == "linear"
+                          else t["pixels"], name="t") for t in c["textures"]]
+    diffuse = n.Material("diffuse", color=(0.8, 0.8, 0.8),
+                         normal_texture=c["materials"][0]["normal_texture"])
+    rebuilt = n.Scene(c["positions"], c["triangles"], normals=c["normals"], uvs=c["uvs"],
+                      materials=[diffuse], textures=textures,
+                      lights=[n.Light("sun", power=3.0, direction=tuple(-sun_from))],
+                      camera=n.Camera(to_world, projection="orthographic", ortho_scale=2.0))
+    r = n.Renderer(rebuilt, n.Settings(width=24, height=24, photons_per_pass=4096, seed=1))
+    r.run(2)
+    got = float(r.film()[4:-4, 4:-4, 0].mean())
+    want = 0.8 / math.pi * 3.0 * float(np.dot(mapped, sun_from))
+    assert got == pytest.approx(want, rel=0.003), (got, want)
+
+
+def test_gltf_emissive_texture_multiplies_the_factor(glslppm, tmp_path):
+    """emissiveTexture: an sRGB image on the root material, its factor (times
+    KHR_materials_emissive_strength) the emission it multiplies."""
+    g = Gltf()
+    g.extension("KHR_materials_emissive_strength")
+    g.doc["images"] = [{"uri": _data_png([[255, 128, 0, 255], [0, 0, 255, 255]])}]
+    g.doc["textures"] = [{"source": 0}]
+    g.doc["materials"] = [{"name": "screen", "emissiveFactor": [1.0, 0.5, 1.0],
+                           "emissiveTexture": {"index": 0},
+                           "extensions": {"KHR_materials_emissive_strength":
+                                          {"emissiveStrength": 3.0}}}]
+    g.node(mesh=g.mesh(QUAD, QUAD_TRIS, material=0, uvs=QUAD_UV))
+    _, c, warnings = load(glslppm, g.write(tmp_path / "emissive.gltf"))
+    assert not _material_warnings(warnings), warnings
+    root = c["materials"][0]
+    assert root["emission_texture"] >= 0
+    assert c["textures"][root["emission_texture"]]["encoding"] == "srgb8"
+    np.testing.assert_allclose(root["emission"], [3.0, 1.5, 3.0])
