@@ -415,6 +415,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     for (const Material& m : geometry.materials)
         emission_texture |= use.materials && m.emission_texture >= 0;
     feature(emission_texture, "HAS_EMISSION_TEXTURE", "emission-texture");
+    // Blender 4.x's F82 tint on a metal: a conductor whose tint is not white. Without one the
+    // conductor Fresnel is Schlick's alone (3.6% of a pass on the glossy Cornell box, H200).
+    bool f82_tint = false;
+    for (const Material& m : geometry.materials)
+        f82_tint |= m.kind == MaterialKind::Conductor && m.f82_tint != glm::vec3(1.0f);
+    feature(f82_tint, "HAS_F82_TINT", "f82-tint");
     // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
     // materials no triangle names). Not part of the full variant: these lobes replace the
     // closed model's code, with its own random numbers, rather than add branches to it.

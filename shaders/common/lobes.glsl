@@ -129,7 +129,9 @@ struct Shading {
     uint options;
     bool entering;    // wo on the geometric front: a dielectric's outside
     vec3 t, b, n;     // frame; n is the shading normal on wo's side
+#ifdef HAS_F82_TINT
     vec3 f82;         // Schlick conductor: the F82 tint's term b (conductor_fresnel)
+#endif
 #ifdef HAS_NORMAL_MAP
     vec3 ng;          // the geometric normal on wo's side (bump_shadowing)
 #endif
@@ -153,6 +155,7 @@ Shading shading_of_leaf(int m, vec3 n, vec2 uv, bool entering) {
     sh.alpha = ggx_alpha(sh.roughness);
     sh.ior = material_ior(m);
     sh.table = material_table(m);
+#ifdef HAS_F82_TINT
     // Blender 4.x's F82 tint (Cycles' fresnel_f82tint): F = Schlick - b mu (1 - mu)^6 with b
     // chosen so that F at mu = 1/7 (about 82 degrees) is Schlick's there times the tint:
     // b = Schlick(1/7) 7 / (6/7)^6 (1 - tint). White tint: b = 0, Schlick unchanged.
@@ -160,6 +163,7 @@ Shading shading_of_leaf(int m, vec3 n, vec2 uv, bool entering) {
     const float f = 6.0 / 7.0;
     float f5 = f * f * f * f * f;
     sh.f82 = mix(sh.color, vec3(1.0), f5) * (7.0 / (f5 * f)) * (1.0 - tint);
+#endif
     return sh;
 }
 
@@ -226,9 +230,13 @@ float max_component(vec3 c) { return max(c.r, max(c.g, c.b)); }
 
 vec3 conductor_fresnel(Shading sh, float c) {
     if ((sh.options & OPTION_SCHLICK) == 0u) return sh.color;
+#ifdef HAS_F82_TINT
     float k = 1.0 - clamp(c, 0.0, 1.0);
     float k3 = k * k * k;
     return max(fresnel_schlick(sh.color, c) - sh.f82 * (c * k3 * k3), vec3(0.0));
+#else
+    return fresnel_schlick(sh.color, c);
+#endif
 }
 
 float conductor_multiple_probability(Shading sh, vec3 wo) {
@@ -246,10 +254,15 @@ vec3 conductor_f(Shading sh, vec3 wo, vec3 wi) {
         float e_o = albedo_table(sh.table, wo.z, sh.roughness);
         float e_i = albedo_table(sh.table, wi.z, sh.roughness);
         float e_avg = albedo_average(sh.table, sh.roughness);
+#ifdef HAS_F82_TINT
         // With the F82 term: its hemispherical average 2 int mu^2 (1 - mu)^6 = 1 / 126.
         vec3 f_avg = (sh.options & OPTION_SCHLICK) != 0u
                          ? max(fresnel_schlick_average(sh.color) - sh.f82 / 126.0, vec3(0.0))
                          : sh.color;
+#else
+        vec3 f_avg = (sh.options & OPTION_SCHLICK) != 0u ? fresnel_schlick_average(sh.color)
+                                                         : sh.color;
+#endif
         vec3 f_ms = f_avg * f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg));
         f += f_ms * ((1.0 - e_o) * (1.0 - e_i) / (PI * max(1.0 - e_avg, 1.0e-6)));
     }

@@ -78,3 +78,31 @@ def test_single_scatter_ggx_loses_what_its_albedo_says(glslppm):
     albedo = 2.0 * (1.0 - 1.0 / mean)
     print(f"  single-scatter furnace mean {mean:.4f}, effective albedo {albedo:.4f}")
     assert 0.30 < albedo < 0.36, albedo
+
+
+def test_f82_tint_is_compiled_only_where_a_metal_has_one(glslppm):
+    """Blender 4.x's F82 tint (HAS_F82_TINT) is in the programs only when a conductor's tint
+    is not white. A tint of (1, 0.5, 0.2) darkens the grazing green and blue (F at 82 degrees
+    is Schlick's times the tint, lobes.glsl) and leaves red exactly: same seed, so the two
+    renders trace the same paths and only the weights differ (measured green -1.26%, blue
+    -0.72%, red 0 in the half-absorbing furnace)."""
+    g = glslppm
+
+    def render(tint):
+        leaf = g.Material("conductor", color=(0.9, 0.8, 0.5), emission=(1.0,) * 3,
+                          roughness=0.5, schlick=True, f82_tint=tint)
+        materials = [g.Material("mix", emission=(1.0,) * 3, mix_a=1, mix_b=2, mix_factor=0.5),
+                     g.Material("diffuse", color=(0.0,) * 3, emission=(1.0,) * 3), leaf]
+        r = g.Renderer(furnace_scene(g, 0.5, 1.0, materials=materials),
+                       g.Settings(width=24, height=24, photons_per_pass=8192, max_bounces=64,
+                                  seed=3, glossy_threshold=0.2))
+        r.run(64)
+        return r.film()[..., :3].reshape(-1, 3).mean(axis=0), r.stats()["variant"].split(",")
+
+    plain, plain_variant = render((1.0, 1.0, 1.0))
+    tinted, tinted_variant = render((1.0, 0.5, 0.2))
+    assert "f82-tint" not in plain_variant and "f82-tint" in tinted_variant
+    ratio = tinted / plain
+    print(f"  tinted / plain per channel: {ratio}")
+    assert abs(ratio[0] - 1.0) < 1e-6, ratio
+    assert ratio[1] < 0.995 and ratio[2] < 0.995, ratio
