@@ -60,6 +60,8 @@ struct PreparedScene {
     std::list<std::vector<glm::vec4>> generated_tangents;
 };
 
+// The material table's records (material_records.cpp).
+
 // GpuMaterial::normal_map for a material (render/gpu_layout.h).
 std::uint32_t normal_map_word(const Material& m);
 
