@@ -113,10 +113,19 @@ def test_f82_tinted_metal_matches_cycles():
     fresnel_f82tint): a rough silver-white sphere tinted (1, 0.45, 0.2) towards grazing
     angles, on the grey floor, against Cycles; worst region of 3x3 within 4%, mean within 2%
     as the gold sphere's (measured: see the printed line). Blender 3.x's Principled has no
-    F82 tint (its Specular Tint is the dielectric's)."""
-    if not helpers.BLENDER_4:
-        raise helpers.Skip("Blender 3.x's Principled BSDF has no F82 tint")
+    F82 tint (its Specular Tint, a factor, tints the dielectric's reflection): there the
+    test checks that a metal with Specular Tint 1 exports an untinted Schlick metal, whose
+    Cycles comparison is the gold sphere's."""
     helpers.reset_scene(size=SIZE)
+    if not helpers.BLENDER_4:
+        metal = _principled("Tinted", **{"Base Color": (0.95, 0.95, 0.95, 1.0),
+                                         "Metallic": 1.0, "Roughness": 0.35,
+                                         "Specular Tint": 1.0})
+        _sphere("Ball", metal)
+        add_camera((0.0, -4.5, 2.2), helpers.look_at_rotation((0.0, -4.5, 2.2), (0, 0, 0.9)))
+        tints = {m.f82_tint for m in helpers.export().materials if m.kind == "conductor"}
+        assert tints == {(1.0, 1.0, 1.0)}, tints
+        return
     metal = _principled("Tinted", **{"Base Color": (0.95, 0.95, 0.95, 1.0), "Metallic": 1.0,
                                      "Roughness": 0.35, "Specular Tint": (1.0, 0.45, 0.2, 1.0)})
     _set_distribution(metal, 'MULTI_GGX')
