@@ -58,7 +58,7 @@ struct Input {
     std::uint32_t material_count = 1;
     float scale = 1.0f;  // the grid step of int8 coordinates
     BvhBuildOptions options;
-    MeshView view() const { return MeshView{positions, triangles, normals, uvs, material_ids}; }
+    MeshView view() const { return MeshView{positions, triangles, normals, uvs, material_ids, {}}; }
 };
 
 // SCENE_FUZZ_VERBOSE=1: one line per input saying what it exercised (to check seeds).
