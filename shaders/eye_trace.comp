@@ -119,7 +119,8 @@ void main() {
         Surface s = surface_at(ray, hit);
         bool front = dot(ray.dir, s.geometric_normal) < 0.0;
         int flags = material_flags(s.material);
-        bool hidden = seen_by_camera && (flags & MATERIAL_HIDDEN_FROM_CAMERA) != 0;
+        bool hidden = (flags & (seen_by_camera ? MATERIAL_HIDDEN_FROM_CAMERA
+                                               : MATERIAL_HIDDEN_FROM_REFLECTIONS)) != 0;
         if (hidden && (flags & MATERIAL_LIGHT_SURFACE) == 0) {
             // Not visible to the camera: camera rays go on as if it were not there.
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);

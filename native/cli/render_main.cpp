@@ -34,6 +34,7 @@ struct Options {
     bool multilayer = false;  // --passes-out: one multi-layer EXR with settings.passes
     bool json = false;
     std::string scene_file;   // empty: the built-in Cornell box
+    SceneFileOptions scene_options;
     std::string environment;  // equirectangular map
     bool has_environment_color = false;
     glm::vec3 environment_color{0.0f};
@@ -76,6 +77,9 @@ std::string usage() {
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
         "                            camera gets one that frames the whole scene)\n"
+        "  --mtl-convention standard|glslppm2015  how an .obj's MTL reads: the MTL specification\n"
+        "                            (default), or the original glslppm's scene files (Ka a\n"
+        "                            light, Ks 1 with Ns 100 a mirror, 'glass*' a glass)\n"
         "  --environment FILE        equirectangular environment map (.hdr, .exr, .png, .jpg)\n"
         "  --environment-color R,G,B environment radiance (default 1,1,1 with a map, else 0)\n"
         "  --max-block-bytes N       cap the per-pixel buffers below the GPU's largest storage\n"
@@ -159,6 +163,7 @@ Options parse(int argc, char** argv) {
         }
         else if (a == "--json") o.json = true;
         else if (a == "--scene") o.scene_file = value();
+        else if (a == "--mtl-convention") o.scene_options.mtl = parse_mtl_convention(value());
         else if (a == "--environment") o.environment = value();
         else if (a == "--environment-color") {
             o.environment_color = parse_color(a, value());
@@ -181,7 +186,8 @@ Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
         scene = make_cornell_box();
     } else {
         LoadedScene loaded =
-            load_scene_file(o.scene_file, float(o.settings.width) / float(o.settings.height));
+            load_scene_file(o.scene_file, float(o.settings.width) / float(o.settings.height),
+                            o.scene_options);
         warnings = std::move(loaded.warnings);
         scene = std::move(loaded.scene);
     }

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include "image/image_file.h"
 #include "loaders/triangulate_polygon.h"
@@ -35,6 +36,7 @@ struct Source {
     std::string name;                       // the .obj, for messages
     std::string base_dir;                   // "" when loading from memory
     const std::string* mtl_text = nullptr;  // memory mode: the text of every mtllib
+    MtlConvention convention = MtlConvention::Standard;
 };
 
 // Reads mtllib files next to the .obj (or the given text); a missing one is a warning.
@@ -84,6 +86,8 @@ struct MaterialConverter {
                 const std::string& element);
     Material convert(const tinyobj::material_t& m);
     void choose_kind(const tinyobj::material_t& m, Material& out, const std::string& element);
+    void choose_glslppm2015(const tinyobj::material_t& m, Material& out,
+                            const std::string& element);
 };
 
 int MaterialConverter::texture(const std::string& file, const tinyobj::texture_option_t& options,
@@ -163,12 +167,90 @@ void MaterialConverter::choose_kind(const tinyobj::material_t& m, Material& out,
         warn(element, "the colour of Ks is not rendered: a white specular of its mean");
 }
 
+// The original glslppm's lobe tilts the shading normal by a Phong lobe of exponent
+// n = ((1 - g) / 2)^-e with g = max(Ns / 100, 0.5). Microfacet normals spread as cos^n have
+// Beckmann's (and about GGX's) alpha = sqrt(2 / (n + 2)) (Walter et al. 2007); Blender's
+// roughness is sqrt(alpha). Ns above 100 has no such exponent there (a negative base).
+float glslppm2015_roughness(float ns) {
+    const float g = std::max(ns / 100.0f, 0.5f);
+    const double n = std::pow(0.5 * (1.0 - double(g)), -std::exp(1.0));
+    return float(std::pow(2.0 / (n + 2.0), 0.25));
+}
+
+// MtlConvention::Glslppm2015: the rules of the original glslppm's scene loader, as its only
+// public copy (a fork of the 2015 release) has them, in its order:
+//  - Ka not black: a light of radiance Kd, emitting from the side its normals face. That
+//    program's rays never hit a light, so here no eye ray sees it and photons and shadow
+//    rays pass through it.
+//  - a name beginning "glass": smooth glass of index 1 + |Ks|^2 / 3; sqrt(Kd) tints each
+//    refraction (Kd through a solid piece), not the reflection.
+//  - Ns exactly 100: Ks exactly white is a perfect mirror of colour Kd (no Fresnel); any
+//    other non-black Ks a smooth coat of index 1.7 over a Lambert base of 0.9 Kd.
+//  - Ns other than 100: the same glass, mirror or coat, rough (glslppm2015_roughness).
+//  - everything else: Lambert of albedo 0.9 Kd.
+// Ke is not read (the copy's Ke is a fork's addition). Approximations, each warned: a name
+// beginning "sss" (the copy's subsurface lobe) is Lambert; Ns above 100 is smooth.
+void MaterialConverter::choose_glslppm2015(const tinyobj::material_t& m, Material& out,
+                                           const std::string& element) {
+    const glm::vec3 ka = vec3_of(m.ambient), kd = vec3_of(m.diffuse), ks = vec3_of(m.specular);
+    const float ks2 = glm::dot(ks, ks);
+    if (glm::dot(ka, ka) > 0.0f) {
+        out.kind = MaterialKind::Diffuse;
+        out.color = glm::vec3(0.0f);
+        out.emission = kd;
+        out.emission_two_sided = false;
+        out.visible_to_camera = false;
+        out.visible_in_reflections = false;
+        out.casts_shadow = false;
+        return;
+    }
+    const bool smooth = m.shininess == 100.0f;
+    if (!smooth && m.shininess > 100.0f && (ks2 > 0.0f || m.name.rfind("glass", 0) == 0))
+        warn(element, "Ns " + number_text(m.shininess) +
+                          " above 100 has no glossy lobe in the glslppm2015 convention: "
+                          "rendered smooth");
+    const float roughness =
+        smooth || m.shininess > 100.0f ? 0.0f : glslppm2015_roughness(m.shininess);
+    if (m.name.rfind("glass", 0) == 0) {
+        out.kind = MaterialKind::Dielectric;
+        out.ior = 1.0f + ks2 / 3.0f;
+        out.color = glm::sqrt(glm::max(kd, glm::vec3(0.0f)));
+        out.roughness = roughness;
+        if (!(ks2 > 0.0f))
+            warn(element,
+                 "glass with a black Ks has index 1 in the glslppm2015 convention: "
+                 "it bends no light");
+        return;
+    }
+    if (ks2 == 3.0f) {
+        out.kind = MaterialKind::Conductor;
+        out.color = kd;
+        out.roughness = roughness;
+        return;
+    }
+    out.color = 0.9f * kd;
+    if (m.name.rfind("sss", 0) == 0)
+        warn(element, "the glslppm2015 convention's subsurface material is rendered Lambert");
+    if (ks2 > 0.0f) {
+        out.kind = MaterialKind::Plastic;
+        out.ior = 1.7f;
+        out.roughness = roughness;
+    }
+}
+
 Material MaterialConverter::convert(const tinyobj::material_t& m) {
     const std::string element = "material '" + m.name + "'";
     Material out;
     out.color = vec3_of(m.diffuse);
-    choose_kind(m, out, element);
     out.emission = vec3_of(m.emission);
+    if (source.convention == MtlConvention::Glslppm2015) {
+        if (glm::dot(out.emission, out.emission) > 0.0f)
+            warn(element, "Ke is not read in the glslppm2015 convention (Ka marks a light)");
+        out.emission = glm::vec3(0.0f);
+        choose_glslppm2015(m, out, element);
+    } else {
+        choose_kind(m, out, element);
+    }
     const auto bad = [](glm::vec3 c) {
         return !std::isfinite(c.x + c.y + c.z) || c.x < 0.0f || c.y < 0.0f || c.z < 0.0f;
     };
@@ -181,7 +263,11 @@ Material MaterialConverter::convert(const tinyobj::material_t& m) {
         out.emission = glm::vec3(0.0f);
     }
     if (!std::isfinite(out.ior)) out.ior = 1.5f;
-    out.color_texture = texture(m.diffuse_texname, m.diffuse_texopt, element);
+    // A glslppm2015 light's map_Kd scales what it emits (its colour is black).
+    const bool textured_light = glm::dot(out.emission, out.emission) > 0.0f &&
+                                source.convention == MtlConvention::Glslppm2015;
+    (textured_light ? out.emission_texture : out.color_texture) =
+        texture(m.diffuse_texname, m.diffuse_texopt, element);
     if (!m.bump_texname.empty() || !m.normal_texname.empty())
         warn(element, "bump and normal maps are not supported: ignored");
     if (!m.specular_texname.empty() || !m.alpha_texname.empty() || !m.emissive_texname.empty())
@@ -255,6 +341,21 @@ void MeshBuilder::add_face(std::span<const tinyobj::index_t> corners, std::uint3
     for (const glm::uvec3& t : triangulate_polygon(points)) {
         mesh.triangles.emplace_back(ids[t.x], ids[t.y], ids[t.z]);
         mesh.material_ids.push_back(material);
+    }
+}
+
+// The original glslppm's lights emit around their vertex normals; one-sided emission here
+// leaves the front of the winding. Lights whose winding faces against their normals are
+// turned round (nothing sees them, so only their emission's side changes).
+void face_lights_along_normals(OwnedMesh& mesh, const std::vector<Material>& materials) {
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Material& m = materials[mesh.material_ids[t]];
+        if (m.emission_two_sided || !(glm::dot(m.emission, m.emission) > 0.0f)) continue;
+        glm::uvec3& tri = mesh.triangles[t];
+        const glm::vec3 winding = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                             mesh.positions[tri.z] - mesh.positions[tri.x]);
+        const glm::vec3 normals = mesh.normals[tri.x] + mesh.normals[tri.y] + mesh.normals[tri.z];
+        if (glm::dot(winding, normals) < 0.0f) std::swap(tri.y, tri.z);
     }
 }
 
@@ -341,6 +442,8 @@ LoadedScene load_obj(std::istream& obj, const Source& source, float aspect) {
     else
         fill_missing_normals(*mesh);
     if (attrib.texcoords.empty()) mesh->uvs.clear();
+    if (source.convention == MtlConvention::Glslppm2015 && builder.any_normals)
+        face_lights_along_normals(*mesh, out.scene.materials);
 
     Scene scene = make_scene(mesh);
     scene.materials = std::move(out.scene.materials);
@@ -356,17 +459,18 @@ LoadedScene load_obj(std::istream& obj, const Source& source, float aspect) {
 }  // namespace
 
 LoadedScene load_obj_from_memory(const std::string& obj_text, const std::string& mtl_text,
-                                 const std::string& name, float aspect) {
+                                 const std::string& name, float aspect, MtlConvention convention) {
     std::istringstream in(obj_text);
-    const Source source{name, "", &mtl_text};
+    const Source source{name, "", &mtl_text, convention};
     return load_obj(in, source, aspect);
 }
 
-LoadedScene load_obj_file(const std::string& path, float aspect) {
+LoadedScene load_obj_file(const std::string& path, float aspect, MtlConvention convention) {
     std::ifstream in(path);
     if (!in) throw SceneFileError(path + ": cannot open the file (" + std::strerror(errno) + ")");
     const auto slash = path.find_last_of('/');
-    const Source source{path, slash == std::string::npos ? "." : path.substr(0, slash), nullptr};
+    const Source source{path, slash == std::string::npos ? "." : path.substr(0, slash), nullptr,
+                        convention};
     return load_obj(in, source, aspect);
 }
 

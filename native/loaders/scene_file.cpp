@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "loaders/gltf_loader.h"
 #include "loaders/obj_loader.h"
@@ -47,13 +48,28 @@ Camera camera_framing_bounds(const Scene& scene, float aspect) {
     return camera;
 }
 
-LoadedScene load_scene_file(const std::string& path, float aspect) {
+MtlConvention parse_mtl_convention(const std::string& name) {
+    if (name == "standard") return MtlConvention::Standard;
+    if (name == "glslppm2015") return MtlConvention::Glslppm2015;
+    throw std::invalid_argument("unknown MTL convention '" + name +
+                                "' (expected standard or glslppm2015)");
+}
+
+const char* to_string(MtlConvention convention) {
+    return convention == MtlConvention::Glslppm2015 ? "glslppm2015" : "standard";
+}
+
+LoadedScene load_scene_file(const std::string& path, float aspect,
+                            const SceneFileOptions& options) {
     const std::string ext = lower_extension(path);
     LoadedScene loaded;
+    if ((ext == "gltf" || ext == "glb") && options.mtl != MtlConvention::Standard)
+        throw SceneFileError(path + ": the MTL convention '" + to_string(options.mtl) +
+                             "' applies to .obj files only; this is a glTF file");
     if (ext == "gltf" || ext == "glb")
         loaded = load_gltf_file(path, aspect);
     else if (ext == "obj")
-        loaded = load_obj_file(path, aspect);
+        loaded = load_obj_file(path, aspect, options.mtl);
     else
         throw SceneFileError(path + ": unknown scene file type '." + ext +
                              "' (expected .gltf, .glb or .obj)");

@@ -23,8 +23,24 @@ struct LoadedScene {
     bool has_camera = false;  // false: the camera frames the bounds (and a warning says so)
 };
 
+// How an OBJ file's MTL materials are read. `Standard`: the MTL specification's illum
+// models, Ke emission and Ns roughness as Blender writes and reads them. `Glslppm2015`: the
+// convention of the scene files of Hachisuka's original glslppm (2015): Ka marks a light,
+// Ks 1 with Ns 100 a mirror, a name starting with "glass" a glass (docs/materials.md has
+// the whole table).
+enum class MtlConvention { Standard, Glslppm2015 };
+
+// "standard" or "glslppm2015"; anything else is std::invalid_argument naming the choices.
+MtlConvention parse_mtl_convention(const std::string& name);
+const char* to_string(MtlConvention convention);
+
+struct SceneFileOptions {
+    MtlConvention mtl = MtlConvention::Standard;  // .obj only: refused for glTF files
+};
+
 // `aspect` is the render's width / height (glTF cameras give a vertical field of view).
-LoadedScene load_scene_file(const std::string& path, float aspect);
+LoadedScene load_scene_file(const std::string& path, float aspect,
+                            const SceneFileOptions& options = {});
 
 // A camera looking down -Z (the files' forward axis) that frames the mesh's bounding sphere
 // with the default 50 mm lens, for files without a camera (instances included).

@@ -105,6 +105,9 @@ py::list materials_list(const Scene& s) {
         d["emission"] = vec3(m.emission);
         d["color_texture"] = m.color_texture;
         d["emission_two_sided"] = m.emission_two_sided;
+        d["visible_to_camera"] = m.visible_to_camera;
+        d["visible_in_reflections"] = m.visible_in_reflections;
+        d["casts_shadow"] = m.casts_shadow;
         d["roughness"] = m.roughness;
         d["roughness_texture"] = m.roughness_texture;
         d["roughness_channel"] = channel_name(m.roughness_channel);
@@ -183,18 +186,22 @@ py::dict scene_contents(const Scene& s) {
 void bind_loaders(py::module_& m) {
     m.def(
         "load_scene",
-        [](const std::string& path, float aspect) {
+        [](const std::string& path, float aspect, const std::string& mtl_convention) {
+            SceneFileOptions options;
+            options.mtl = parse_mtl_convention(mtl_convention);
             LoadedScene loaded;
             {
                 py::gil_scoped_release release;
-                loaded = load_scene_file(path, aspect);
+                loaded = load_scene_file(path, aspect, options);
             }
             return py::make_tuple(std::move(loaded.scene), loaded.warnings);
         },
-        py::arg("path"), py::arg("aspect") = 1.0f,
+        py::arg("path"), py::arg("aspect") = 1.0f, py::arg("mtl_convention") = "standard",
         "Loads a .gltf, .glb or .obj file: (Scene, warnings). aspect = width / "
-        "height of the render (glTF cameras give a vertical angle). Bad files raise ValueError "
-        "naming the file and the element.");
+        "height of the render (glTF cameras give a vertical angle). mtl_convention: "
+        "'standard' (the MTL specification) or 'glslppm2015' (the original glslppm's scene "
+        "files: Ka a light, Ks 1 with Ns 100 a mirror, 'glass*' a glass). Bad files raise "
+        "ValueError naming the file and the element.");
     m.def(
         "load_texture",
         [](const std::string& path) {

@@ -120,7 +120,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                        const std::string& mix_mode, float mix_ior, int normal_texture,
                        float normal_strength, int bump_texture, float bump_strength,
                        float bump_distance, int emission_texture,
-                       std::array<float, 3> f82_tint) {
+                       std::array<float, 3> f82_tint, bool visible_in_reflections) {
     Material m;
     m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
@@ -130,6 +130,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.emission_two_sided = emission_two_sided;
     m.visible_to_camera = visible_to_camera;
     m.casts_shadow = casts_shadow;
+    m.visible_in_reflections = visible_in_reflections;
     m.roughness = roughness;
     m.roughness_texture = roughness_texture;
     m.roughness_channel = parse_name<TextureChannel>(roughness_channel, kTextureChannels,
@@ -500,7 +501,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("normal_texture") = -1, py::arg("normal_strength") = 1.0f,
              py::arg("bump_texture") = -1, py::arg("bump_strength") = 1.0f,
              py::arg("bump_distance") = 1.0f, py::arg("emission_texture") = -1,
-             py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f});
+             py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f},
+             py::arg("visible_in_reflections") = true);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

@@ -57,6 +57,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
         g.flags.push_back((m.visible_to_camera ? 0u : kMaterialHiddenFromCamera) |
                           (m.emission_two_sided ? 0u : kMaterialOneSidedEmission) |
                           (m.casts_shadow ? 0u : kMaterialCastsNoShadow) |
+                          (m.visible_in_reflections ? 0u : kMaterialHiddenFromReflections) |
                           (may_be_transparent(scene.materials, m) ? kMaterialMayBeTransparent : 0u));
     bool any = false;
     for (const Light& light : scene.lights) any |= light.kind == LightKind::Area;

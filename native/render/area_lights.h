@@ -19,6 +19,7 @@ enum MaterialFlag : std::uint32_t {
     kMaterialOneSidedEmission = 4u,  // emits from its front face only
     kMaterialCastsNoShadow = 8u,     // photons pass through (stored on diffuse ones)
     kMaterialMayBeTransparent = 16u, // a Mix with a Transparent leaf: shadow rays may pass
+    kMaterialHiddenFromReflections = 32u,  // eye rays after a bounce pass it
 };
 
 // The mesh and material table the renderer builds its BVH from: the scene's own when it has

@@ -61,6 +61,10 @@ struct Material {
     // photons pass through (depositing on diffuse ones) surfaces that cast no shadow.
     bool visible_to_camera = true;
     bool casts_shadow = true;
+    // Eye rays after a bounce (reflected or refracted) pass through it when false. With
+    // visible_to_camera false too no eye path sees the surface: the original glslppm's
+    // lights, which its rays never hit (MtlConvention::Glslppm2015).
+    bool visible_in_reflections = true;
     // Microfacet lobes (conductor, dielectric, plastic's layer): Blender's roughness, GGX
     // alpha = roughness^2, times the texture's channel where there is one.
     float roughness = 0.0f;

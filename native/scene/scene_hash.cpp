@@ -80,7 +80,8 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(m.emission);
         h.value(m.color_texture);
         h.value(static_cast<std::uint32_t>(m.emission_two_sided | m.visible_to_camera << 1 |
-                                           m.casts_shadow << 2));
+                                           m.casts_shadow << 2 |
+                                           m.visible_in_reflections << 3));
         // The microfacet model's (scene.h).
         h.value(m.roughness);
         h.value(m.roughness_texture);

@@ -27,13 +27,14 @@ vec3 material_emission_at(int root, int m, vec2 uv) {
 }
 
 // Flags (native/render/area_lights.h): area-light surfaces add their emission and let rays
-// through; some surfaces are hidden from camera rays; some cast no shadow (photons and
-// shadow rays pass through them).
+// through; some surfaces are hidden from camera rays, some from the eye path's later rays;
+// some cast no shadow (photons and shadow rays pass through them).
 const int MATERIAL_LIGHT_SURFACE = 1;
 const int MATERIAL_HIDDEN_FROM_CAMERA = 2;
 const int MATERIAL_ONE_SIDED_EMISSION = 4;
 const int MATERIAL_CASTS_NO_SHADOW = 8;
 const int MATERIAL_MAY_BE_TRANSPARENT = 16;
+const int MATERIAL_HIDDEN_FROM_REFLECTIONS = 32;
 
 // The surface's colour: the material's, times its base-colour texture at the hit's uv.
 vec3 surface_color(Surface s) {
