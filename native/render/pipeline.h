@@ -8,7 +8,6 @@
 #include <bit>
 #include <cstddef>
 #include <atomic>
-#include <bit>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -17,6 +16,7 @@
 #include <epoxy/gl.h>
 
 #include "bvh/packed_bvh.h"
+#include "gl/buffer_reader.h"
 #include "gl/gl_thread.h"
 #include "gl/object_counts.h"
 #include "gl/shader_program.h"
@@ -79,6 +79,7 @@ struct Renderer::Gpu {
     GLuint queries[5] = {0, 0, 0, 0, 0};  // stage boundaries when profiling
     double stage_seconds[4] = {0, 0, 0, 0};
     std::vector<GLuint> buffers;  // every SSBO, deleted together
+    gl::BufferReader reader;      // film, passes and photons read back
     GLuint atlases[2] = {0, 0};   // sRGB8 and float array textures
     std::vector<std::string> warnings;
     int programs_compiled = 0, programs_reused = 0;
@@ -148,6 +149,7 @@ struct Renderer::Gpu {
     }
 
     void release() {
+        reader.release();
         if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
         gl::count_gl_objects(gl::GlObject::Buffer, -static_cast<std::int64_t>(buffers.size()));
         buffers.clear();
@@ -339,9 +341,7 @@ struct Renderer::Gpu {
         upload_frame();
         dispatch(*resolve, pixels);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, film);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
-                           out.data());
+        reader.read(film, 0, out.size() * 4, out.data());
         return out;
     }
 
@@ -352,12 +352,8 @@ struct Renderer::Gpu {
         std::vector<glm::vec4> films(std::size_t(pixels) * pass_layout.stride);
         std::vector<glm::vec4> stats(std::size_t(pixels) * 2);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pass_films);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(films.size() * 16),
-                           films.data());
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, pixel_stats);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(stats.size() * 16),
-                           stats.data());
+        reader.read(pass_films, 0, films.size() * 16, films.data());
+        reader.read(pixel_stats, 0, stats.size() * 16, stats.data());
         const Counters c = read_counters();
         const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
         PassResolve r;

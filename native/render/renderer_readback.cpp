@@ -90,9 +90,7 @@ std::vector<float> Renderer::photons() {
     std::vector<float> out(std::size_t(g.photon_threads) * 12, 0.0f);
     g.thread->call([&] {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.photons);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * 4),
-                           out.data());
+        g.reader.read(g.photons, 0, out.size() * 4, out.data());
     });
     return out;
 }
