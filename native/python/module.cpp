@@ -35,6 +35,14 @@ using namespace glslppm;
 
 namespace {
 
+// A numpy array over the vector's own memory (moved, not copied): a film of 1920 x 1080 is
+// 33 MB, which a copy would add to every progressive update.
+py::array_t<float> array_owning(std::vector<float>&& values, std::vector<py::ssize_t> shape) {
+    auto* owned = new std::vector<float>(std::move(values));
+    const py::capsule base(owned, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+    return py::array_t<float>(shape, owned->data(), base);
+}
+
 // Holds the numpy arrays a Scene's MeshView points into.
 // Registered while alive, so that a Scene's keepalive can be recognised as one (scenes from
 // the loaders and procedural scenes keep an OwnedMesh instead).
@@ -793,9 +801,7 @@ PYBIND11_MODULE(_glslppm, m) {
                 film = renderer->film();
             }
             const RenderSettings& s = renderer->settings();
-            py::array_t<float> out({s.height, s.width, 4});
-            std::memcpy(out.mutable_data(), film.data(), film.size() * sizeof(float));
-            return out;
+            return array_owning(std::move(film), {s.height, s.width, 4});
         })
         .def("render_pass", [](PyRenderer& r, const std::string& name) {
             const py::dict images = render_pass_arrays(r, {name});
@@ -812,9 +818,8 @@ PYBIND11_MODULE(_glslppm, m) {
                 py::gil_scoped_release release;
                 photons = r.get()->photons();
             }
-            py::array_t<float> out({static_cast<py::ssize_t>(photons.size() / 12), py::ssize_t(12)});
-            std::memcpy(out.mutable_data(), photons.data(), photons.size() * sizeof(float));
-            return out;
+            const auto count = static_cast<py::ssize_t>(photons.size() / 12);
+            return array_owning(std::move(photons), {count, 12});
         })
         .def("stats", [](PyRenderer& r) {
             RenderStats s;
