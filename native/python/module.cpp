@@ -793,16 +793,34 @@ PYBIND11_MODULE(_glslppm, m) {
             py::gil_scoped_release release;
             r.get()->debug_set_photons_emitted(count);
         }, "Tests only: sets the 64-bit count of photon paths started.")
-        .def("film", [](PyRenderer& r) {
-            std::vector<float> film;
+        .def("film", [](PyRenderer& r, std::optional<py::array> out) -> py::array {
             const std::shared_ptr<Renderer> renderer = r.get();
+            const RenderSettings& s = renderer->settings();
+            if (out) {
+                // Into the caller's array: a viewport's redraws reuse one, writing no new pages.
+                const bool fits = out->dtype().is(py::dtype::of<float>()) && out->ndim() == 3 &&
+                                  out->shape(0) == s.height && out->shape(1) == s.width &&
+                                  out->shape(2) == 4 && out->writeable() &&
+                                  (out->flags() & py::array::c_style);
+                if (!fits)
+                    throw py::value_error("film(out): out must be a writable C-contiguous float32 "
+                                          "array of shape (" + std::to_string(s.height) + ", " +
+                                          std::to_string(s.width) + ", 4)");
+                const std::span<float> pixels(static_cast<float*>(out->mutable_data()),
+                                              static_cast<std::size_t>(out->size()));
+                py::gil_scoped_release release;
+                renderer->film_into(pixels);
+                return *out;
+            }
+            std::vector<float> film;
             {
                 py::gil_scoped_release release;
                 film = renderer->film();
             }
-            const RenderSettings& s = renderer->settings();
             return array_owning(std::move(film), {s.height, s.width, 4});
-        })
+        }, py::arg("out") = py::none(),
+        "Linear RGBA, height x width x 4 float32, row 0 at the top. out: an array of that "
+        "shape to fill instead of a new one (returned).")
         .def("render_pass", [](PyRenderer& r, const std::string& name) {
             const py::dict images = render_pass_arrays(r, {name});
             return py::object(images[py::str(name)]);

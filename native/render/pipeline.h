@@ -334,6 +334,12 @@ struct Renderer::Gpu {
     // The film of this worker's passes (their mean), read back.
     std::vector<float> resolve_film() {
         std::vector<float> out(std::size_t(pixels) * 4, 0.0f);
+        resolve_film_into(out.data());
+        return out;
+    }
+
+    // The same into `out` (pixels x 4 floats).
+    void resolve_film_into(float* out) {
         const Counters c = read_counters();
         const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
         frame.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
@@ -341,8 +347,7 @@ struct Renderer::Gpu {
         upload_frame();
         dispatch(*resolve, pixels);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        reader.read(film, 0, out.size() * 4, out.data());
-        return out;
+        reader.read(film, 0, std::size_t(pixels) * 16, out);
     }
 
     // Render passes of this worker's passes (their mean), resolved on the CPU from the pass

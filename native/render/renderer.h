@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <span>
 #include <vector>
 
 #include "render/settings.h"
@@ -125,6 +126,9 @@ public:
     // Linear RGBA, height x width x 4 floats, row 0 at the top. With several workers, their
     // films merged (render/film_merge.h).
     std::vector<float> film();
+    // The same into the caller's memory (height x width x 4 floats, else invalid_argument):
+    // a viewport or progressive update that reuses one buffer writes no new pages.
+    void film_into(std::span<float> out);
     // One of settings.passes (render/render_passes.h), as film() gives Combined: height x
     // width x 4 floats (Depth in the first channel), the mean over the passes run.
     // std::invalid_argument for a pass the settings did not enable.
@@ -146,6 +150,7 @@ private:
                        const PreparedScene& prepared, const CancelFlag* cancel);
     int run_workers(const std::vector<std::uint64_t>& indices);
     void restart_passes();  // after a restart of every worker's film
+    std::vector<float> merged_film();  // several workers' films, merged by their passes
 
     RenderSettings settings_;
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device

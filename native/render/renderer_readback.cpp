@@ -42,6 +42,24 @@ std::vector<float> Renderer::film() {
         Gpu& g = *gpus_[0];
         return g.thread->call([&] { return g.resolve_film(); });
     }
+    return merged_film();
+}
+
+void Renderer::film_into(std::span<float> out) {
+    const std::size_t floats = std::size_t(settings_.width) * std::size_t(settings_.height) * 4;
+    if (out.size() != floats)
+        throw std::invalid_argument("film_into: the buffer holds " + std::to_string(out.size()) +
+                                    " floats; the film is " + std::to_string(floats));
+    if (gpus_.size() == 1) {
+        Gpu& g = *gpus_[0];
+        g.thread->call([&] { g.resolve_film_into(out.data()); });
+        return;
+    }
+    const std::vector<float> merged = merged_film();
+    std::copy(merged.begin(), merged.end(), out.begin());
+}
+
+std::vector<float> Renderer::merged_film() {
     // Each worker's film is the mean of its passes; merged by their counts.
     std::vector<std::vector<float>> films;
     std::vector<std::uint64_t> passes;
