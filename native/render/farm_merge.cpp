@@ -147,14 +147,14 @@ void check_same_frame(const FarmInput& first, const FarmInput& in) {
                              std::to_string(first.exr.height));
     // Every layer merges with its own kind only: a pass that one file lacks cannot be
     // averaged over the passes of all.
-    const auto passes = render_pass_names(in.exr), first_passes = render_pass_names(first.exr);
+    const auto layers = render_pass_names(in.exr), first_layers = render_pass_names(first.exr);
     const auto channels = channel_names(in.exr), first_channels = channel_names(first.exr);
-    if (passes != first_passes || channels != first_channels) {
-        const bool by_pass = passes != first_passes;
+    if (layers != first_layers || channels != first_channels) {
+        const bool by_layer = layers != first_layers;
         throw FarmMergeError(
             in.path + ": render passes differ from " + first.path + "'s: " +
-            (by_pass ? describe_difference(first_passes, first.path, passes, in.path)
-                     : describe_difference(first_channels, first.path, channels, in.path)));
+            (by_layer ? describe_difference(first_layers, first.path, layers, in.path)
+                      : describe_difference(first_channels, first.path, channels, in.path)));
     }
 }
 
