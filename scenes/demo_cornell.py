@@ -1,6 +1,6 @@
 """The demo scene: a Cornell box with a glass sphere, a mirror sphere and a ceiling
 area light, built from scratch with bpy. The Blender tests import
-``build_cornell_box`` for their diffuse box.
+``build_cornell_box`` for their diffuse box, scripts ``shader_material``.
 
 Render it (what `make demo` does):
 
@@ -24,12 +24,14 @@ GREEN = (0.14, 0.45, 0.091)
 
 
 def _diffuse(name, color):
-    material = _shader_material(name, "ShaderNodeBsdfDiffuse", Color=tuple(color) + (1.0,))
+    material = shader_material(name, "ShaderNodeBsdfDiffuse", Color=tuple(color) + (1.0,))
     material.diffuse_color = tuple(color) + (1.0,)
     return material
 
 
-def _shader_material(name, node_type, **inputs):
+def shader_material(name, node_type, **inputs):
+    """A material whose Surface is one shader node with these inputs (Blender's names);
+    scripts/passes_compositor_image.py builds its materials with it too."""
     material = bpy.data.materials.new(name)
     material.use_nodes = True
     tree = material.node_tree
@@ -86,11 +88,11 @@ def build_cornell_box(glass=True, mirror=True, light_power=40.0, lens=38.0):
 
     if glass:
         _sphere("GlassSphere", (0.45, -0.25, 0.35), 0.35,
-                _shader_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0))
+                shader_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0))
     if mirror:
         _sphere("MirrorSphere", (-0.45, 0.35, 0.4), 0.4,
-                _shader_material("Mirror", "ShaderNodeBsdfGlossy", Roughness=0.0,
-                                 Color=(0.95, 0.95, 0.95, 1.0)))
+                shader_material("Mirror", "ShaderNodeBsdfGlossy", Roughness=0.0,
+                                Color=(0.95, 0.95, 0.95, 1.0)))
 
     camera = bpy.data.cameras.new("Camera")
     camera.lens = lens

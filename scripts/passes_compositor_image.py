@@ -15,6 +15,8 @@ import bpy
 import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(REPO, "scenes"))
+from demo_cornell import shader_material  # noqa: E402 - found through the path above
 TINT = (1.0, 0.35, 0.08, 1.0)
 SIZE = (320, 240)
 
@@ -25,21 +27,6 @@ def enable_addon():
     sys.path.insert(0, link_dir)
     import glslppm
     glslppm.register()
-
-
-def material(name, node_type, **inputs):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    tree = m.node_tree
-    for node in list(tree.nodes):
-        if node.type != 'OUTPUT_MATERIAL':
-            tree.nodes.remove(node)
-    shader = tree.nodes.new(node_type)
-    for key, value in inputs.items():
-        shader.inputs[key].default_value = value
-    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
-    tree.links.new(shader.outputs[0], output.inputs["Surface"])
-    return m
 
 
 def build_scene():
@@ -53,12 +40,12 @@ def build_scene():
     scene.glslppm.photons_per_pass = 131072
     bpy.ops.mesh.primitive_plane_add(size=12)
     bpy.context.object.data.materials.append(
-        material("Floor", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.8, 0.8, 1.0)))
+        shader_material("Floor", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.8, 0.8, 1.0)))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0, 0, 0.6), segments=64,
                                          ring_count=32)
     bpy.ops.object.shade_smooth()
     bpy.context.object.data.materials.append(
-        material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0))
+        shader_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0))
     light = bpy.data.lights.new("Spot", 'SPOT')
     light.energy = 3000.0
     light.spot_size = 0.6

@@ -220,18 +220,6 @@ void progress(double fraction, const RenderStats& s) {
     std::fflush(stderr);
 }
 
-// --passes-out: Combined, then each pass under Blender's pass and channel names.
-std::vector<ExrPass> exr_layers(const std::vector<float>& film,
-                                const std::vector<RenderPass>& passes,
-                                const std::vector<std::vector<float>>& images) {
-    std::vector<ExrPass> layers = {{"Combined", "RGBA", film}};
-    for (std::size_t k = 0; k < passes.size(); ++k) {
-        const RenderPassInfo& info = render_pass_info(passes[k]);
-        layers.push_back({info.blender, info.channel_names, images[k]});
-    }
-    return layers;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -261,7 +249,7 @@ int main(int argc, char** argv) {
                 });
             s = image.stats;
             film = std::move(image.rgba);
-            if (o.multilayer) layers = exr_layers(film, o.settings.passes, image.passes);
+            if (o.multilayer) layers = render_pass_layers(film, o.settings.passes, image.passes);
         } else {
             Renderer renderer(scene, o.settings);
             const auto start = std::chrono::steady_clock::now();
@@ -290,7 +278,7 @@ int main(int argc, char** argv) {
             s = renderer.stats();
             if (!o.out.empty()) film = renderer.film();
             if (o.multilayer)
-                layers = exr_layers(film, o.settings.passes,
+                layers = render_pass_layers(film, o.settings.passes,
                                     renderer.render_passes(o.settings.passes));
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)

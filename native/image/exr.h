@@ -39,6 +39,20 @@ void write_multilayer_exr(const std::string& path, int width, int height,
 std::map<std::string, std::vector<float>> read_exr_channels(const std::string& path, int* width,
                                                             int* height);
 
+// A file as it is, for tools that pass every layer through (glslppm-merge): each channel by
+// its full name ("R" of a single-layer file, "ViewLayer.Depth.Z" of a multi-layer one).
+struct ExrChannels {
+    int width = 0, height = 0;
+    std::map<std::string, std::vector<float>> channels;  // each height x width floats
+    std::map<std::string, std::string> attributes;       // as read_exr returns them
+    bool multilayer = false;  // Blender's BlenderMultiChannel header: it opens layers and passes
+};
+
+// Throws std::runtime_error naming the file on failure.
+ExrChannels read_exr_file(const std::string& path);
+// 32-bit float channels; attributes as write_exr writes them.
+void write_exr_file(const std::string& path, const ExrChannels& file);
+
 // Reads R, G, B, A (A = 1 where missing) and the header's string attributes: ours (written
 // under "glslppm/", returned without it) and the farm attributes "glslppm.*" as they are.
 FloatImage read_exr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr);

@@ -15,9 +15,11 @@ namespace {
 const char* kUsage =
     "usage: glslppm-merge A.exr B.exr ... -o OUT.exr\n"
     "  Merges EXR files written by glslppm (glslppm-render --estimator pppm, or the Blender\n"
-    "  add-on with the PPPM estimator) that rendered disjoint pass sets of one frame: each\n"
-    "  file's image weighted by its passes. Refuses files whose scene hash, seed, settings\n"
-    "  or size differ, or whose pass ranges overlap, naming the file and the field.\n";
+    "  add-on with the PPPM estimator) that rendered disjoint pass sets of one frame: every\n"
+    "  layer (Combined, and the render passes of --passes-out or a multi-layer EXR) weighted\n"
+    "  by each file's passes, written under the same names. Refuses files whose scene hash,\n"
+    "  seed, settings, size or render passes differ, or whose pass ranges overlap, naming\n"
+    "  the file and the field.\n";
 
 }  // namespace
 

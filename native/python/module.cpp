@@ -770,6 +770,18 @@ PYBIND11_MODULE(_glslppm, m) {
            "The EXR header attributes glslppm-merge reads: estimator, seed, settings, scene "
            "hash, pass ranges and passes. A tile's renderer (tile_render_inputs) is given the "
            "whole frame's scene and settings, whose camera and size the header names.")
+        .def("write_passes_exr", [](PyRenderer& r, const std::string& path) {
+            const std::shared_ptr<Renderer> renderer = r.get();
+            py::gil_scoped_release release;
+            const RenderSettings& settings = renderer->settings();
+            write_multilayer_exr(path, settings.width, settings.height,
+                                 render_pass_layers(renderer->film(), settings.passes,
+                                                    renderer->render_passes(settings.passes)),
+                                 farm_attributes(settings, renderer->stats()));
+        }, py::arg("path"),
+           "Writes Combined and every enabled render pass as one multi-layer EXR with the farm "
+           "attributes, as glslppm-render --passes-out does: a farm job's file for "
+           "glslppm-merge.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
              "Stops a run in progress (on another thread) after its current pass.")
         .def("reset_film", [](PyRenderer& r) {

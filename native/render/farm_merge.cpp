@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
 #include <sstream>
 
 #include "render/film_merge.h"
@@ -43,11 +44,10 @@ std::string image_settings(const RenderSettings& s) {
                   "width=%d;height=%d;photons_per_pass=%u;alpha=%.9g;initial_radius=%.9g;"
                   "radius_scale=%.9g;max_depth=%d;hash=%s;rng=%s;direct_light=%s;leaf_size=%d;"
                   "max_texture_size=%d;transparent=%d;transparent_glass=%d;glossy_threshold=%.9g",
-                  s.width, s.height, s.photons_per_pass, s.alpha, s.initial_radius,
-                  s.radius_scale, s.max_bounces, to_string(s.hash).c_str(),
-                  to_string(s.rng).c_str(), to_string(s.direct_light).c_str(), s.leaf_size,
-                  s.max_texture_size, s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0,
-                  s.glossy_threshold);
+                  s.width, s.height, s.photons_per_pass, s.alpha, s.initial_radius, s.radius_scale,
+                  s.max_bounces, to_string(s.hash).c_str(), to_string(s.rng).c_str(),
+                  to_string(s.direct_light).c_str(), s.leaf_size, s.max_texture_size,
+                  s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0, s.glossy_threshold);
     return text;
 }
 
@@ -64,9 +64,10 @@ std::map<std::string, std::string> farm_attributes(const RenderSettings& setting
 namespace {
 
 const std::string& field(const FarmInput& in, const std::string& name) {
-    const auto it = in.attributes.find(name);
-    if (it == in.attributes.end())
-        throw FarmMergeError(in.path + ": " + name + " is missing (not a glslppm render, or one "
+    const auto it = in.exr.attributes.find(name);
+    if (it == in.exr.attributes.end())
+        throw FarmMergeError(in.path + ": " + name +
+                             " is missing (not a glslppm render, or one "
                              "written before farm merging)");
     return it->second;
 }
@@ -88,50 +89,108 @@ std::string first_difference(const std::string& a, const std::string& b) {
     }
 }
 
+// The render passes a file carries: its channels' names without the channel letter
+// ("ViewLayer.Depth" for "ViewLayer.Depth.Z"; a single-layer file's R, G, B, A are "Combined").
+std::set<std::string> render_pass_names(const ExrChannels& exr) {
+    std::set<std::string> names;
+    for (const auto& [channel, plane] : exr.channels) {
+        const std::size_t dot = channel.rfind('.');
+        names.insert(dot == std::string::npos ? std::string("Combined") : channel.substr(0, dot));
+    }
+    return names;
+}
+
+std::set<std::string> channel_names(const ExrChannels& exr) {
+    std::set<std::string> names;
+    for (const auto& [channel, plane] : exr.channels) names.insert(channel);
+    return names;
+}
+
+// "A, B only in a.exr; C only in b.exr" for two sets that differ.
+std::string describe_difference(const std::set<std::string>& a, const std::string& a_path,
+                                const std::set<std::string>& b, const std::string& b_path) {
+    auto only = [](const std::set<std::string>& x, const std::set<std::string>& y,
+                   const std::string& path) {
+        std::string list;
+        for (const std::string& name : x) {
+            if (y.count(name)) continue;
+            if (!list.empty()) list += ", ";
+            list += name;
+        }
+        return list.empty() ? list : list + " only in " + path;
+    };
+    const std::string in_a = only(a, b, a_path), in_b = only(b, a, b_path);
+    return in_a + (!in_a.empty() && !in_b.empty() ? "; " : "") + in_b;
+}
+
+// Throws unless `in` renders the same frame as `first`: PPPM, the same scene, seed, settings,
+// size and render passes.
+void check_same_frame(const FarmInput& first, const FarmInput& in) {
+    const std::string& estimator = field(in, "glslppm.estimator");
+    if (estimator != "pppm")
+        throw FarmMergeError(in.path + ": glslppm.estimator is " + estimator +
+                             ": only pppm renders merge (SPPM's passes depend on each other)");
+    for (const char* name : {"glslppm.scene_hash", "glslppm.seed"}) {
+        if (field(in, name) != field(first, name))
+            throw FarmMergeError(in.path + ": " + name + " " + field(in, name) + " differs from " +
+                                 first.path + "'s " + field(first, name));
+    }
+    if (field(in, "glslppm.settings") != field(first, "glslppm.settings"))
+        throw FarmMergeError(
+            in.path + ": glslppm.settings has " +
+            first_difference(field(first, "glslppm.settings"), field(in, "glslppm.settings")) +
+            " in " + first.path);
+    if (in.exr.width != first.exr.width || in.exr.height != first.exr.height)
+        throw FarmMergeError(in.path + ": size " + std::to_string(in.exr.width) + "x" +
+                             std::to_string(in.exr.height) + " differs from " + first.path + "'s " +
+                             std::to_string(first.exr.width) + "x" +
+                             std::to_string(first.exr.height));
+    // Every layer merges with its own kind only: a pass that one file lacks cannot be
+    // averaged over the passes of all.
+    const auto layers = render_pass_names(in.exr), first_layers = render_pass_names(first.exr);
+    const auto channels = channel_names(in.exr), first_channels = channel_names(first.exr);
+    if (layers != first_layers || channels != first_channels) {
+        const bool by_layer = layers != first_layers;
+        throw FarmMergeError(
+            in.path + ": render passes differ from " + first.path + "'s: " +
+            (by_layer ? describe_difference(first_layers, first.path, layers, in.path)
+                      : describe_difference(first_channels, first.path, channels, in.path)));
+    }
+}
+
+std::uint64_t pass_count(const PassRanges& ranges) {
+    std::uint64_t count = 0;
+    for (const auto& r : ranges) count += r.second - r.first;
+    return count;
+}
+
+// The file's pass ranges, checked against its pass count.
+PassRanges checked_pass_ranges(const FarmInput& in) {
+    PassRanges ranges;
+    try {
+        ranges = parse_pass_ranges(field(in, "glslppm.pass_ranges"));
+    } catch (const std::invalid_argument& e) {
+        throw FarmMergeError(in.path + ": glslppm.pass_ranges " + e.what());
+    }
+    const std::uint64_t count = pass_count(ranges);
+    if (std::to_string(count) != field(in, "glslppm.passes"))
+        throw FarmMergeError(in.path + ": glslppm.passes " + field(in, "glslppm.passes") +
+                             " is not the " + std::to_string(count) + " of its pass ranges");
+    return ranges;
+}
+
 }  // namespace
 
-FloatImage merge_farm_renders(const std::vector<FarmInput>& inputs,
-                              std::map<std::string, std::string>* attributes) {
+ExrChannels merge_farm_renders(const std::vector<FarmInput>& inputs) {
     if (inputs.empty()) throw FarmMergeError("no files to merge");
     const FarmInput& first = inputs[0];
     std::vector<std::pair<std::pair<std::uint64_t, std::uint64_t>, std::size_t>> all;
     std::vector<std::uint64_t> passes;
     for (std::size_t k = 0; k < inputs.size(); ++k) {
-        const FarmInput& in = inputs[k];
-        const std::string& estimator = field(in, "glslppm.estimator");
-        if (estimator != "pppm")
-            throw FarmMergeError(in.path + ": glslppm.estimator is " + estimator +
-                                 ": only pppm renders merge (SPPM's passes depend on each other)");
-        for (const char* name : {"glslppm.scene_hash", "glslppm.seed"}) {
-            if (field(in, name) != field(first, name))
-                throw FarmMergeError(in.path + ": " + name + " " + field(in, name) + " differs from " +
-                                     first.path + "'s " + field(first, name));
-        }
-        if (field(in, "glslppm.settings") != field(first, "glslppm.settings"))
-            throw FarmMergeError(in.path + ": glslppm.settings has " +
-                                 first_difference(field(first, "glslppm.settings"),
-                                                  field(in, "glslppm.settings")) +
-                                 " in " + first.path);
-        if (in.image.width != first.image.width || in.image.height != first.image.height)
-            throw FarmMergeError(in.path + ": size " + std::to_string(in.image.width) + "x" +
-                                 std::to_string(in.image.height) + " differs from " + first.path +
-                                 "'s " + std::to_string(first.image.width) + "x" +
-                                 std::to_string(first.image.height));
-        PassRanges ranges;
-        try {
-            ranges = parse_pass_ranges(field(in, "glslppm.pass_ranges"));
-        } catch (const std::invalid_argument& e) {
-            throw FarmMergeError(in.path + ": glslppm.pass_ranges " + e.what());
-        }
-        std::uint64_t count = 0;
-        for (const auto& r : ranges) {
-            count += r.second - r.first;
-            all.push_back({r, k});
-        }
-        if (std::to_string(count) != field(in, "glslppm.passes"))
-            throw FarmMergeError(in.path + ": glslppm.passes " + field(in, "glslppm.passes") +
-                                 " is not the " + std::to_string(count) + " of its pass ranges");
-        passes.push_back(count);
+        check_same_frame(first, inputs[k]);
+        const PassRanges ranges = checked_pass_ranges(inputs[k]);
+        for (const auto& r : ranges) all.push_back({r, k});
+        passes.push_back(pass_count(ranges));
     }
     std::sort(all.begin(), all.end());
     for (std::size_t k = 1; k < all.size(); ++k) {
@@ -141,40 +200,34 @@ FloatImage merge_farm_renders(const std::vector<FarmInput>& inputs,
             throw FarmMergeError(inputs[ib].path + ": glslppm.pass_ranges overlaps " +
                                  inputs[ia].path + "'s at pass " + std::to_string(b.first));
     }
-    std::vector<const std::vector<float>*> films;
-    for (const FarmInput& in : inputs) films.push_back(&in.image.rgba);
-    FloatImage out{first.image.width, first.image.height, merge_films(films, passes)};
-    if (attributes) {
-        *attributes = first.attributes;
-        PassRanges ranges;
-        for (const auto& [r, k] : all) ranges.push_back(r);
-        PassRanges merged;
-        for (const auto& r : ranges) {
-            if (!merged.empty() && merged.back().second == r.first) merged.back().second = r.second;
-            else merged.push_back(r);
-        }
-        std::uint64_t total = 0;
-        for (std::uint64_t n : passes) total += n;
-        (*attributes)["glslppm.pass_ranges"] = format_pass_ranges(merged);
-        (*attributes)["glslppm.passes"] = std::to_string(total);
-        (*attributes)["passes"] = std::to_string(total);
+    ExrChannels out{
+        first.exr.width, first.exr.height, {}, first.exr.attributes, first.exr.multilayer};
+    for (const auto& [name, plane] : first.exr.channels) {
+        std::vector<const std::vector<float>*> planes;
+        for (const FarmInput& in : inputs) planes.push_back(&in.exr.channels.at(name));
+        out.channels[name] = merge_films(planes, passes);
     }
+    PassRanges merged;
+    for (const auto& [r, k] : all) {
+        if (!merged.empty() && merged.back().second == r.first)
+            merged.back().second = r.second;
+        else
+            merged.push_back(r);
+    }
+    const std::string total = std::to_string(pass_count(merged));
+    out.attributes["glslppm.pass_ranges"] = format_pass_ranges(merged);
+    out.attributes["glslppm.passes"] = total;
+    out.attributes["passes"] = total;
     return out;
 }
 
 std::map<std::string, std::string> merge_farm_files(const std::vector<std::string>& paths,
                                                     const std::string& out) {
     std::vector<FarmInput> inputs;
-    for (const std::string& path : paths) {
-        FarmInput in;
-        in.path = path;
-        in.image = read_exr(path, &in.attributes);
-        inputs.push_back(std::move(in));
-    }
-    std::map<std::string, std::string> attributes;
-    const FloatImage merged = merge_farm_renders(inputs, &attributes);
-    write_exr(out, merged, attributes);
-    return attributes;
+    for (const std::string& path : paths) inputs.push_back({path, read_exr_file(path)});
+    const ExrChannels merged = merge_farm_renders(inputs);
+    write_exr_file(out, merged);
+    return merged.attributes;
 }
 
 }  // namespace glslppm

@@ -1,7 +1,8 @@
 // Farm renders of one frame: each PPPM render writes into its EXR the pass indices it ran,
 // the seed, the estimator, the settings that shape the image and a hash of the scene
 // (farm_attributes); merge_farm_renders checks that the files belong together and that their
-// pass sets are disjoint, then weights each film by its passes (render/film_merge.h).
+// pass sets are disjoint, then weights each film and render pass by its passes
+// (render/film_merge.h).
 #pragma once
 
 #include <cstdint>
@@ -41,15 +42,16 @@ std::map<std::string, std::string> farm_attributes(const RenderSettings& setting
 
 struct FarmInput {
     std::string path;  // for messages
-    FloatImage image;
-    std::map<std::string, std::string> attributes;
+    ExrChannels exr;   // every layer the render wrote (Combined alone, or with its passes)
 };
 
-// The exact merge, with the attributes of the whole (the union of the pass ranges). Throws
-// FarmMergeError naming the file and field: a missing attribute, an estimator other than
-// pppm, a different scene hash, seed, setting or size, pass sets that overlap.
-FloatImage merge_farm_renders(const std::vector<FarmInput>& inputs,
-                              std::map<std::string, std::string>* attributes);
+// The exact merge, with the attributes of the whole (the union of the pass ranges): every
+// channel of every layer weighted by the files' pass counts, as Renderer::film and
+// render_passes merge their workers' (each pass is a mean over the passes run, Depth and
+// the Normals too). Throws FarmMergeError naming the file and field: a missing attribute, an
+// estimator other than pppm, a different scene hash, seed, setting, size or set of render
+// passes, pass sets that overlap.
+ExrChannels merge_farm_renders(const std::vector<FarmInput>& inputs);
 
 // glslppm-merge: reads the files, merges them and writes `out` with the whole's attributes,
 // which it returns.

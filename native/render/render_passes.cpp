@@ -137,4 +137,15 @@ std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass
     return out;
 }
 
+std::vector<ExrPass> render_pass_layers(const std::vector<float>& film,
+                                        const std::vector<RenderPass>& passes,
+                                        const std::vector<std::vector<float>>& images) {
+    std::vector<ExrPass> layers = {{"Combined", "RGBA", film}};
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+        const RenderPassInfo& info = render_pass_info(passes[k]);
+        layers.push_back({info.blender, info.channel_names, images[k]});
+    }
+    return layers;
+}
+
 }  // namespace glslppm

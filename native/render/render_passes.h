@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "image/exr.h"
+
 namespace glslppm {
 
 enum class RenderPass {
@@ -82,5 +84,12 @@ std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass
                                        const std::vector<glm::vec4>& pass_films,
                                        const std::vector<glm::vec4>& pixel_stats,
                                        std::size_t pixels, const PassResolve& resolve);
+
+// A render as the layers of a multi-layer EXR (glslppm-render --passes-out, the module's
+// Renderer.write_passes_exr): Combined (RGBA), then each pass under Blender's pass and channel
+// names; `images` are the passes' images in the order of `passes`.
+std::vector<ExrPass> render_pass_layers(const std::vector<float>& film,
+                                        const std::vector<RenderPass>& passes,
+                                        const std::vector<std::vector<float>>& images);
 
 }  // namespace glslppm

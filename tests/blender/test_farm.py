@@ -1,6 +1,7 @@
 """A frame split over farm jobs in Blender: the PPPM estimator with a pass offset per job,
 the farm attributes in each EXR Blender writes, and the files merged (the module's
-merge_farm_files, glslppm-merge's code) into the image of one job running every pass."""
+merge_farm_files, glslppm-merge's code) into the image of one job running every pass, its
+render passes too."""
 
 import os
 
@@ -8,6 +9,7 @@ import bpy
 import numpy as np
 
 import helpers
+from test_passes import plane_scene, render_multilayer
 from test_render import small_lit_scene
 
 # Each pass renders bit-identically in any job; the sums' order, the divisions and the
@@ -54,6 +56,34 @@ def test_farm_jobs_merge_into_the_whole_frame():
         assert "glslppm.pass_ranges overlaps" in str(error) and first in str(error), error
     else:
         raise AssertionError("overlapping farm jobs were merged")
+
+
+def test_farm_jobs_with_every_pass_merge_every_layer():
+    """Jobs that write every render pass (a multi-layer EXR, as `-F OPEN_EXR_MULTILAYER`
+    writes it) merge layer by layer into the job running every pass, under Blender's layer
+    names, each channel within MERGE_BOUND as Combined is (the module's test_merge_passes
+    measures the same for the glass ball's caustic)."""
+    native = helpers.load_native()
+    paths = {}
+    for name, passes, offset in (("farm_passes_0", 3, 0), ("farm_passes_1", 3, 3),
+                                 ("farm_passes_whole", 6, 0)):
+        scene = plane_scene()
+        scene.glslppm.estimator = 'PPPM'
+        scene.glslppm.passes = passes
+        scene.glslppm.first_pass = offset
+        render_multilayer(name)
+        paths[name] = os.path.join(helpers.OUT, f"{name}.exr")
+    merged_path = os.path.join(helpers.OUT, "farm_passes_merged.exr")
+    attributes = native.merge_farm_files([paths["farm_passes_1"], paths["farm_passes_0"]],
+                                         merged_path)
+    assert attributes["glslppm.pass_ranges"] == "0-6"
+    merged = native.read_exr_channels(merged_path)
+    whole = native.read_exr_channels(paths["farm_passes_whole"])
+    assert set(merged) == set(whole) and "ViewLayer.Caustics.R" in merged, sorted(merged)
+    worst = {name: relative_difference(merged[name], whole[name]) for name in whole}
+    print(f"  worst relative difference {max(worst.values()):.2e} ({max(worst, key=worst.get)})")
+    assert max(worst.values()) <= MERGE_BOUND, worst
+    assert merged["ViewLayer.Direct.R"].mean() > 1e-3, "no direct light in the merged frame"
 
 
 def test_device_list_in_preferences():

@@ -1,9 +1,11 @@
 """Scenes several test files share, built from numpy arrays as the built-in ones are in C++
-(native/scenes/): the Cornell box replica, a closed box furnace, a lamp over a floor, an
-axis-aligned box, an instanced scene (mirrored and scaled instances of a ball and a cube),
-Blender's equirectangular texel directions, and a render helper that returns film, stats
-and photons. Test files import from here, never from each other."""
+(native/scenes/): the Cornell box replica, a closed box furnace, a lamp over a floor, a
+glass ball focusing a beam onto a floor, an axis-aligned box, an instanced scene (mirrored
+and scaled instances of a ball and a cube), Blender's equirectangular texel directions, and
+a render helper that returns film, stats and photons. Test files import from here, never
+from each other."""
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -118,6 +120,36 @@ def lamp_over_floor(g, scale):
                    lights=[g.Light("point", power=1.0, position=(0, 0.01 * scale, 0))],
                    camera=g.Camera(look_at((0, scale, 0), (0, 0, 0), up=(0, 0, -1)),
                                    fov_x=math.radians(10)))
+
+
+GlassBall = namedtuple("GlassBall", "scene to_world fov_x centre radius albedo")
+
+
+def glass_ball_beam(g, albedo=0.8, ior=1.5, rings=64):
+    """A glass ball of radius 0.5 resting on a white floor (albedo) beside a blue-grey wall,
+    lit by a narrow spot beam from (-2.5, 2.5, 0) through the ball's centre, which the ball
+    focuses near the floor into a small caustic; the camera looks down at it from
+    (0.6, 2.2, 3.4). Returns the scene with what the caustic-flux tests need to find each
+    pixel's floor area (camera, ball, albedo)."""
+    centre, radius = (0.0, 0.5, 0.0), 0.5
+    floor = quad((-3, 0, -2), (-3, 0, 3), (3, 0, 3), (3, 0, -2))
+    wall = quad((-3, 0, -2), (3, 0, -2), (3, 3, -2), (-3, 3, -2))
+    ball_p, ball_t, ball_n = sphere(centre, radius, rings, 2 * rings)
+    positions, indices, ids = merge((*floor, 0), (*wall, 1), (ball_p, ball_t, 2))
+    normals = np.concatenate([np.tile([0.0, 1.0, 0.0], (4, 1)), np.tile([0.0, 0.0, 1.0], (4, 1)),
+                              ball_n]).astype(np.float32)
+    materials = [g.Material("diffuse", color=(albedo,) * 3),
+                 g.Material("diffuse", color=(0.6, 0.6, 0.7)),
+                 g.Material("dielectric", color=(1.0, 1.0, 1.0), ior=ior)]
+    source = np.array([-2.5, 2.5, 0.0])
+    axis = (np.array(centre) - source) / np.linalg.norm(np.array(centre) - source)
+    light = g.Light("spot", power=1000.0, position=tuple(source), direction=tuple(axis),
+                    spot_size=0.002, spot_blend=0.0, radius=0.6)
+    to_world = look_at((0.6, 2.2, 3.4), (0.25, 0.3, 0.0))
+    fov_x = 0.8
+    scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
+                    lights=[light], camera=g.Camera(to_world, fov_x=fov_x))
+    return GlassBall(scene, to_world, fov_x, centre, radius, albedo)
 
 
 def render(g, scene, passes, **settings):

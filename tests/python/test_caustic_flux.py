@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from conftest import look_at, merge, quad, sphere
+from scenes import glass_ball_beam
 
 IOR = 1.5
 
@@ -223,25 +224,8 @@ def test_rendered_caustic_flux_equals_its_photons(glslppm):
     counted at their exact positions: the same photons and the same emitted count, so only the
     density estimate (gather radius, progressive update, film) can tell them apart."""
     g = glslppm
-    size, albedo = 256, 0.8
-    centre, radius = (0.0, 0.5, 0.0), 0.5
-    floor = quad((-3, 0, -2), (-3, 0, 3), (3, 0, 3), (3, 0, -2))
-    wall = quad((-3, 0, -2), (3, 0, -2), (3, 3, -2), (-3, 3, -2))
-    ball_p, ball_t, ball_n = sphere(centre, radius, 64, 128)
-    positions, indices, ids = merge((*floor, 0), (*wall, 1), (ball_p, ball_t, 2))
-    normals = np.concatenate([np.tile([0.0, 1.0, 0.0], (4, 1)), np.tile([0.0, 0.0, 1.0], (4, 1)),
-                              ball_n]).astype(np.float32)
-    materials = [g.Material("diffuse", color=(albedo,) * 3),
-                 g.Material("diffuse", color=(0.6, 0.6, 0.7)),
-                 g.Material("dielectric", color=(1.0, 1.0, 1.0), ior=IOR)]
-    source = np.array([-2.5, 2.5, 0.0])
-    axis = (np.array(centre) - source) / np.linalg.norm(np.array(centre) - source)
-    light = g.Light("spot", power=1000.0, position=tuple(source), direction=tuple(axis),
-                    spot_size=0.002, spot_blend=0.0, radius=0.6)
-    to_world = look_at((0.6, 2.2, 3.4), (0.25, 0.3, 0.0))
-    fov_x = 0.8
-    scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
-                    lights=[light], camera=g.Camera(to_world, fov_x=fov_x))
+    size = 256
+    scene, to_world, fov_x, centre, radius, albedo = glass_ball_beam(g, ior=IOR)
     r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=65536, hash="exact",
                                      seed=1))
     photon_flux = np.zeros(size * size)
