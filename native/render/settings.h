@@ -14,7 +14,10 @@ enum class RngKind { Paper, Pcg };
 // Where a visible point's direct light comes from: a light sample and a shadow ray each pass
 // (photons then carry only light that has scattered at least once), or photons alone, as in
 // Hachisuka 2015.
-enum class DirectLight { Sampled, Photons };
+// Sampled: light samples, combined by MIS with a BSDF sample at glossy visible points;
+// SampledNoMis: light samples alone for every emitter but the world (MIS's baseline, as
+// the renderer was before it: docs/direct_light.md); Photons: the photons alone.
+enum class DirectLight { Sampled, Photons, SampledNoMis };
 // How passes combine. SPPM (Hachisuka and Jensen 2009) shrinks each pixel's radius from its
 // own photon count, so pass k+1 depends on pass k. PPPM (Knaus and Zwicker 2011) gives pass i
 // the radius r_1 s(i) and its own estimate, seeded by (seed, i) alone: the image is the mean
@@ -72,7 +75,7 @@ struct RenderSettings {
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
-DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
+DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons" | "sampled-no-mis"
 Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm"
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);
