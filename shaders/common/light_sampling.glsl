@@ -324,9 +324,11 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
 #ifdef HAS_EMITTER_MIS
     // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
     // point's cosine lobe is wide, where light samples do well, and its extra ray would cost
-    // a closest-hit walk per pixel for little (docs/direct_light.md, measured).
-    bool triangle_mis = sh.kind == MATERIAL_CONDUCTOR || sh.kind == MATERIAL_DIELECTRIC ||
-                        sh.kind == MATERIAL_PLASTIC;
+    // a closest-hit walk per pixel for little (docs/direct_light.md, measured). A plastic
+    // whose coat the eye path follows (rough_only) is its diffuse base alone here.
+    bool triangle_mis = !rough_only && (sh.kind == MATERIAL_CONDUCTOR ||
+                                        sh.kind == MATERIAL_DIELECTRIC ||
+                                        sh.kind == MATERIAL_PLASTIC);
     uint picked = pick_emitter(pick);
     bool picked_triangle = floatBitsToInt(emitters[4u * picked].w) == EMITTER_TRIANGLE;
 #endif
