@@ -41,7 +41,7 @@ void usage(std::FILE* out) {
                          "[--order-count 6|1] [--json]\n"
                          "       glslppm-bench rng --generator paper|pcg [--json] ...\n"
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
-                         "--hash M --rng G --direct sampled|photons --device D --scene S "
+                         "--hash M --rng G --direct sampled|photons|sampled-no-mis --device D --scene S "
                          "--render-passes all|depth,...] [--json]\n"
                          "       glslppm-bench rays [--rays N --batches B --scenes a,b --leaf 1,2,4,8 "
                          "--layout mtbvh,tbvh] [--json]\n"
