@@ -100,7 +100,7 @@ def white(g, kind, roughness):
 ])
 @pytest.mark.parametrize("kind", ["conductor", "plastic"])
 def test_white_lobe_under_an_emitter_filling_the_sky(glslppm, kind, light, two_sided,
-                                                      facing_up, expected):
+                                                     facing_up, expected):
     g = glslppm
     scene = glossy_plane(g, white(g, kind, 0.15), light=light, half=1000.0,
                          centre=(0.0, 0.0), radiance=1.0, two_sided=two_sided,
