@@ -227,7 +227,10 @@ float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
 // 1997, section 9.2, the balance heuristic): at a glossy visible point a light sample is
 // noisy where the lobe is narrow and the light large or near (a small highlight), a BSDF
 // sample where the light is small. Each estimate weighs its direction by its own density over
-// the sum of both, so the two add up to the emitter's whole direct light.
+// the sum of both, so the two add up to the emitter's whole direct light. Nothing else adds
+// it: the eye path ends at this point, photons store no first hit from a light
+// (DIRECT_LIGHT_SAMPLED), and the BSDF sample adds only emission, never light reflected
+// where it lands (docs/direct_light.md, "The whole direct light, once").
 
 // The density per solid angle with which sample_light draws wi from triangle emitter k and
 // reaches the point at `distance`: p_pick (1 / A) d^2 / |cos_l| (uniform on the triangle,
