@@ -38,10 +38,12 @@ struct RenderSettings {
     int max_bounces = 16;           // eye and photon bounces
     // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
     // and glass are); at and above it they hold the visible point that gathers photons.
-    // 0.5: a visible point's direct light is a light sample alone (no BSDF sample to weigh
-    // it against yet), whose noise on narrower lobes is large: a white conductor of
-    // roughness 0.3 under a uniform sky read 0.95-1.08 after 64 passes where following the
-    // lobe reads 1.000.
+    // 0.5: chosen when a visible point's direct light was a light sample alone, whose noise
+    // on narrower lobes is large (a white conductor of roughness 0.3 under a uniform sky
+    // read 0.95-1.08 after 64 passes where following the lobe reads 1.000). Light and BSDF
+    // samples are now combined by MIS there (docs/direct_light.md), but the photons'
+    // gather on a glossy lobe stays noisy: on the glossy Cornell box 0.5 still gives 0.0264
+    // RMSE outside the light against 0.0433 at 0.2 (256 passes, scripts/emitter_mis_regions.py).
     float glossy_threshold = 0.5f;
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
