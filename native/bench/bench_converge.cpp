@@ -291,7 +291,7 @@ int usage() {
         stderr,
         "usage: glslppm-bench converge [--scene S] [--width W --height H] [--passes K]\n"
         "       [--alpha 0.5,2/3,0.7,0.9] [--photons 65536,...] [--radius-scale 0.25,1,4]\n"
-        "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,photons]\n"
+        "       [--hash stochastic,exact] [--rng paper,pcg] [--direct sampled,sampled-no-mis,photons]\n"
         "       [--estimator sppm,pppm]\n"
         "       [--glossy-threshold 0,0.2,0.5] (roughness below which lobes are followed)\n"
         "       [--fit-from P]\n"

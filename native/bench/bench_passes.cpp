@@ -128,6 +128,7 @@ int bench_passes(int argc, char** argv) {
                 {"hash", to_string(settings.hash)},
                 {"rng", to_string(settings.rng)},
                 {"direct_light", to_string(settings.direct_light)},
+                {"glossy_threshold", settings.glossy_threshold},
                 {"estimator", to_string(settings.estimator)},
                 {"max_bounces", settings.max_bounces},
                 {"passes", passes},

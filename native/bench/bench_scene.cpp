@@ -170,6 +170,8 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     else if (a == "--hash") settings.hash = parse_hash_mode(text());
     else if (a == "--rng") settings.rng = parse_rng_kind(text());
     else if (a == "--direct") settings.direct_light = parse_direct_light(text());
+    else if (a == "--glossy-threshold")
+        settings.glossy_threshold = static_cast<float>(option_number(a, argc, argv, i));
     else if (a == "--device") {
         // "0,1" or "all": one worker per device (estimator pppm).
         const std::vector<int> devices = gl::parse_device_list(text());

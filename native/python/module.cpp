@@ -942,14 +942,17 @@ PYBIND11_MODULE(_glslppm, m) {
        "traces its own photons: time grows with the tile count). on_tile(index, (x, y, w, h), "
        "rgba) after each; returning False stops. Returns (rgba, stats).");
 
-    m.def("cornell_box", [](bool mirror_sphere, bool glass_sphere, int sphere_rings) {
+    m.def("cornell_box", [](bool mirror_sphere, bool glass_sphere, int sphere_rings, bool glossy) {
         CornellBoxOptions o;
         o.mirror_sphere = mirror_sphere;
         o.glass_sphere = glass_sphere;
         o.sphere_rings = sphere_rings;
+        o.glossy = glossy;
         return make_cornell_box(o);
     }, py::arg("mirror_sphere") = true, py::arg("glass_sphere") = true, py::arg("sphere_rings") = 48,
-       "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere.");
+       py::arg("glossy") = false,
+       "The built-in scene of glslppm-render: a Cornell box with a mirror and a glass sphere "
+       "(glossy: rough gold, frosted glass and a plastic floor, glslppm-bench's cornell-glossy).");
 
     m.def("caustic_scene", [](int sphere_rings) {
         CausticSceneOptions o;

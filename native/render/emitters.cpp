@@ -74,18 +74,20 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power,
                    glm::vec3 emitted = glm::vec3(-1.0f)) {
         if (emitted.x < 0.0f) emitted = power;
-        if (!(weight_of(emitted) > 0.0f)) return;  // dark; bad values were rejected earlier
+        if (!(weight_of(emitted) > 0.0f)) return -1;  // dark; bad values were rejected earlier
         list.push_back({glm::vec4(a, as_float(static_cast<int>(kind))), b, glm::vec4(c, 0.0f),
                         glm::vec4(power, 0.0f)});
         weights.push_back(weight_of(emitted));
         table.has[static_cast<int>(kind)] = true;
         table.total_power += emitted;
+        return static_cast<std::int32_t>(list.size() - 1);
     };
 
     // Emissive triangles radiate L over their area: power pi L A from each side that emits.
     // The scene's own materials emit from both sides, as Cycles' mesh lights do, unless they
     // say otherwise; the materials after them are area lights' (render/area_lights.h),
     // one-sided as Blender's.
+    table.triangle_records.assign(bvh.triangle_count, -1);
     for (std::uint32_t t = 0; t < bvh.triangle_count; ++t) {
         const int material = std::bit_cast<int>(bvh.triangles[3 * t].w);
         const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
@@ -111,11 +113,12 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                                               glm::vec2(uv2));
             const float floor = 1e-3f * std::max(power.x, std::max(power.y, power.z));
             const float code = -(1.0f + 2.0f * static_cast<float>(t) + (two_sided ? 1.0f : 0.0f));
-            add(EmitterKind::Triangle, v0, glm::vec4(v1, code), v2, power,
-                glm::max(power * mean, glm::vec3(floor)));
+            table.triangle_records[t] = add(EmitterKind::Triangle, v0, glm::vec4(v1, code), v2,
+                                            power, glm::max(power * mean, glm::vec3(floor)));
             continue;
         }
-        add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2, power);
+        table.triangle_records[t] =
+            add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2, power);
     }
     const float r = bounds.radius();
     for (const Light& light : scene.lights) {
@@ -175,6 +178,16 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     }
     table.count = list.size();
     return table;
+}
+
+void append_triangle_map(EmitterTable& table) {
+    const std::vector<std::int32_t>& map = table.triangle_records;
+    for (std::size_t t = 0; t < map.size(); t += 4) {
+        glm::vec4 v;
+        for (std::size_t i = 0; i < 4; ++i)
+            v[static_cast<int>(i)] = as_float(t + i < map.size() ? map[t + i] : -1);
+        table.records.push_back(v);
+    }
 }
 
 }  // namespace glslppm

@@ -11,8 +11,15 @@
 //   [3] (power.rgb, pick probability)
 // with a = v0 (triangle) or position (point, spot). A photon carries power / probability, so
 // the mean flux of emitted photons is the total power (the energy test checks this).
+//
+// Where BSDF samples at visible points meet emitters (multiple importance sampling,
+// HAS_EMITTER_MIS: shaders/common/light_sampling.glsl), the records are followed by the
+// triangles' map (append_triangle_map): one int per packed triangle, its record's index or
+// -1, four to a vec4, so that a ray that hits a triangle finds the pick probability light
+// sampling would have chosen that point with.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -30,6 +37,8 @@ struct EmitterTable {
     glm::vec3 total_power{0.0f};     // watts, per channel
     std::size_t count = 0;
     bool has[5] = {false, false, false, false, false};  // by EmitterKind
+    // Per packed triangle of the BVH, the index of its record, or -1 (not emitting).
+    std::vector<std::int32_t> triangle_records;
 };
 
 // Bounding sphere of the scene (distant lights shine through its disc).
@@ -46,5 +55,9 @@ SceneBounds scene_bounds(const PackedBvh& bvh);
 EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& materials,
                             const PackedBvh& bvh, const SceneBounds& bounds,
                             const EnvironmentMap* environment);
+
+// Appends triangle_records to the records (as int bits, four per vec4, -1 padding), the
+// GPU's map from a hit triangle to its emitter (emitters.glsl, triangle_emitter).
+void append_triangle_map(EmitterTable& table);
 
 }  // namespace glslppm

@@ -43,7 +43,7 @@ struct RenderStats {
     double initial_radius = 0.0;
     std::string renderer;               // GL_RENDERER
     std::string variant;                // the feature set the programs were compiled with
-    std::string direct_light;           // "sampled" or "photons" (RenderSettings::direct_light)
+    std::string direct_light;           // "sampled", "sampled-no-mis" or "photons" (RenderSettings::direct_light)
     std::string estimator;              // "sppm" or "pppm"
     double radius_floor = 0.0;          // radii never shrink below it (scene-relative)
     // The pass indices run, as sorted half-open ranges [first, end) (pppm: any set).

@@ -350,13 +350,28 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     // Light sampling at the visible points (shaders/common/light_sampling.glsl) is compiled
     // only when asked for; its shadow rays skip the surfaces that cast no shadow (area lights,
     // objects with shadow visibility off) where the scene has them.
-    if (settings.direct_light == DirectLight::Sampled) {
+    if (settings.direct_light != DirectLight::Photons) {
         p.defines.push_back({"DIRECT_LIGHT_SAMPLED", "1"});
         bool shadowless = settings.full_variant;
         for (std::uint32_t flags : geometry.flags)
             shadowless |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow |
                                     kMaterialMayBeTransparent)) != 0;
         if (shadowless) p.defines.push_back({"HAS_SHADOWLESS_SURFACES", "1"});
+    }
+    // Multiple importance sampling of emissive triangles (mesh emission, area lights) at
+    // glossy visible points: where a BSDF-sampled ray can hit one and a glossy lobe can send
+    // it. Not in the full variant, and not with two levels (their triangles are numbered
+    // per mesh, and instanced meshes' emission is not in the emitter table); elsewhere the
+    // programs stay as they were.
+    bool glossy = false;
+    for (const Material& m : geometry.materials)
+        glossy |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric ||
+                  m.kind == MaterialKind::Plastic;
+    if (settings.direct_light == DirectLight::Sampled && p.microfacet && glossy &&
+        p.emitters.has[static_cast<int>(EmitterKind::Triangle)] && !two_level) {
+        append_triangle_map(p.emitters);
+        p.defines.push_back({"HAS_EMITTER_MIS", "1"});
+        features.push_back("emitter-mis");
     }
     if (two_level) {
         p.defines.push_back({"GLSLPPM_INSTANCES", "1"});

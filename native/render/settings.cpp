@@ -20,8 +20,9 @@ RngKind parse_rng_kind(const std::string& name) {
 DirectLight parse_direct_light(const std::string& name) {
     if (name == "sampled") return DirectLight::Sampled;
     if (name == "photons") return DirectLight::Photons;
+    if (name == "sampled-no-mis") return DirectLight::SampledNoMis;
     throw std::invalid_argument("direct_light: '" + name +
-                                "' is not a direct-light mode (sampled, photons)");
+                                "' is not a direct-light mode (sampled, photons, sampled-no-mis)");
 }
 
 Estimator parse_estimator(const std::string& name) {
@@ -47,7 +48,9 @@ std::string to_string(Instancing instancing) {
 std::string to_string(HashMode mode) { return mode == HashMode::Exact ? "exact" : "stochastic"; }
 std::string to_string(RngKind kind) { return kind == RngKind::Pcg ? "pcg" : "paper"; }
 std::string to_string(DirectLight direct) {
-    return direct == DirectLight::Sampled ? "sampled" : "photons";
+    return direct == DirectLight::Sampled        ? "sampled"
+           : direct == DirectLight::SampledNoMis ? "sampled-no-mis"
+                                                 : "photons";
 }
 std::string to_string(Estimator estimator) {
     return estimator == Estimator::Pppm ? "pppm" : "sppm";

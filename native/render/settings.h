@@ -14,7 +14,10 @@ enum class RngKind { Paper, Pcg };
 // Where a visible point's direct light comes from: a light sample and a shadow ray each pass
 // (photons then carry only light that has scattered at least once), or photons alone, as in
 // Hachisuka 2015.
-enum class DirectLight { Sampled, Photons };
+// Sampled: light samples, combined by MIS with a BSDF sample at glossy visible points;
+// SampledNoMis: light samples alone for every emitter but the world (MIS's baseline, as
+// the renderer was before it: docs/direct_light.md); Photons: the photons alone.
+enum class DirectLight { Sampled, Photons, SampledNoMis };
 // How passes combine. SPPM (Hachisuka and Jensen 2009) shrinks each pixel's radius from its
 // own photon count, so pass k+1 depends on pass k. PPPM (Knaus and Zwicker 2011) gives pass i
 // the radius r_1 s(i) and its own estimate, seeded by (seed, i) alone: the image is the mean
@@ -35,10 +38,12 @@ struct RenderSettings {
     int max_bounces = 16;           // eye and photon bounces
     // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
     // and glass are); at and above it they hold the visible point that gathers photons.
-    // 0.5: a visible point's direct light is a light sample alone (no BSDF sample to weigh
-    // it against yet), whose noise on narrower lobes is large: a white conductor of
-    // roughness 0.3 under a uniform sky read 0.95-1.08 after 64 passes where following the
-    // lobe reads 1.000.
+    // 0.5: chosen when a visible point's direct light was a light sample alone, whose noise
+    // on narrower lobes is large (a white conductor of roughness 0.3 under a uniform sky
+    // read 0.95-1.08 after 64 passes where following the lobe reads 1.000). Light and BSDF
+    // samples are now combined by MIS there (docs/direct_light.md), but the photons'
+    // gather on a glossy lobe stays noisy: on the glossy Cornell box 0.5 still gives 0.0264
+    // RMSE outside the light against 0.0433 at 0.2 (256 passes, scripts/emitter_mis_regions.py).
     float glossy_threshold = 0.5f;
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
@@ -72,7 +77,7 @@ struct RenderSettings {
 
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
-DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons"
+DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons" | "sampled-no-mis"
 Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm"
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);

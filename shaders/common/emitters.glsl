@@ -55,6 +55,14 @@ vec3 triangle_emitter_texel(float bw, vec2 bc) {
     return vec3(1.0);
 }
 
+#ifdef HAS_EMITTER_MIS
+// The emitter record of packed triangle t, or -1: the map after the records
+// (native/render/emitters.h, append_triangle_map), four ints to a vec4.
+int triangle_emitter(int t) {
+    return floatBitsToInt(emitters[4u * emitter_count + uint(t >> 2)][t & 3]);
+}
+#endif
+
 // Samples a photon's origin, direction and flux; `ng` is the surface normal at the origin
 // (zero for points and distant lights).
 void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 flux) {

@@ -222,12 +222,98 @@ float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
 }
 #endif
 
+#ifdef HAS_EMITTER_MIS
+// Multiple importance sampling of emissive triangles (mesh emission and area lights; Veach
+// 1997, section 9.2, the balance heuristic): at a glossy visible point a light sample is
+// noisy where the lobe is narrow and the light large or near (a small highlight), a BSDF
+// sample where the light is small. Each estimate weighs its direction by its own density over
+// the sum of both, so the two add up to the emitter's whole direct light. Nothing else adds
+// it: the eye path ends at this point, photons store no first hit from a light
+// (DIRECT_LIGHT_SAMPLED), and the BSDF sample adds only emission, never light reflected
+// where it lands (docs/direct_light.md, "The whole direct light, once").
+
+// The density per solid angle with which sample_light draws wi from triangle emitter k and
+// reaches the point at `distance`: p_pick (1 / A) d^2 / |cos_l| (uniform on the triangle,
+// dA = d^2 dw / |cos_l|), as its estimate L_e |cos_l| A / (p_pick d^2) holds it. The light
+// sample's weight and the BSDF sample's read this one function, so they sum to one.
+float triangle_light_pdf(uint k, vec3 wi, float distance) {
+    vec3 a = emitters[4u * k].xyz;
+    vec3 e1 = emitters[4u * k + 1u].xyz - a, e2 = emitters[4u * k + 2u].xyz - a;
+    // Scaled by the largest edge component, as triangle_normal is: d^2 / A neither
+    // overflows nor underflows at the extremes of scene scale.
+    float m = max(max(max(abs(e1.x), abs(e1.y)), max(abs(e1.z), abs(e2.x))),
+                  max(abs(e2.y), abs(e2.z)));
+    float projected_area = 0.5 * abs(dot(cross(e1 / m, e2 / m), wi));  // A |cos_l| / m^2
+    if (!(projected_area > 0.0)) return 0.0;
+    float d = distance / m;
+    return emitters[4u * k + 3u].w * (d * d / projected_area);
+}
+
+// What triangle emitter k (packed triangle t) radiates at barycentrics bc towards -wi, as
+// sample_light weighs it: its material's emission times its texel, nothing from the back of
+// a one-sided emitter.
+vec3 triangle_emitter_radiance(uint k, int t, vec2 bc, vec3 wi) {
+    vec4 a = emitters[4u * k], b = emitters[4u * k + 1u], c = emitters[4u * k + 2u];
+    if (!triangle_emitter_two_sided(b.w) && dot(triangle_normal(a.xyz, b.xyz, c.xyz), wi) >= 0.0)
+        return vec3(0.0);
+    return material_emission(floatBitsToInt(triangles[3 * t].w)) * triangle_emitter_texel(b.w, bc);
+}
+
+// A BSDF-sampled ray sees the scene as a shadow ray does: through area lights, objects that
+// cast no shadow and cut-outs (shadow_passes), adding the emitters it crosses, up to this
+// many surfaces.
+const int BSDF_RAY_CROSSINGS = 8;
+
+// The light a BSDF sample wi from p meets, each emitter's radiance over p_bsdf + p_light (its
+// balance-heuristic weight over p_bsdf): the emissive triangles on its way (`triangles_too`:
+// at glossy points) and the world where it leaves the scene. `side` and `transmits` as
+// environment_light_pdf reads them; `seed` for the cut-outs it crosses.
+vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triangles_too,
+                             vec3 side, bool transmits, uint seed, inout uint rays) {
+    vec3 sum = vec3(0.0);
+    Ray ray = make_ray(offset_origin(p, ng, wi), wi);
+#ifdef BVH_ANY_HIT_FILTER
+    shadow_ray_seed = seed;
+#endif
+    for (int crossing = 0; crossing < BSDF_RAY_CROSSINGS; ++crossing) {
+        ++rays;
+        Hit hit = closest_hit(ray);
+        if (hit.triangle < 0) {
+#ifdef HAS_ENVIRONMENT
+            float p_light = environment_light_pdf(wi, side, transmits);
+            if (p_light > 0.0) sum += environment_radiance(wi) / (p_bsdf + p_light);
+#endif
+            break;
+        }
+        int t = hit.triangle;
+        vec3 a = triangles[3 * t].xyz, b = triangles[3 * t + 1].xyz, c = triangles[3 * t + 2].xyz;
+        vec3 q = a + hit.u * (b - a) + hit.v * (c - a);
+        int k = triangles_too ? triangle_emitter(t) : -1;
+        if (k >= 0) {
+            // The light sample's distance is from p, whatever the ray crossed on the way.
+            float p_light = triangle_light_pdf(uint(k), wi, length(q - p));
+            sum += triangle_emitter_radiance(uint(k), t, vec2(hit.u, hit.v), wi) /
+                   (p_bsdf + p_light);
+        }
+#ifdef BVH_ANY_HIT_FILTER
+        if (!shadow_passes(floatBitsToInt(triangles[3 * t].w), t, hit.u, hit.v)) break;
+        ray = make_ray(offset_origin(q, triangle_normal(a, b, c), wi), wi);
+#else
+        break;
+#endif
+    }
+    return sum;
+}
+#endif
+
 // The same for a material of common/lobes.glsl, whose lobes may transmit: the light may be on
 // either side. `rough_only`: the smooth lobes, followed by the eye path, are left out.
 // Glossy lobes see the world better through their own samples than through the world's:
 // with an environment, one BSDF sample `u_bsdf` also looks for it, and the two estimates of
 // the world's light are combined by the balance heuristic (Veach's multiple importance
-// sampling). Other lights come from their light samples alone (the BSDF sample ignores them).
+// sampling). With HAS_EMITTER_MIS the same BSDF sample looks for emissive triangles too at
+// glossy lobes, weighed against light samples of them alike. Other lights (points, spots,
+// suns: delta lights no BSDF sample can hit) come from their light samples alone.
 vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
                                 float pick, vec4 u, vec3 u_bsdf, inout uint rays) {
     vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
@@ -238,6 +324,17 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
     bool world = floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT;
+#ifdef HAS_EMITTER_MIS
+    // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
+    // point's cosine lobe is wide, where light samples do well, and its extra ray would cost
+    // a closest-hit walk per pixel for little (docs/direct_light.md, measured). A plastic
+    // whose coat the eye path follows (rough_only) is its diffuse base alone here.
+    bool triangle_mis = !rough_only && (sh.kind == MATERIAL_CONDUCTOR ||
+                                        sh.kind == MATERIAL_DIELECTRIC ||
+                                        sh.kind == MATERIAL_PLASTIC);
+    uint picked = pick_emitter(pick);
+    bool picked_triangle = floatBitsToInt(emitters[4u * picked].w) == EMITTER_TRIANGLE;
+#endif
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
     if (transmits && world) ls.radiance_over_pdf *= 2.0;
 #endif
@@ -265,10 +362,37 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
                 weight = p_light / (p_light + p_bsdf);
             }
 #endif
+#ifdef HAS_EMITTER_MIS
+            if (triangle_mis && picked_triangle) {
+                float p_light = triangle_light_pdf(picked, ls.wi, ls.distance);
+                weight = p_light / (p_light + bsdf_pdf(sh, wo, ls.wi));
+            }
+#endif
             result += f * ls.radiance_over_pdf * (cos_theta * weight);
         }
     }
+#ifdef HAS_EMITTER_MIS
+    // One BSDF sample for the world and the emissive triangles: it follows the ray to what it
+    // meets (light_along_bsdf_sample).
+    bool world_too = false;
 #ifdef HAS_ENVIRONMENT
+    world_too = true;
+#endif
+    vec3 wi, sampled;
+    if ((triangle_mis || world_too) && bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
+        float p_bsdf = bsdf_pdf(sh, wo, wi);
+        vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
+#ifdef HAS_NORMAL_MAP
+        f_rough *= shading_cosine_ratio(wi, sh.n, ng);
+#endif
+        if (p_bsdf > 0.0 && any(greaterThan(f_rough, vec3(0.0)))) {
+            uint seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+            result += f_rough * abs(dot(ng, wi)) *
+                      light_along_bsdf_sample(p, ng, wi, p_bsdf, triangle_mis, ng_wo,
+                                              transmits, seed, rays);
+        }
+    }
+#elif defined(HAS_ENVIRONMENT)
     vec3 wi, sampled;
     if (bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
         float p_bsdf = bsdf_pdf(sh, wo, wi);

@@ -351,6 +351,11 @@ def render_recorded(name, engine=None):
         return image, str(error), engine
 
 
+def last_render_stats():
+    """renderer.stats() of the recording engine's last render (its variant, radii...)."""
+    return _recording[0].last_stats if _recording else {}
+
+
 def warnings_of(engine):
     return [message for level, message in engine.reports if level == 'WARNING']
 

@@ -2,7 +2,9 @@
 // sizes and the automatic radius the renderer uploads (render/scene_preparation.h).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "gl/object_counts.h"
@@ -53,6 +55,47 @@ TEST(ScenePreparation, CornellBoxFeaturesSizesAndFrameWithoutGl) {
     EXPECT_FLOAT_EQ(p.frame.radius_floor, 1e-5f * diagonal);
     // No GL object was made.
     EXPECT_EQ(gl::gl_object_counts().contexts, before.contexts);
+}
+
+// Multiple importance sampling of emissive triangles: compiled where a glossy lobe can
+// send a BSDF sample to one, with each packed triangle's emitter record after the records
+// (render/emitters.h), and nowhere else.
+TEST(ScenePreparation, EmitterMisMapsEachEmissiveTriangleToItsRecord) {
+    CornellBoxOptions glossy;
+    glossy.glossy = true;
+    const PreparedScene p = prepare_scene(make_cornell_box(glossy), small_settings(), 64);
+    EXPECT_TRUE(has_define(p, "HAS_EMITTER_MIS"));
+    EXPECT_NE(p.variant.find("emitter-mis"), std::string::npos) << p.variant;
+    const std::vector<std::int32_t>& map = p.emitters.triangle_records;
+    ASSERT_EQ(map.size(), p.bvh.triangle_count);
+    ASSERT_EQ(p.emitters.records.size(), 4 * p.emitters.count + (map.size() + 3) / 4);
+    std::size_t emissive = 0;
+    for (std::uint32_t t = 0; t < p.bvh.triangle_count; ++t) {
+        const std::int32_t in_buffer = std::bit_cast<std::int32_t>(
+            p.emitters.records[4 * p.emitters.count + t / 4][static_cast<int>(t % 4)]);
+        EXPECT_EQ(in_buffer, map[t]) << t;
+        if (map[t] < 0) continue;
+        ++emissive;
+        // The record holds this triangle's corners, as the light sample draws them.
+        const glm::vec4* record = &p.emitters.records[4 * static_cast<std::size_t>(map[t])];
+        EXPECT_EQ(glm::vec3(record[0]), glm::vec3(p.bvh.triangles[3 * t])) << t;
+        EXPECT_EQ(glm::vec3(record[2]), glm::vec3(p.bvh.triangles[3 * t + 2])) << t;
+    }
+    EXPECT_EQ(emissive, 2u);  // the light's quad
+    // Without a glossy lobe (the diffuse box), or without light sampling, or with light
+    // samples alone, the programs and the records are as before.
+    CornellBoxOptions diffuse;
+    diffuse.mirror_sphere = diffuse.glass_sphere = false;
+    const PreparedScene plain = prepare_scene(make_cornell_box(diffuse), small_settings(), 64);
+    EXPECT_FALSE(has_define(plain, "HAS_EMITTER_MIS"));
+    EXPECT_EQ(plain.emitters.records.size(), 4 * plain.emitters.count);
+    for (DirectLight direct : {DirectLight::Photons, DirectLight::SampledNoMis}) {
+        RenderSettings s = small_settings();
+        s.direct_light = direct;
+        const PreparedScene off = prepare_scene(make_cornell_box(glossy), s, 64);
+        EXPECT_FALSE(has_define(off, "HAS_EMITTER_MIS")) << to_string(direct);
+        EXPECT_EQ(off.emitters.records.size(), 4 * off.emitters.count) << to_string(direct);
+    }
 }
 
 TEST(ScenePreparation, RadiusScaleAndRegion) {
