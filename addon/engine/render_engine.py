@@ -401,8 +401,15 @@ class GlslppmEngineMixin:
         self.update_stats("", "GLSLPPM | " + session.status_line())
 
     def _write_film(self, renderer, combined, extra=None):
-        """Combined and the render passes ({module name: RenderPass}) into the result."""
-        _set_rect(combined, renderer.film())
+        """Combined and the render passes ({module name: RenderPass}) into the result.
+        Combined is read bottom row first, as Blender stores it, into one array kept across
+        the progressive updates: no flipped copy, no new memory per update."""
+        shape = (renderer.settings.height, renderer.settings.width, 4)
+        buffer = getattr(self, "_film_buffer", None)
+        if buffer is None or buffer.shape != shape:
+            buffer = self._film_buffer = np.empty(shape, np.float32)
+        pixels = renderer.film(out=buffer, bottom_up=True).reshape(-1, 4)
+        combined.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
         if extra:
             images = renderer.render_passes(list(extra))
             for name, render_pass in extra.items():

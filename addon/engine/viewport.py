@@ -50,6 +50,7 @@ class Session:
         self.device = device
         self.data = None            # SceneData of the last export
         self.renderer = None
+        self._film = None  # the array film() reads into
         self.size = None            # (width, height) of the renderer's image
         self.camera_key = None
         self.passes = 0             # passes of the current image, as the worker last saw
@@ -180,13 +181,18 @@ class Session:
                 self._wake.notify_all()
 
     def film(self):
-        """The film (H, W, 4) when passes ran since the last call, else None."""
+        """The film (H, W, 4), bottom row first as a texture wants it, when passes ran since
+        the last call, else None. Read into one array kept across redraws (the texture is
+        made from it at once), so a redraw writes no new memory."""
         with self._lock:
             renderer, passes = self.renderer, self.passes
         if renderer is None or passes == self.drawn_passes or passes == 0:
             return None
+        shape = (renderer.settings.height, renderer.settings.width, 4)
+        if self._film is None or self._film.shape != shape:
+            self._film = np.empty(shape, np.float32)
         try:
-            film = renderer.film()
+            film = renderer.film(out=self._film, bottom_up=True)
         except (self.native.GlslppmError, RuntimeError) as error:
             self.fail(f"the film could not be read: {error}")
             return None
@@ -446,11 +452,10 @@ def settings_signature(settings, film):
 
 
 def film_texture(film):
-    """A GPU texture of the film; rows run top to bottom in the film, bottom to top in a
-    texture."""
+    """A GPU texture of the film, read bottom row first (ViewportSession.film)."""
     import gpu
     height, width = film.shape[:2]
-    pixels = np.ascontiguousarray(film[::-1], dtype=np.float32).ravel()
+    pixels = film.reshape(-1)
     buffer = gpu.types.Buffer('FLOAT', pixels.size, pixels)
     return gpu.types.GPUTexture((width, height), format='RGBA32F', data=buffer)
 

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "gl/object_counts.h"
 #include "gl/egl_context.h"
@@ -23,6 +24,18 @@ void wait_for(GLsync fence) {
         }
         flags = 0;
     }
+}
+
+// Copies the `bytes` at byte `at` of a `total`-byte image from `from` into `image`: to the
+// same place, or (row_bytes > 0) each row to its mirror, counted from the image's end.
+void copy_rows(unsigned char* image, std::size_t total, std::size_t at, const unsigned char* from,
+               std::size_t bytes, std::size_t row_bytes) {
+    if (row_bytes == 0) {
+        std::memcpy(image + at, from, bytes);
+        return;
+    }
+    for (std::size_t done = 0; done < bytes; done += row_bytes)
+        std::memcpy(image + total - (at + done) - row_bytes, from + done, row_bytes);
 }
 
 }  // namespace
@@ -56,22 +69,33 @@ bool BufferReader::ensure_staging() {
     return true;
 }
 
-void BufferReader::read(GLuint buffer, std::size_t offset, std::size_t bytes, void* out) {
+void BufferReader::read(GLuint buffer, std::size_t offset, std::size_t bytes, void* out,
+                        std::size_t row_bytes) {
+    if (row_bytes > 0 && (bytes % row_bytes != 0 || row_bytes > kChunkBytes))
+        throw GlError("reading a buffer back: " + std::to_string(bytes) +
+                      " bytes are not whole rows of " + std::to_string(row_bytes));
+    auto* image = static_cast<unsigned char*>(out);
     if (bytes < kStagedFrom || !ensure_staging()) {
         glBindBuffer(GL_COPY_READ_BUFFER, buffer);
         glGetBufferSubData(GL_COPY_READ_BUFFER, static_cast<GLintptr>(offset),
                            static_cast<GLsizeiptr>(bytes), out);
+        if (row_bytes > 0)  // in place: swap the rows end for end
+            for (std::size_t top = 0, bottom = bytes - row_bytes; top < bottom;
+                 top += row_bytes, bottom -= row_bytes)
+                std::swap_ranges(image + top, image + top + row_bytes, image + bottom);
         return;
     }
-    const std::size_t chunks = (bytes + kChunkBytes - 1) / kChunkBytes;
-    const auto chunk_size = [&](std::size_t k) { return std::min(kChunkBytes, bytes - k * kChunkBytes); };
+    // Whole rows per chunk, so that each chunk's rows land whole.
+    const std::size_t chunk_bytes = row_bytes ? kChunkBytes / row_bytes * row_bytes : kChunkBytes;
+    const std::size_t chunks = (bytes + chunk_bytes - 1) / chunk_bytes;
+    const auto chunk_size = [&](std::size_t k) { return std::min(chunk_bytes, bytes - k * chunk_bytes); };
     GLsync fences[2] = {nullptr, nullptr};
     const auto issue = [&](std::size_t k) {
         const std::size_t b = k % 2;
         glBindBuffer(GL_COPY_READ_BUFFER, buffer);
         glBindBuffer(GL_COPY_WRITE_BUFFER, staging_[b]);
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER,
-                            static_cast<GLintptr>(offset + k * kChunkBytes), 0,
+                            static_cast<GLintptr>(offset + k * chunk_bytes), 0,
                             static_cast<GLsizeiptr>(chunk_size(k)));
         fences[b] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     };
@@ -88,7 +112,7 @@ void BufferReader::read(GLuint buffer, std::size_t offset, std::size_t bytes, vo
         }
         glDeleteSync(fences[b]);
         fences[b] = nullptr;
-        std::memcpy(static_cast<unsigned char*>(out) + k * kChunkBytes, mapped_[b], chunk_size(k));
+        copy_rows(image, bytes, k * chunk_bytes, mapped_[b], chunk_size(k), row_bytes);
         if (k + 2 < chunks) issue(k + 2);
     }
 }

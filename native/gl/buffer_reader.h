@@ -21,7 +21,10 @@ class BufferReader {
 
     // `bytes` of `buffer` from `offset` into `out`. Writes by shaders must have been made
     // visible to buffer copies (glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT)) before.
-    void read(GLuint buffer, std::size_t offset, std::size_t bytes, void* out);
+    // `row_bytes` > 0: the bytes are rows of that size, written to `out` in reverse order
+    // (an image's top row first on the GPU, its bottom row first for Blender).
+    void read(GLuint buffer, std::size_t offset, std::size_t bytes, void* out,
+              std::size_t row_bytes = 0);
 
     // Deletes the staging buffers (the next large read makes them again).
     void release();

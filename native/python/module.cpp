@@ -805,7 +805,7 @@ PYBIND11_MODULE(_glslppm, m) {
             py::gil_scoped_release release;
             r.get()->debug_set_photons_emitted(count);
         }, "Tests only: sets the 64-bit count of photon paths started.")
-        .def("film", [](PyRenderer& r, std::optional<py::array> out) -> py::array {
+        .def("film", [](PyRenderer& r, std::optional<py::array> out, bool bottom_up) -> py::array {
             const std::shared_ptr<Renderer> renderer = r.get();
             const RenderSettings& s = renderer->settings();
             if (out) {
@@ -821,8 +821,16 @@ PYBIND11_MODULE(_glslppm, m) {
                 const std::span<float> pixels(static_cast<float*>(out->mutable_data()),
                                               static_cast<std::size_t>(out->size()));
                 py::gil_scoped_release release;
-                renderer->film_into(pixels);
+                renderer->film_into(pixels, bottom_up);
                 return *out;
+            }
+            if (bottom_up) {
+                py::array_t<float> flipped({s.height, s.width, 4});
+                const std::span<float> pixels(flipped.mutable_data(),
+                                              static_cast<std::size_t>(flipped.size()));
+                py::gil_scoped_release release;
+                renderer->film_into(pixels, true);
+                return std::move(flipped);
             }
             std::vector<float> film;
             {
@@ -830,9 +838,10 @@ PYBIND11_MODULE(_glslppm, m) {
                 film = renderer->film();
             }
             return array_owning(std::move(film), {s.height, s.width, 4});
-        }, py::arg("out") = py::none(),
-        "Linear RGBA, height x width x 4 float32, row 0 at the top. out: an array of that "
-        "shape to fill instead of a new one (returned).")
+        }, py::arg("out") = py::none(), py::arg("bottom_up") = false,
+        "Linear RGBA, height x width x 4 float32, row 0 at the top (bottom_up: at the bottom, "
+        "as Blender's images store rows). out: an array of that shape to fill instead of a new "
+        "one (returned).")
         .def("render_pass", [](PyRenderer& r, const std::string& name) {
             const py::dict images = render_pass_arrays(r, {name});
             return py::object(images[py::str(name)]);
@@ -842,6 +851,8 @@ PYBIND11_MODULE(_glslppm, m) {
         .def("render_passes", &render_pass_arrays, py::arg("names"),
              "Several passes as render_pass() gives one, {name: array}, with one read back "
              "from the GPU.")
+        .def_property_readonly("settings", [](PyRenderer& r) { return r.get()->settings(); },
+                               "A copy of the settings the renderer was made with.")
         .def("photons", [](PyRenderer& r) {
             std::vector<float> photons;
             {

@@ -338,8 +338,8 @@ struct Renderer::Gpu {
         return out;
     }
 
-    // The same into `out` (pixels x 4 floats).
-    void resolve_film_into(float* out) {
+    // The same into `out` (pixels x 4 floats); bottom_up: its bottom row first.
+    void resolve_film_into(float* out, bool bottom_up = false) {
         const Counters c = read_counters();
         const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
         frame.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
@@ -347,7 +347,8 @@ struct Renderer::Gpu {
         upload_frame();
         dispatch(*resolve, pixels);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        reader.read(film, 0, std::size_t(pixels) * 16, out);
+        reader.read(film, 0, std::size_t(pixels) * 16, out,
+                    bottom_up ? std::size_t(settings.width) * 16 : 0);
     }
 
     // Render passes of this worker's passes (their mean), resolved on the CPU from the pass

@@ -128,7 +128,8 @@ public:
     std::vector<float> film();
     // The same into the caller's memory (height x width x 4 floats, else invalid_argument):
     // a viewport or progressive update that reuses one buffer writes no new pages.
-    void film_into(std::span<float> out);
+    // bottom_up: the bottom row first, as Blender's images and GPU textures store them.
+    void film_into(std::span<float> out, bool bottom_up = false);
     // One of settings.passes (render/render_passes.h), as film() gives Combined: height x
     // width x 4 floats (Depth in the first channel), the mean over the passes run.
     // std::invalid_argument for a pass the settings did not enable.

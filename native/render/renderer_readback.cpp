@@ -45,18 +45,23 @@ std::vector<float> Renderer::film() {
     return merged_film();
 }
 
-void Renderer::film_into(std::span<float> out) {
+void Renderer::film_into(std::span<float> out, bool bottom_up) {
     const std::size_t floats = std::size_t(settings_.width) * std::size_t(settings_.height) * 4;
     if (out.size() != floats)
         throw std::invalid_argument("film_into: the buffer holds " + std::to_string(out.size()) +
                                     " floats; the film is " + std::to_string(floats));
     if (gpus_.size() == 1) {
         Gpu& g = *gpus_[0];
-        g.thread->call([&] { g.resolve_film_into(out.data()); });
+        g.thread->call([&] { g.resolve_film_into(out.data(), bottom_up); });
         return;
     }
     const std::vector<float> merged = merged_film();
-    std::copy(merged.begin(), merged.end(), out.begin());
+    const std::size_t row = std::size_t(settings_.width) * 4;
+    for (std::size_t y = 0; y < std::size_t(settings_.height); ++y) {
+        const std::size_t to = bottom_up ? std::size_t(settings_.height) - 1 - y : y;
+        std::copy_n(merged.begin() + std::ptrdiff_t(y * row), row,
+                    out.begin() + std::ptrdiff_t(to * row));
+    }
 }
 
 std::vector<float> Renderer::merged_film() {
