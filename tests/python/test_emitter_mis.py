@@ -80,7 +80,9 @@ def render(g, scene, direct, passes, seed=1, size=32, threshold=0.05):
     variant = r.stats()["variant"].split(",")
     r.close()
     assert np.isfinite(film).all()
-    assert ("emitter-mis" in variant) == (direct == "sampled"), variant
+    # MIS is compiled where a visible point holds a glossy lobe: the lobes here have roughness
+    # 0.15 to 0.3, above the threshold 0.05, below 0.5 (followed: no MIS).
+    assert ("emitter-mis" in variant) == (direct == "sampled" and threshold < 0.15), variant
     return film
 
 
