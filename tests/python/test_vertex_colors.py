@@ -131,7 +131,8 @@ def test_two_level_instances_carry_their_colors(glslppm):
                     camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
                     environment=(L, L, L),
                     instance_meshes=[{"positions": p, "indices": t, "colors": vc}],
-                    instances=np.eye(4, dtype=np.float32)[None], instance_mesh=np.zeros(1, np.uint32))
+                    instances=np.eye(4, dtype=np.float32)[None],
+                    instance_mesh=np.zeros(1, np.uint32))
     r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=65536, seed=5,
                                      hash="exact", instancing="two-level"))
     r.run(24)
