@@ -63,11 +63,7 @@ void main() {
         float r = pixel_stats[2 * i + 1].x;
 #endif
         radius_after = r;
-#ifdef HAS_MICROFACET
         vec4 point = visible_points[VISIBLE_POINT_VEC4 * i + 0];
-#else
-        vec4 point = visible_points[VISIBLE_POINT_VEC4 * i + 0];
-#endif
         if (point.w >= 0.0) {
 #ifdef HAS_MICROFACET
             // The visible point's material, to weigh each photon by f(wo, wi).

@@ -331,6 +331,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
     feature(p.vertex_colors, "HAS_VERTEX_COLORS", "vertex-colors");
+    // Materials read colours only where meshes have them; the full variant's programs (and
+    // visible points) are laid out for them all the same.
+    const bool colors_uploaded = p.vertex_colors;
     p.vertex_colors |= settings.full_variant;
     feature(normal_map, "HAS_NORMAL_MAP", "normal-map");
     bool emission_texture = false;
@@ -354,7 +357,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     }
     p.microfacet = microfacet;
     p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
-                                          p.microfacet, p.vertex_colors);
+                                          p.microfacet, colors_uploaded);
     feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
     // Not features but outputs: the full variant leaves them as the settings say.
     if (settings.transparent) {

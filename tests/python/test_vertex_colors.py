@@ -18,6 +18,7 @@ SIZE = 48
 C0 = (0.9, 0.3, 0.1)
 C1 = (0.1, 0.6, 0.8)
 ALBEDO = 0.8
+SUN = 3.0  # W/m^2 straight down
 
 
 def colored_quad(g, colors=(C0, C1), vertex_color=True, extra_materials=(), seed=5,
@@ -177,3 +178,27 @@ def test_colors_change_the_scene_hash(glslppm):
     hashes = {scene_hash(None, False), scene_hash(red, False), scene_hash(red, True),
               scene_hash(green, True), scene_hash(None, True)}
     assert len(hashes) == 5
+
+
+@pytest.mark.parametrize("full_variant", [False, True])
+def test_flag_without_colors_keeps_the_material_colour(glslppm, full_variant):
+    """A material asking for vertex colours on a mesh without any: its colour alone
+    (rho E / pi under a sun straight above), with a warning; the full variant (which
+    compiles the colour reads) reads none either."""
+    g = glslppm
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    scene = g.Scene(p, np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32),
+                    materials=[g.Material("diffuse", color=(ALBEDO,) * 3, vertex_color=True)],
+                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
+                    lights=[g.Light("sun", power=SUN, direction=(0.0, 0.0, -1.0))])
+    # A sun, not a sky: the full variant renders a constant environment black (so on main).
+    r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=16384, seed=5,
+                                     hash="exact", full_variant=full_variant))
+    r.run(8)
+    stats = r.stats()
+    assert ("vertex-colors" in stats["variant"].split(",")) == full_variant
+    assert any("no mesh has any" in w for w in stats["warnings"]), stats["warnings"]
+    mean = r.film()[3:-3, 3:-3, :3].reshape(-1, 3).mean(axis=0)
+    assert mean == pytest.approx([ALBEDO * SUN / math.pi] * 3, rel=0.01)
