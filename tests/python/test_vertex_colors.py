@@ -22,7 +22,7 @@ SUN = 3.0  # W/m^2 straight down
 
 
 def colored_quad(g, colors=(C0, C1), vertex_color=True, extra_materials=(), seed=5,
-                 passes=24, **scene_args):
+                 passes=24, render_passes=(), **scene_args):
     p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
     t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
     vc = None if colors is None else np.array([colors[0], colors[1], colors[1], colors[0]],
@@ -35,8 +35,10 @@ def colored_quad(g, colors=(C0, C1), vertex_color=True, extra_materials=(), seed
     scene = g.Scene(p, t, colors=vc, materials=materials, camera=camera,
                     environment=(L, L, L), **scene_args)
     r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=65536,
-                                     seed=seed, hash="exact"))
+                                     seed=seed, hash="exact", passes=list(render_passes)))
     r.run(passes)
+    if render_passes:
+        return r
     return r.film()[..., :3], r.stats()
 
 
@@ -77,6 +79,22 @@ def test_vertex_colors_with_microfacet_lobes_reach_the_gather(glslppm):
     variant = stats["variant"].split(",")
     assert "vertex-colors" in variant and "microfacet" in variant
     check_ramp(film)
+
+
+@pytest.mark.parametrize("microfacet", [False, True])
+def test_albedo_pass_is_the_interpolated_colour(glslppm, microfacet):
+    """Denoising Albedo is albedo x the colour at each sample: its column means at u = 0.25
+    and 0.75 are the colour at the columns' mean u (linear across the quad). The pixels'
+    jittered samples move the mean u by about 2.4e-4 (640 samples a column), 1.5e-4 in
+    colour: bound 1e-3 absolute (5 sigma; a colour 1% off misses by 2-6e-3; measured 4e-5)."""
+    g = glslppm
+    extra = [g.Material("conductor", roughness=0.5)] if microfacet else []
+    r = colored_quad(g, extra_materials=extra, passes=4, render_passes=["denoising_albedo"])
+    albedo = r.render_pass("denoising_albedo")[..., :3]
+    for u in (0.25, 0.75):
+        got = column_mean(albedo, u)
+        want = expected_at(u) / L
+        assert got == pytest.approx(want, rel=0, abs=1e-3), (u, got, want)
 
 
 def test_material_without_the_flag_ignores_colors_and_compiles_nothing(glslppm):
