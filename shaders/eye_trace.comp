@@ -79,6 +79,9 @@ void main() {
     vec4 view = vec4(0.0);
     vec2 uv = vec2(0.0);
     uint point_flags = 0u;
+#ifdef HAS_VERTEX_COLORS
+    vec3 vertex_color = vec3(1.0);
+#endif
 #endif
     uint rays = 0u;
     bool seen_by_camera = true;  // until the first specular bounce
@@ -142,7 +145,8 @@ void main() {
 #ifdef HAS_MICROFACET
         // The material as this ray sees it (mixes resolved to one leaf).
         vec3 wo = -ray.dir;
-        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, wo, rng_next(rng));
+        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, s.vertex_color,
+                                wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
             ADD_LIGHT(emitted, throughput * material_emission_at(s.material, sh.material, s.uv));
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
@@ -156,6 +160,9 @@ void main() {
             normal = sh.n;
             view = vec4(wo, 0.0);
             uv = s.uv;
+#ifdef HAS_VERTEX_COLORS
+            vertex_color = s.vertex_color;
+#endif
             weight = throughput;
             point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
                           (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
@@ -224,14 +231,17 @@ void main() {
     }
 
 #ifdef HAS_MICROFACET
-    visible_points[4 * i + 0] = point;
-    visible_points[4 * i + 1] = vec4(normal, uv.x);
-    visible_points[4 * i + 2] = vec4(view.xyz, uv.y);
-    visible_points[4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
+    visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
+    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, uv.x);
+    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(view.xyz, uv.y);
+    visible_points[VISIBLE_POINT_VEC4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
+#ifdef HAS_VERTEX_COLORS
+    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vertex_color, 0.0);
+#endif
 #else
-    visible_points[3 * i + 0] = point;
-    visible_points[3 * i + 1] = vec4(normal, 0.0);
-    visible_points[3 * i + 2] = vec4(weight, 0.0);
+    visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
+    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, 0.0);
+    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(weight, 0.0);
 #endif
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];

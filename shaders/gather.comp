@@ -63,19 +63,20 @@ void main() {
         float r = pixel_stats[2 * i + 1].x;
 #endif
         radius_after = r;
-#ifdef HAS_MICROFACET
-        vec4 point = visible_points[4 * i + 0];
-#else
-        vec4 point = visible_points[3 * i + 0];
-#endif
+        vec4 point = visible_points[VISIBLE_POINT_VEC4 * i + 0];
         if (point.w >= 0.0) {
 #ifdef HAS_MICROFACET
             // The visible point's material, to weigh each photon by f(wo, wi).
-            vec4 n_u = visible_points[4 * i + 1];
-            vec4 wo_v = visible_points[4 * i + 2];
-            vec4 w_flags = visible_points[4 * i + 3];
+            vec4 n_u = visible_points[VISIBLE_POINT_VEC4 * i + 1];
+            vec4 wo_v = visible_points[VISIBLE_POINT_VEC4 * i + 2];
+            vec4 w_flags = visible_points[VISIBLE_POINT_VEC4 * i + 3];
             uint point_flags = floatBitsToUint(w_flags.w);
-            Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w),
+#ifdef HAS_VERTEX_COLORS
+            vec3 vertex_color = visible_points[VISIBLE_POINT_VEC4 * i + 4].rgb;
+#else
+            vec3 vertex_color = vec3(1.0);
+#endif
+            Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w), vertex_color,
                                          (point_flags & VISIBLE_POINT_ENTERING) != 0u);
             bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
 #ifdef HAS_NORMAL_MAP
@@ -84,8 +85,8 @@ void main() {
             vec3 wo = wo_v.xyz;
             vec3 weight = w_flags.xyz;
 #else
-            vec3 n = visible_points[3 * i + 1].xyz;
-            vec3 weight = visible_points[3 * i + 2].xyz;
+            vec3 n = visible_points[VISIBLE_POINT_VEC4 * i + 1].xyz;
+            vec3 weight = visible_points[VISIBLE_POINT_VEC4 * i + 2].xyz;
 #endif
             float cell_size = hash_cell_size();
             ivec3 center = grid_cell(point.xyz, cell_size);

@@ -98,8 +98,8 @@ void main() {
             // Stored wherever a visible point can gather it (a lobe rougher than the
             // threshold), then on by sampling the whole material, Russian roulette on the
             // sample's weight.
-            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, -dir,
-                                    rng_next(rng));
+            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv,
+                                    s.vertex_color, -dir, rng_next(rng));
             bool store = bsdf_has_rough_lobe(sh);
 #ifdef DIRECT_LIGHT_SAMPLED
             store = store && scattered > 0.5;

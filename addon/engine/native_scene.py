@@ -4,8 +4,14 @@ The one place that knows the module's constructor signatures."""
 from dataclasses import asdict
 
 
+def native_material(native, material):
+    fields = asdict(material)
+    fields["vertex_color"] = material.vertex_color is not None  # the attribute's name is export's
+    return native.Material(**fields)
+
+
 def native_scene(native, data):
-    materials = [native.Material(**asdict(material)) for material in data.materials]
+    materials = [native_material(native, material) for material in data.materials]
     lights = [native.Light(**asdict(light)) for light in data.lights]
     camera = native.Camera(**asdict(data.camera))
     # Fields, not asdict(): asdict would deep-copy every texture's pixels.
@@ -18,7 +24,7 @@ def native_scene(native, data):
         textures=textures, environment_texture=data.environment_texture,
         environment_to_world=data.environment_to_world,
         instance_meshes=data.instance_meshes or None, instances=data.instances,
-        instance_mesh=data.instance_mesh, tangents=data.tangents)
+        instance_mesh=data.instance_mesh, tangents=data.tangents, colors=data.colors)
 
 
 def film_options(scene):

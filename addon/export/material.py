@@ -28,6 +28,7 @@ from .image import image_mean_color
 from .normal_map import normal_map_of, shader_nodes
 from .node_inputs import (clamp01, image_texture_index, input_socket, linked_node,
                           linked_output, socket_color, socket_color_texture, socket_scalar,
+                          vertex_color_input,
                           socket_value)
 from .scene_data import MaterialData
 
@@ -131,6 +132,12 @@ class _Context:
         """(rgb, texture index or -1) of a BSDF colour input."""
         return socket_color_texture(socket, self.warn, self.textures, clamp)
 
+    def vertex_color(self, socket):
+        """The colour attribute a BSDF colour input multiplies in ("" the mesh's default),
+        or None (node_inputs.vertex_color_input)."""
+        found = vertex_color_input(socket)
+        return None if found is None else found[1]
+
     def value(self, socket):
         return socket_value(socket, self.warn)
 
@@ -190,7 +197,8 @@ def _diffuse(node, context):
     if roughness > 0.0:
         context(f"Diffuse BSDF '{node.name}': Oren-Nayar roughness {roughness:.2f} is "
                 "rendered as Lambert")
-    return MaterialData("diffuse", color, color_texture=texture)
+    return MaterialData("diffuse", color, color_texture=texture,
+                        vertex_color=context.vertex_color(node.inputs["Color"]))
 
 
 # Blender's microfacet distributions: (multiscatter, mapped onto GGX with a warning).
@@ -226,6 +234,7 @@ def _glossy(node, context):
     color, texture = context.color(node.inputs["Color"])
     _warn_anisotropy(node, context)
     return MaterialData("conductor", color, color_texture=texture,
+                        vertex_color=context.vertex_color(node.inputs["Color"]),
                         multiscatter=distribution(node, context),
                         **_roughness_of(node, context))
 
@@ -234,6 +243,7 @@ def _glass(node, context):
     color, texture = context.color(node.inputs["Color"])
     return MaterialData("dielectric", color, _ior(context.value(node.inputs["IOR"])),
                         color_texture=texture, tint_reflection=True,
+                        vertex_color=context.vertex_color(node.inputs["Color"]),
                         multiscatter=distribution(node, context),
                         **_roughness_of(node, context))
 
@@ -245,7 +255,8 @@ def _refraction(node, context):
 
 def _translucent(node, context):
     color, texture = context.color(node.inputs["Color"])
-    return MaterialData("translucent", color, color_texture=texture)
+    return MaterialData("translucent", color, color_texture=texture,
+                        vertex_color=context.vertex_color(node.inputs["Color"]))
 
 
 def _transparent(node, context):

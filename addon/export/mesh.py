@@ -21,6 +21,7 @@ class MeshGeometry:
     uvs: object                  # float32 (3T, 2) or None
     slot_indices: np.ndarray     # int32 (T,): material slot of each triangle
     tangents: object = None      # float32 (3T, 4): MikkTSpace tangent, bitangent sign; or None
+    colors: object = None        # float32 (3T, 3): a colour attribute, linear; or None
 
     @property
     def triangle_count(self):
@@ -35,14 +36,18 @@ class MeshGeometry:
                             None if self.normals is None else self.normals[corners],
                             None if self.uvs is None else self.uvs[corners],
                             self.slot_indices[keep],
-                            None if self.tangents is None else self.tangents[corners])
+                            None if self.tangents is None else self.tangents[corners],
+                            None if self.colors is None else self.colors[corners])
 
 
-def mesh_geometry(mesh, need_uvs=False, check_cancel=None, need_tangents=False):
+def mesh_geometry(mesh, need_uvs=False, check_cancel=None, need_tangents=False,
+                  color_attribute=None):
     """Reads an (evaluated) mesh; returns None for a mesh without faces. check_cancel()
     runs between the steps (each a few tenths of a second for millions of triangles)
     and may raise to stop. need_tangents (normal maps): the render UV map's MikkTSpace
-    tangents, as Cycles reads them."""
+    tangents, as Cycles reads them. color_attribute: the name of a colour attribute to
+    read per corner ("" the default one; colors stays None where the mesh has no such
+    point or corner colour attribute)."""
     check_cancel = check_cancel or (lambda: None)
     mesh.calc_loop_triangles()
     check_cancel()
@@ -85,7 +90,37 @@ def mesh_geometry(mesh, need_uvs=False, check_cancel=None, need_tangents=False):
             # renderer refuses those, so they take the made ones.
             bad = ~(np.linalg.norm(tangents[:, :3], axis=1) > 1e-12)
             tangents[bad] = made[bad]
-    return MeshGeometry(positions, normals, uvs, slot_indices, tangents)
+    colors = None
+    if color_attribute is not None:
+        colors = corner_colors(mesh, color_attribute, corner_loops, corner_vertices)
+    return MeshGeometry(positions, normals, uvs, slot_indices, tangents, colors)
+
+
+def color_attribute_of(mesh, name):
+    """The mesh's colour attribute called name ("": the default one, which Cycles renders
+    for a Color Attribute node without a name), or None. mesh.color_attributes holds the
+    point and corner colours, byte and float, in 3.4 and 4.x alike."""
+    colors = mesh.color_attributes
+    if name == "":
+        name = colors.default_color_name
+    attribute = colors.get(name) if name else None
+    if attribute is None or attribute.domain not in ('POINT', 'CORNER'):
+        return None
+    return attribute
+
+
+def corner_colors(mesh, name, corner_loops, corner_vertices):
+    """(3T, 3) float32 linear rgb of a colour attribute at each triangle corner, or None.
+    Blender's "color" property is scene linear for byte colours too (their sRGB bytes
+    decoded as Blender decodes them); alpha is not read."""
+    attribute = color_attribute_of(mesh, name)
+    if attribute is None:
+        return None
+    values = np.empty(4 * len(attribute.data), dtype=np.float32)
+    attribute.data.foreach_get("color", values)
+    rgb = values.reshape(-1, 4)[:, :3]
+    index = corner_loops if attribute.domain == 'CORNER' else corner_vertices
+    return np.ascontiguousarray(rgb[index])
 
 
 def _corner_tangents(mesh, layer, corner_loops):
@@ -183,7 +218,7 @@ def transform_geometry(geometry, matrix):
         normals = geometry.normals @ normal_matrix.T.astype(np.float32)
         lengths = np.linalg.norm(normals, axis=1, keepdims=True)
         np.divide(normals, lengths, out=normals, where=lengths > 0.0)
-    uvs = geometry.uvs
+    uvs, colors = geometry.uvs, geometry.colors
     tangents = None
     if geometry.tangents is not None:
         tangents = geometry.tangents.copy()
@@ -192,12 +227,12 @@ def transform_geometry(geometry, matrix):
         np.divide(turned, lengths, out=turned, where=lengths > 0.0)
         tangents[:, :3] = turned
     if np.linalg.det(linear) < 0.0:
-        positions, normals, uvs, tangents = (
+        positions, normals, uvs, tangents, colors = (
             None if corners is None else _swap_corners(corners)
-            for corners in (positions, normals, uvs, tangents))
+            for corners in (positions, normals, uvs, tangents, colors))
         if tangents is not None:
             tangents[:, 3] = -tangents[:, 3]
-    return MeshGeometry(positions, normals, uvs, geometry.slot_indices, tangents)
+    return MeshGeometry(positions, normals, uvs, geometry.slot_indices, tangents, colors)
 
 
 def _swap_corners(corners):

@@ -5,6 +5,11 @@ renderer reads one (colours; scalars through one channel of a texel).
 Blender converts a colour plugged into a float input to its luminance; an Image Texture's
 Alpha output is the texel's alpha. A Separate RGB / Separate Color node between an image
 and a float input picks one channel (glTF imports wire metallic and roughness so).
+
+A colour input fed by a mesh's colour attribute (the Color Attribute node, 3.x's Vertex
+Color node, or an Attribute node's Color output), directly or through a Mix set to Multiply
+at factor 1 with a constant colour, is that constant times the vertex colour, which the
+renderer interpolates per corner (vertex_color_input).
 """
 
 import math
@@ -55,7 +60,12 @@ def image_texture_index(node, warn, textures):
 
 def socket_color_texture(socket, warn, textures, clamp=True):
     """(rgb, texture index) of a colour input: an Image Texture node becomes a texture
-    (rgb white, since the renderer multiplies them); anything else is socket_color."""
+    (rgb white, since the renderer multiplies them); a colour attribute the constant it is
+    multiplied by (vertex_color_input); anything else is socket_color."""
+    vertex = vertex_color_input(socket)
+    if vertex is not None:
+        rgb = vertex[0]
+        return (clamp01(rgb) if clamp else tuple(_finite(c) for c in rgb)), -1
     node = linked_node(socket)
     if textures is None or node is None or node.type != 'TEX_IMAGE':
         return socket_color(socket, warn, clamp), -1
@@ -63,6 +73,64 @@ def socket_color_texture(socket, warn, textures, clamp=True):
     if index < 0:
         return socket_color(socket, warn, clamp, linked=False), -1
     return (1.0, 1.0, 1.0), index
+
+
+def vertex_color_input(socket):
+    """(constant rgb, attribute name) when socket's colour is a mesh colour attribute times
+    a constant, else None. The name is "" for the mesh's default (render) colour attribute,
+    as the Color Attribute node's empty Layer means."""
+    node, output = linked_output(socket)
+    constant = (1.0, 1.0, 1.0)
+    operands = _multiply_operands(node)
+    if operands is not None:
+        first, second = operands
+        for attribute_socket, other in ((first, second), (second, first)):
+            if other.is_linked and linked_node(other) is not None:
+                other_node = linked_node(other)
+                if other_node.type != 'RGB':
+                    continue
+                color = tuple(other_node.outputs[0].default_value[:3])
+            else:
+                color = tuple(other.default_value[:3])
+            name = _color_attribute_name(*linked_output(attribute_socket))
+            if name is not None:
+                return tuple(_finite(c) for c in color), name
+        return None
+    name = _color_attribute_name(node, output)
+    return None if name is None else (constant, name)
+
+
+def _color_attribute_name(node, output):
+    """The attribute a Color Attribute / Vertex Color / Attribute node's Color output reads,
+    or None for any other node or output."""
+    if node is None or output is None or output.name != "Color":
+        return None
+    if node.type == 'VERTEX_COLOR':  # 3.2+'s Color Attribute, 3.x's Vertex Color
+        return node.layer_name
+    if node.type == 'ATTRIBUTE' and node.attribute_type == 'GEOMETRY':
+        return node.attribute_name
+    return None
+
+
+def _multiply_operands(node):
+    """The two colour sockets of a Mix (Color) node set to Multiply at factor 1 (unlinked),
+    whose result is their product; None for anything else. 3.x's MixRGB names them
+    Color1 / Color2, 4.x's Mix node A_Color / B_Color (identifiers: its float and vector
+    sockets share the names A and B)."""
+    if node is None or node.type not in ('MIX_RGB', 'MIX') or node.blend_type != 'MULTIPLY':
+        return None
+    if node.type == 'MIX':
+        if node.data_type != 'RGBA' or getattr(node, "clamp_result", False):
+            return None
+        sockets = {s.identifier: s for s in node.inputs}
+        factor, first, second = sockets["Factor_Float"], sockets["A_Color"], sockets["B_Color"]
+    else:
+        if node.use_clamp:
+            return None
+        factor, first, second = node.inputs["Fac"], node.inputs["Color1"], node.inputs["Color2"]
+    if factor.is_linked or factor.default_value != 1.0:
+        return None
+    return first, second
 
 
 _SEPARATE_CHANNELS = {"R": "red", "G": "green", "B": "blue",

@@ -51,6 +51,7 @@ def convert_principled(node, context):
         context(f"{label}: {message}")
 
     base_color, base_texture = context.color(node.inputs["Base Color"])
+    base_vertex = context.vertex_color(node.inputs["Base Color"])
     roughness = context.roughness(node.inputs["Roughness"])
     multiscatter = distribution(node, context)
     ior = _ior(context.value(node.inputs["IOR"]))
@@ -74,19 +75,21 @@ def convert_principled(node, context):
 
     def lobe(kind, **kwargs):
         return MaterialData(kind, base_color, color_texture=base_texture,
-                            multiscatter=multiscatter, **{**roughness, **kwargs})
+                            vertex_color=base_vertex, multiscatter=multiscatter,
+                            **{**roughness, **kwargs})
 
     metal = lobe("conductor", schlick=True)
     if v2 and _non_white(specular_tint):
         metal = replace(metal, f82_tint=specular_tint)
     if abs(layer_ior - 1.0) < 1e-6:
         # No specular (Specular or Specular IOR Level 0): the diffuse base alone.
-        plastic = MaterialData("diffuse", base_color, color_texture=base_texture)
+        plastic = MaterialData("diffuse", base_color, color_texture=base_texture,
+                               vertex_color=base_vertex)
     elif v2:
         plastic = lobe("plastic", ior=layer_ior)
     else:
         diffuse = MaterialData("diffuse", tuple(2.0 * c for c in base_color),
-                               color_texture=base_texture)
+                               color_texture=base_texture, vertex_color=base_vertex)
         specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
                                 **roughness)
         plastic = Mix(diffuse, Mix(BLACK, specular, mode="fresnel", ior=layer_ior))

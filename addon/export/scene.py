@@ -64,6 +64,7 @@ class SceneBuilder:
         self._normals = []
         self._uvs = []
         self._tangents = []
+        self._colors = []
         self._material_ids = []
         self._material_index = {}
         self._material_size = {}
@@ -118,11 +119,17 @@ class SceneBuilder:
         tangents)."""
         return self.materials[index].normal_texture >= 0
 
+    def material_vertex_colors(self, index):
+        """The colour attributes the material rooted at index (or its mixed parts) multiplies
+        in, as a set of names ("" the mesh's default)."""
+        return {m.vertex_color for m in self.material_entries(index)
+                if m.vertex_color is not None}
+
     def add_light(self, light):
         self.lights.append(light)
 
     def add_triangles(self, positions, material_ids, normals=None, uvs=None, source="mesh",
-                      tangents=None):
+                      tangents=None, colors=None):
         """World-space corners (3T, 3); material_ids is one index or a (T,) array.
         Triangles with a non-finite corner are dropped here with a warning."""
         count = len(positions) // 3
@@ -139,6 +146,7 @@ class SceneBuilder:
             normals = None if normals is None else normals[keep]
             uvs = None if uvs is None else uvs[keep]
             tangents = None if tangents is None else tangents[keep]
+            colors = None if colors is None else colors[keep]
             material_ids = material_ids[finite]
         if normals is not None:
             bad = ~np.isfinite(normals).all(axis=1)
@@ -149,6 +157,7 @@ class SceneBuilder:
         self._normals.append(normals)
         self._uvs.append(uvs)
         self._tangents.append(tangents)
+        self._colors.append(colors)
         self._material_ids.append(np.ascontiguousarray(material_ids))
 
     def add_instance(self, key, matrix, make_mesh):
@@ -203,6 +212,15 @@ class SceneBuilder:
         return _concatenate(
             [t if t is not None else np.tile(np.float32([1, 0, 0, 1]), (len(p), 1))
              for p, t in zip(self._positions, self._tangents)], np.float32)
+
+    def colors(self):
+        """(V, 3) float32 linear vertex colours when a mesh has them, else None; the other
+        meshes' corners are white, which only materials without vertex colours see."""
+        if all(c is None for c in self._colors):
+            return None
+        return _concatenate(
+            [c if c is not None else np.ones((len(p), 3), np.float32)
+             for p, c in zip(self._positions, self._colors)], np.float32)
 
 
 def _concatenate(arrays, dtype):
@@ -274,7 +292,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                      "(Output > Motion Blur)")
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
-        tangents=builder.tangents(),
+        tangents=builder.tangents(), colors=builder.colors(),
         material_ids=material_ids, materials=builder.materials or [DEFAULT_MATERIAL],
         lights=builder.lights, camera=camera, environment=environment,
         width=width, height=height, textures=builder.textures.textures,
@@ -333,9 +351,14 @@ def export_tables(depsgraph, previous):
         if builder.material_textured(index) != any(
                 m.textured() for m in previous.materials[index:index + len(entries)]):
             return None
-        # A normal map needs its meshes' tangents, read only for normal-mapped materials.
+        # A normal map needs its meshes' tangents, read only for normal-mapped materials;
+        # vertex colours are read only for the attributes materials name.
         if (builder.material_normal_mapped(index) !=
                 (previous.materials[index].normal_texture >= 0)):
+            return None
+        if builder.material_vertex_colors(index) != {
+                m.vertex_color for m in previous.materials[index:index + len(entries)]
+                if m.vertex_color is not None}:
             return None
     for instance in depsgraph.object_instances:
         if instance.object.type == 'LIGHT':
@@ -383,7 +406,8 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
     builder.check_cancel()
     slots = np.clip(geometry.slot_indices, 0, len(slot_materials) - 1)
     builder.add_triangles(world.positions, slot_materials[slots], world.normals, world.uvs,
-                          source=f"object '{obj.name}'", tangents=world.tangents)
+                          source=f"object '{obj.name}'", tangents=world.tangents,
+                          colors=world.colors)
 
 
 def _export_instance(obj, matrix, builder, geometry_cache):
@@ -431,6 +455,8 @@ def _instance_mesh(geometry, slot_materials, obj, builder):
                     else np.ascontiguousarray(geometry.uvs, np.float32)),
             "tangents": (None if geometry.tangents is None
                          else np.ascontiguousarray(geometry.tangents, np.float32)),
+            "colors": (None if geometry.colors is None
+                       else np.ascontiguousarray(geometry.colors, np.float32)),
             "material_ids": np.ascontiguousarray(slot_materials[slots], dtype=np.uint32)}
 
 
@@ -477,6 +503,13 @@ def _read_object(obj, builder):
     slot_materials = _slot_materials(obj, builder)
     need_uvs = any(builder.material_textured(int(i)) for i in slot_materials)
     need_tangents = any(builder.material_normal_mapped(int(i)) for i in slot_materials)
+    color_names = sorted(set().union(*(builder.material_vertex_colors(int(i))
+                                       for i in slot_materials)))
+    color_attribute = color_names[0] if color_names else None
+    if len(color_names) > 1:
+        builder.warn(f"object '{obj.name}': its materials read the colour attributes "
+                     f"{', '.join(repr(n) for n in color_names)}; one per object is rendered: "
+                     f"'{color_attribute}' for all of them")
     volumes = [slot.material for slot in obj.material_slots if volume_only(slot.material)]
     if volumes and len(volumes) == len(obj.material_slots):
         builder.warn(f"object '{obj.name}': its material '{volumes[0].name}' has only a "
@@ -489,7 +522,8 @@ def _read_object(obj, builder):
         builder.warn(f"object '{obj.name}' could not be converted to a mesh: {error}")
         return None, None
     try:
-        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel, need_tangents)
+        geometry = (mesh_geometry(mesh, need_uvs, builder.check_cancel, need_tangents,
+                                  color_attribute)
                     if mesh is not None else None)
     finally:
         obj.to_mesh_clear()
@@ -499,6 +533,12 @@ def _read_object(obj, builder):
         volume_slots = np.array([volume_only(slot.material) for slot in obj.material_slots])
         keep = ~volume_slots[np.clip(geometry.slot_indices, 0, len(volume_slots) - 1)]
         geometry = geometry.subset(keep)
+    if color_attribute is not None and geometry is not None and geometry.colors is None:
+        # Cycles reads a colour attribute the mesh lacks as black.
+        shown = f"'{color_attribute}'" if color_attribute else "a default"
+        builder.warn(f"object '{obj.name}' has no {shown} point or corner colour attribute "
+                     "that its material reads; rendering it black, as Cycles does")
+        geometry = replace(geometry, colors=np.zeros_like(geometry.positions))
     if need_uvs and geometry is not None and geometry.uvs is None:
         builder.warn(f"object '{obj.name}' has a textured material but no UV map; "
                      "its texture is sampled at UV (0, 0)")

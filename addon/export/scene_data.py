@@ -42,6 +42,9 @@ class MaterialData:
     bump_strength: float = 1.0
     bump_distance: float = 1.0       # negative: Invert
     emission_texture: int = -1       # emission x texel (the whole material's)
+    # The mesh colour attribute the colour is multiplied by ("" the mesh's default one), or
+    # None; the module's Material takes only whether there is one (engine/native_scene.py).
+    vertex_color: object = None
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
@@ -127,6 +130,7 @@ class SceneData:
     # root index): what export_tables replays after a material, light or world edit.
     material_keys: list = field(default_factory=list)
     tangents: object = None          # float32 (V, 4) or None: normal maps' tangent frames
+    colors: object = None            # float32 (V, 3) or None: linear vertex colours
 
     @property
     def triangle_count(self):

@@ -60,6 +60,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     const bool tangents = !view.tangents.empty();
     if (!view.normals.empty() || tangents) packed.normals.resize(3 * n);
     if (!view.uvs.empty()) packed.uvs.resize(2 * n);
+    if (!view.colors.empty()) packed.colors.resize(3 * n);
     auto fill = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
@@ -88,6 +89,9 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
                 packed.uvs[2 * i] = glm::vec4(view.uvs[tri.x], view.uvs[tri.y]);
                 packed.uvs[2 * i + 1] = glm::vec4(view.uvs[tri.z], 0.0f, 0.0f);
             }
+            if (!view.colors.empty())
+                for (int k = 0; k < 3; ++k)
+                    packed.colors[3 * i + k] = glm::vec4(view.colors[tri[k]], 0.0f);
         }
     };
     if (parallel && n >= 65536) {
@@ -107,7 +111,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
     s.bytes_total =
         packed.nodes.size() * sizeof(glm::vec4) + packed.links.size() * sizeof(glm::ivec2) +
         packed.triangles.size() * sizeof(glm::vec4) + packed.normals.size() * sizeof(glm::vec4) +
-        packed.uvs.size() * sizeof(glm::vec4);
+        (packed.uvs.size() + packed.colors.size()) * sizeof(glm::vec4);
     s.bytes_per_triangle = n == 0 ? 0.0 : static_cast<double>(s.bytes_total) / n;
     return packed;
 }

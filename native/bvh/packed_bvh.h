@@ -18,6 +18,8 @@
 //                by pack_tangent (scene/tangent_space.h) as float bits, or 0 without tangents
 //   uvs        empty unless the mesh has uvs; 2 vec4 per packed triangle:
 //                (u0, v0, u1, v1), (u2, v2, 0, 0)
+//   colors     empty unless the mesh has vertex colours; 3 vec4 per packed triangle:
+//                (c0.rgb, 0), (c1.rgb, 0), (c2.rgb, 0), linear
 //
 // Storage per triangle is reported in stats (Hachisuka 2015 counts about 9 vec4 per
 // triangle for a TBVH and 14 for the MTBVH with its six link sets).
@@ -39,7 +41,7 @@ struct BvhStats {
     std::size_t nodes = 0, leaves = 0;
     int max_depth = 0;
     double build_seconds = 0.0, thread_seconds = 0.0, pack_seconds = 0.0;
-    std::size_t bytes_total = 0;      // nodes + links + triangles + normals + uvs
+    std::size_t bytes_total = 0;      // nodes + links + triangles + normals + uvs + colors
     double bytes_per_triangle = 0.0;  // bytes_total / triangles (0 when empty)
     double total_seconds() const { return build_seconds + thread_seconds + pack_seconds; }
     double vec4_per_triangle() const { return bytes_per_triangle / 16.0; }
@@ -53,6 +55,7 @@ struct PackedBvh {
     std::vector<glm::vec4> triangles;
     std::vector<glm::vec4> normals;
     std::vector<glm::vec4> uvs;
+    std::vector<glm::vec4> colors;
     BvhStats stats;
 };
 

@@ -106,10 +106,11 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
     TwoLevelStats& s = out.stats;
     s.meshes = bottoms.size();
     s.instances = instances.size();
-    bool normals = false, uvs = false;
+    bool normals = false, uvs = false, colors = false;
     for (const PackedBvh& b : bottoms) {
         normals |= !b.normals.empty();
         uvs |= !b.uvs.empty();
+        colors |= !b.colors.empty();
         s.mesh_triangles += b.triangle_count;
     }
     const auto start = std::chrono::steady_clock::now();
@@ -166,6 +167,7 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
     out.triangles.reserve(3 * tri_total);
     if (normals) out.normals.reserve(3 * tri_total);
     if (uvs) out.uvs.reserve(2 * tri_total);
+    if (colors) out.colors.reserve(3 * tri_total);
     for (std::size_t m = 0; m < bottoms.size(); ++m) {
         throw_if_cancelled(options.cancel);
         const PackedBvh& b = bottoms[m];
@@ -195,6 +197,12 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
             else
                 out.uvs.insert(out.uvs.end(), b.uvs.begin(), b.uvs.end());
         }
+        if (colors) {  // a mesh without colours is white: its materials' colours unchanged
+            if (b.colors.empty())
+                out.colors.resize(out.colors.size() + 3 * b.triangle_count, glm::vec4(1.0f));
+            else
+                out.colors.insert(out.colors.end(), b.colors.begin(), b.colors.end());
+        }
         node_base += b.node_count;
         tri_base += b.triangle_count;
         s.bottom_nodes += b.node_count;
@@ -209,7 +217,7 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
     }
     s.top_seconds = seconds_since(start);
     s.bytes_total = (out.nodes.size() + out.triangles.size() + out.normals.size() + out.uvs.size() +
-                     out.instances.size()) *
+                     out.colors.size() + out.instances.size()) *
                         sizeof(glm::vec4) +
                     out.links.size() * sizeof(glm::ivec2);
     return out;

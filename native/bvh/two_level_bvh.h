@@ -9,8 +9,8 @@
 //   nodes, links  the top tree first (nodes [0, top_node_count), links [0, 6 x that)), its
 //                 leaves holding (lo.w = instance index, hi.w = 1); then each mesh's tree,
 //                 its node indices, link targets and leaf triangle ranges made absolute.
-//   triangles, normals, uvs  every mesh's packed triangles, one after another; material
-//                 and original triangle ids stay the mesh's own.
+//   triangles, normals, uvs, colors  every mesh's packed triangles, one after another;
+//                 material and original triangle ids stay the mesh's own.
 //   instances     kInstanceRecordVec4 vec4 per instance:
 //                   [0..2] rows of A^-1, w = the translation T (world -> instance:
 //                          A^-1 (x - T); subtracting T first keeps the precision of
@@ -47,14 +47,14 @@ struct TwoLevelStats {
     std::size_t instanced_triangles = 0;  // what a flattened copy would hold
     std::size_t top_nodes = 0, bottom_nodes = 0;
     double bottom_seconds = 0.0, top_seconds = 0.0;
-    std::size_t bytes_total = 0;  // nodes + links + triangles + normals + uvs + instances
+    std::size_t bytes_total = 0;  // nodes + links + triangles + normals + uvs + colors + instances
 };
 
 struct TwoLevelBvh {
     std::uint32_t top_node_count = 0;
     std::vector<glm::vec4> nodes;
     std::vector<glm::ivec2> links;
-    std::vector<glm::vec4> triangles, normals, uvs;
+    std::vector<glm::vec4> triangles, normals, uvs, colors;
     std::vector<glm::vec4> instances;
     TwoLevelStats stats;
 };
@@ -70,8 +70,8 @@ Aabb instance_world_box(const glm::vec3& lo, const glm::vec3& hi, const glm::mat
 // Throws std::invalid_argument for an instance naming a mesh out of range or a transform
 // that is not finite, affine and invertible; Cancelled when options.cancel is set. Meshes
 // without instances are built all the same (cheap) so that mesh indices stay stable; empty
-// meshes are allowed and never hit. normals / uvs are uploaded when any mesh has them
-// (zeros for the others).
+// meshes are allowed and never hit. normals / uvs / colors are uploaded when any mesh has
+// them (zeros for the others' normals and uvs, white for their colours).
 TwoLevelBvh build_two_level_bvh(std::span<const ValidMesh> meshes,
                                 std::span<const Instance> instances,
                                 const BvhBuildOptions& options);

@@ -41,6 +41,7 @@ struct Loader {
     bool any_normals = false;
     bool any_uvs = false;
     bool any_tangents = false;
+    bool any_colors = false;
 
     // Whether any primitive of the file has TANGENT (the others then get tangents made from
     // their uvs; a file without any leaves them to the renderer).
@@ -76,6 +77,11 @@ struct Loader {
     void add_light(const tinygltf::Node& node, const glm::mat4& to_world,
                    const std::string& element);
     std::uint32_t material_of(int material, const std::string& element);
+    // glTF's base colour is baseColorFactor x baseColorTexture x COLOR_0: the material of a
+    // primitive with COLOR_0, and every leaf of it if it became a Mix, multiplies it in.
+    void multiply_vertex_colors(std::uint32_t material, int depth = 0);
+    std::vector<float> read_colors(int accessor, std::size_t vertex_count,
+                                   const std::string& what);
 };
 
 std::string node_name(int index, const tinygltf::Node& node) {
@@ -210,6 +216,46 @@ std::uint32_t Loader::material_of(int material, const std::string& element) {
     return std::uint32_t(default_material);
 }
 
+void Loader::multiply_vertex_colors(std::uint32_t material, int depth) {
+    Material& m = out.scene.materials[material];
+    m.vertex_color = true;
+    if (m.kind != MaterialKind::Mix || depth > 16) return;
+    for (const std::int32_t leaf : {m.mix_a, m.mix_b})
+        if (leaf >= 0 && std::size_t(leaf) < out.scene.materials.size())
+            multiply_vertex_colors(std::uint32_t(leaf), depth + 1);
+}
+
+// COLOR_0 as linear rgb: VEC3 or VEC4 (alpha is not read: the renderer has no vertex
+// alpha), float or normalized unsigned byte or short (glTF 2.0 section 3.7.2.1).
+std::vector<float> Loader::read_colors(int accessor, std::size_t vertex_count,
+                                       const std::string& what) {
+    const std::size_t count = gltf::accessor_count(model, accessor, what, file);
+    const tinygltf::Accessor& a = model.accessors[std::size_t(accessor)];
+    if (a.type != TINYGLTF_TYPE_VEC3 && a.type != TINYGLTF_TYPE_VEC4)
+        fail(what, "must be VEC3 or VEC4, the accessor has type " + std::to_string(a.type));
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)
+        fail(what, "integer colours must be normalized (glTF 2.0 section 3.7.2.1)");
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT &&
+        a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+        fail(what, "must be float, unsigned byte or unsigned short, the accessor has component "
+                   "type " + std::to_string(a.componentType));
+    if (count != vertex_count)
+        fail(what, "has " + std::to_string(count) + " elements, POSITION has " +
+                       std::to_string(vertex_count));
+    const int components = a.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+    const std::vector<float> read = gltf::read_floats(model, accessor, components, what, file);
+    std::vector<float> rgb(3 * vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v)
+        for (int c = 0; c < 3; ++c) {
+            const float x = read[std::size_t(components) * v + std::size_t(c)];
+            if (x < 0.0f)
+                fail(what, "element " + std::to_string(v) + " has a negative component");
+            rgb[3 * v + std::size_t(c)] = x;
+        }
+    return rgb;
+}
+
 // Triangles from a list, strip or fan (glTF 2.0 section 3.7.2.1); other modes give none.
 std::vector<glm::uvec3> assemble(const std::vector<std::uint32_t>& v, int mode) {
     std::vector<glm::uvec3> t;
@@ -289,7 +335,11 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
                                                       " elements, POSITION has " +
                                                       std::to_string(vertex_count));
     }
+    std::vector<float> colors;
+    if (const int a = attribute("COLOR_0"); a >= 0)
+        colors = read_colors(a, vertex_count, element + ".attributes.COLOR_0");
     const std::uint32_t material = material_of(p.material, element);
+    if (!colors.empty()) multiply_vertex_colors(material);
 
     // Positions by the node's matrix, normals by its inverse transpose; a mirroring
     // transform (negative determinant) reverses the winding (glTF 2.0 section 3.7.4).
@@ -312,6 +362,11 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
             n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f);
         }
         target.normals.push_back(n);
+        // White where the primitive has no COLOR_0 (the specification's default), so that
+        // its mesh keeps one array; dropped below if no primitive has one.
+        target.colors.push_back(colors.empty() ? glm::vec3(1.0f)
+                                               : glm::vec3(colors[3 * v], colors[3 * v + 1],
+                                                           colors[3 * v + 2]));
         target.uvs.push_back(uvs.empty()
                                  ? glm::vec2(0.0f)
                                  : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]));  // v flipped
@@ -331,6 +386,7 @@ void Loader::add_primitive(const tinygltf::Primitive& p, const glm::mat4& to_wor
     any_tangents |= !tangents.empty();
     any_normals |= !normals.empty();
     any_uvs |= !uvs.empty();
+    any_colors |= !colors.empty();
     for (glm::uvec3 t : triangles) {
         if (mirrored) std::swap(t.y, t.z);
         target.triangles.push_back(t + glm::uvec3(std::uint32_t(base)));
@@ -531,6 +587,7 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
     if (!loader.any_uvs) mesh->uvs.clear();
     // No TANGENT anywhere: the renderer makes them where a normal map needs them.
     if (!loader.any_tangents) mesh->tangents.clear();
+    if (!loader.any_colors) mesh->colors.clear();
     // Instance meshes: vertices of primitives without normals keep zero normals (the
     // renderer's geometric normal); arrays no primitive had are dropped.
     for (const std::shared_ptr<OwnedMesh>& m : loader.instance_meshes) {
@@ -539,6 +596,7 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
             m->normals.clear();
         if (!loader.any_uvs) m->uvs.clear();
         if (!loader.any_tangents) m->tangents.clear();
+        if (!loader.any_colors) m->colors.clear();
     }
     std::vector<Instance> instances = std::move(out.scene.instances);
     Scene scene = make_scene(mesh);

@@ -125,6 +125,7 @@ py::list materials_list(const Scene& s) {
         d["normal_strength"] = m.normal_strength;
         d["bump_texture"] = m.bump_texture;
         d["emission_texture"] = m.emission_texture;
+        d["vertex_color"] = m.vertex_color;
         out.append(d);
     }
     return out;
@@ -165,6 +166,7 @@ py::dict scene_contents(const Scene& s) {
     d["normals"] = array_of<float>(s.mesh.normals, 3);
     d["uvs"] = array_of<float>(s.mesh.uvs, 2);
     d["tangents"] = array_of<float>(s.mesh.tangents, 4);
+    d["colors"] = array_of<float>(s.mesh.colors, 3);
     py::array_t<std::uint32_t> ids(static_cast<py::ssize_t>(s.mesh.material_ids.size()));
     if (!s.mesh.material_ids.empty())
         std::memcpy(ids.mutable_data(), s.mesh.material_ids.data(), s.mesh.material_ids.size() * 4);

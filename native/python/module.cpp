@@ -128,7 +128,8 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                        const std::string& mix_mode, float mix_ior, int normal_texture,
                        float normal_strength, int bump_texture, float bump_strength,
                        float bump_distance, int emission_texture,
-                       std::array<float, 3> f82_tint, bool visible_in_reflections) {
+                       std::array<float, 3> f82_tint, bool visible_in_reflections,
+                       bool vertex_color) {
     Material m;
     m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
@@ -161,6 +162,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.f82_tint = {f82_tint[0], f82_tint[1], f82_tint[2]};
     m.mix_mode = parse_name<MixFactor>(mix_mode, kMixModes, "Material mix_mode");
     m.mix_ior = mix_ior;
+    m.vertex_color = vertex_color;
     return m;
 }
 
@@ -212,7 +214,7 @@ MeshView take_mesh(const py::handle& item, const std::string& name, ArrayOwner& 
     for (const auto& kv : d) {
         const std::string key = py::str(kv.first);
         if (key != "positions" && key != "indices" && key != "normals" && key != "uvs" &&
-            key != "material_ids" && key != "tangents")
+            key != "material_ids" && key != "tangents" && key != "colors")
             throw py::value_error(name + ": unknown key '" + key + "'");
     }
     if (!d.contains("positions") || !d.contains("indices"))
@@ -239,6 +241,11 @@ MeshView take_mesh(const py::handle& item, const std::string& name, ArrayOwner& 
         auto a = take_array<float>(d["tangents"], (n + "tangents").c_str(), 4, "float32");
         owner.arrays.push_back(a);
         m.tangents = {reinterpret_cast<const glm::vec4*>(a.data()), std::size_t(a.shape(0))};
+    }
+    if (d.contains("colors") && !d["colors"].is_none()) {
+        auto a = take_array<float>(d["colors"], (n + "colors").c_str(), 3, "float32");
+        owner.arrays.push_back(a);
+        m.colors = {reinterpret_cast<const glm::vec3*>(a.data()), std::size_t(a.shape(0))};
     }
     if (d.contains("material_ids") && !d["material_ids"].is_none()) {
         auto a = take_array<std::uint32_t>(d["material_ids"], (n + "material_ids").c_str(), 0,
@@ -304,7 +311,8 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
                     std::vector<Texture> textures, int environment_texture,
                     const py::object& environment_to_world, const py::object& instance_meshes,
                     const py::object& instances, const py::object& instance_mesh,
-                    const py::object& instance_material_offset, const py::object& tangents) {
+                    const py::object& instance_material_offset, const py::object& tangents,
+                    const py::object& colors) {
     auto owner = std::make_shared<ArrayOwner>();
     Scene scene;
     add_instances(scene, *owner, instance_meshes, instances, instance_mesh,
@@ -328,6 +336,11 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
         auto a = take_array<float>(tangents, "tangents", 4, "float32");
         owner->arrays.push_back(a);
         scene.mesh.tangents = {reinterpret_cast<const glm::vec4*>(a.data()), std::size_t(a.shape(0))};
+    }
+    if (!colors.is_none()) {
+        auto a = take_array<float>(colors, "colors", 3, "float32");
+        owner->arrays.push_back(a);
+        scene.mesh.colors = {reinterpret_cast<const glm::vec3*>(a.data()), std::size_t(a.shape(0))};
     }
     if (!material_ids.is_none()) {
         auto m = take_array<std::uint32_t>(material_ids, "material_ids", 0, "uint32");
@@ -510,7 +523,7 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("bump_texture") = -1, py::arg("bump_strength") = 1.0f,
              py::arg("bump_distance") = 1.0f, py::arg("emission_texture") = -1,
              py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f},
-             py::arg("visible_in_reflections") = true);
+             py::arg("visible_in_reflections") = true, py::arg("vertex_color") = false);
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
@@ -610,7 +623,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("environment_to_world") = py::none(),
              py::arg("instance_meshes") = py::none(), py::arg("instances") = py::none(),
              py::arg("instance_mesh") = py::none(),
-             py::arg("instance_material_offset") = py::none(), py::arg("tangents") = py::none())
+             py::arg("instance_material_offset") = py::none(), py::arg("tangents") = py::none(),
+             py::arg("colors") = py::none())
         .def_property_readonly("instance_count", [](const Scene& s) { return s.instances.size(); })
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def("arrays", [](const Scene& s) {

@@ -70,6 +70,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
     mesh->normals.assign(in.normals.begin(), in.normals.end());
     mesh->uvs.assign(in.uvs.begin(), in.uvs.end());
     mesh->tangents.assign(in.tangents.begin(), in.tangents.end());
+    mesh->colors.assign(in.colors.begin(), in.colors.end());
     if (in.material_ids.empty())
         mesh->material_ids.assign(in.triangles.size(), 0u);
     else
@@ -102,6 +103,8 @@ SceneGeometry with_area_lights(const Scene& scene) {
         if (!mesh->uvs.empty()) mesh->uvs.insert(mesh->uvs.end(), p.size(), glm::vec2(0.0f));
         if (!mesh->tangents.empty())  // any tangent: a light has no normal map
             mesh->tangents.insert(mesh->tangents.end(), p.size(), glm::vec4(1, 0, 0, 1));
+        if (!mesh->colors.empty())  // white: a light's material reads no vertex colour
+            mesh->colors.insert(mesh->colors.end(), p.size(), glm::vec3(1.0f));
         mesh->append(p, t, material);
     }
     g.mesh = mesh->view();

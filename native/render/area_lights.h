@@ -20,6 +20,7 @@ enum MaterialFlag : std::uint32_t {
     kMaterialCastsNoShadow = 8u,     // photons pass through (stored on diffuse ones)
     kMaterialMayBeTransparent = 16u, // a Mix with a Transparent leaf: shadow rays may pass
     kMaterialHiddenFromReflections = 32u,  // eye rays after a bounce pass it
+    kMaterialVertexColor = 64u,      // its colour times the hit's vertex colour
 };
 
 // The mesh and material table the renderer builds its BVH from: the scene's own when it has

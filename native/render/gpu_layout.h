@@ -112,6 +112,13 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 // compensation) pairs per enabled render pass and pixel, laid out by PassLayout
 // (render/render_passes.h), which also names the offsets' defines.
 
+// `buffer VisiblePoints` (shaders/common/sppm_buffers.glsl): vec4s per pixel, as its
+// VISIBLE_POINT_VEC4 counts them: 3 for the closed model, 4 with microfacet lobes, 5 with
+// vertex colours too (the gather's f(wo, wi) reads the point's colour).
+inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool vertex_colors) {
+    return microfacet ? (vertex_colors ? 5 : 4) : 3;
+}
+
 // Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
 inline constexpr unsigned kRadiusStatsThreads = 256;
 

@@ -86,9 +86,10 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
                                              bool keep_uvs) {
     auto out = std::make_shared<OwnedMesh>();
     bool normals = !world.normals.empty(), uvs = keep_uvs && !world.uvs.empty();
-    bool tangents = !world.tangents.empty();
+    bool tangents = !world.tangents.empty(), colors = !world.colors.empty();
     for (const MeshView& m : scene.instance_meshes) {
         normals |= !m.normals.empty();
+        colors |= !m.colors.empty();
         tangents |= !m.tangents.empty();
         uvs |= keep_uvs && !m.uvs.empty();
     }
@@ -111,6 +112,12 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
                 out->uvs.resize(out->positions.size(), glm::vec2(0.0f));
             else
                 out->uvs.insert(out->uvs.end(), m.uvs.begin(), m.uvs.end());
+        }
+        if (colors) {  // a mesh without colours is white: its materials' colours unchanged
+            if (m.colors.empty())
+                out->colors.resize(out->positions.size(), glm::vec3(1.0f));
+            else
+                out->colors.insert(out->colors.end(), m.colors.begin(), m.colors.end());
         }
         // Tangents turn with the surface (A t); a mirror reverses the bitangent's side of the
         // tangent, so its sign flips (as Cycles does for negatively scaled objects).

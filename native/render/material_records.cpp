@@ -42,7 +42,7 @@ bool needs_microfacet(const Material& m) {
 
 std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         const std::vector<std::uint32_t>& flags, bool textures,
-                                        bool microfacet) {
+                                        bool microfacet, bool vertex_colors) {
     std::vector<GpuMaterial> records;
     std::vector<glm::vec4> tables;
     const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * kGpuMaterialVec4);
@@ -67,7 +67,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
     for (std::size_t k = 0; k < materials.size(); ++k) {
         const Material& m = materials[k];
         GpuMaterial g{};
-        g.flags = flags[k];
+        g.flags = flags[k] | (vertex_colors && m.vertex_color ? kMaterialVertexColor : 0u);
         g.color = m.color;
         g.kind = static_cast<float>(m.kind);
         g.emission = m.emission;

@@ -55,6 +55,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
         bvh.triangles = std::move(two.triangles);
         bvh.normals = std::move(two.normals);
         bvh.uvs = std::move(two.uvs);
+        bvh.colors = std::move(two.colors);
         bvh.node_count = two.top_node_count;
         BvhStats& st = bvh.stats;
         st.triangles = two.stats.mesh_triangles;

@@ -126,6 +126,10 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
                 g.make_buffer(BINDING_UVS, bytes(g.bvh.uvs), g.bvh.uvs.data(), "uvs");
             else if (settings.full_variant)
                 g.make_buffer(BINDING_UVS, 16, nullptr, "uvs");
+            if (prepared.vertex_colors)  // empty in the full variant without colours
+                g.make_buffer(BINDING_VERTEX_COLORS, std::max<std::size_t>(bytes(g.bvh.colors), 16),
+                              g.bvh.colors.empty() ? nullptr : g.bvh.colors.data(),
+                              "vertex colours");
             if (use.materials || use.environment || settings.full_variant) {
                 GLint max_size = 0, max_layers = 0;
                 glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
@@ -152,7 +156,8 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
-            const std::size_t point_vec4s = prepared.microfacet ? 4 : 3;
+            const std::size_t point_vec4s =
+                visible_point_vec4s(prepared.microfacet, prepared.vertex_colors);
             g.require_fits(px * point_vec4s * 16, "visible points", true);
             g.require_fits(ph * 3 * 16, "photons");
             g.require_fits(std::size_t(g.hash_cells) * 16, "hash cells");

@@ -190,6 +190,22 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         geometry.mesh.uvs = {};
         for (MeshView& m : instance_meshes) m.uvs = {};
     }
+    // Vertex colours are uploaded only where a material multiplies them in; a mesh of such a
+    // scene that has none is white. An earlier MTBVH packed without them is built again.
+    bool mesh_colors = !geometry.mesh.colors.empty();
+    for (const MeshView& m : instance_meshes) mesh_colors |= !m.colors.empty();
+    bool material_colors = false;
+    for (const Material& m : geometry.materials) material_colors |= m.vertex_color;
+    p.vertex_colors = mesh_colors && material_colors;
+    if (!p.vertex_colors) {
+        geometry.mesh.colors = {};
+        for (MeshView& m : instance_meshes) m.colors = {};
+    } else if (built && built->colors.empty()) {
+        built = nullptr;
+    }
+    if (material_colors && !mesh_colors)
+        p.warnings.push_back("a material multiplies in vertex colours but no mesh has any: "
+                             "its colour is used alone");
     // Normal maps read each vertex's tangent: meshes without them get tangents from their
     // uvs (scene/tangent_space.h). An earlier MTBVH may lack them: it is built again. Bump
     // maps compile the same variant (they need no tangents; the normals they perturb are
@@ -314,6 +330,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
     feature(use.materials, "HAS_TEXTURES", "textures");
+    feature(p.vertex_colors, "HAS_VERTEX_COLORS", "vertex-colors");
+    // Materials read colours only where meshes have them; the full variant's programs (and
+    // visible points) are laid out for them all the same.
+    const bool colors_uploaded = p.vertex_colors;
+    p.vertex_colors |= settings.full_variant;
     feature(normal_map, "HAS_NORMAL_MAP", "normal-map");
     bool emission_texture = false;
     for (const Material& m : geometry.materials)
@@ -336,7 +357,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     }
     p.microfacet = microfacet;
     p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
-                                          p.microfacet);
+                                          p.microfacet, colors_uploaded);
     feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
     // Not features but outputs: the full variant leaves them as the settings say.
     if (settings.transparent) {

@@ -47,17 +47,23 @@ TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
 
 TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
     validate(settings);
-    bool microfacet = false;
-    for (const Material& m : scene.materials) microfacet |= needs_microfacet(m);
-    // Visible points (3 or 4 vec4), pixel statistics (2), direct light (2), film (1):
+    bool microfacet = false, material_colors = false;
+    for (const Material& m : scene.materials) {
+        microfacet |= needs_microfacet(m);
+        material_colors |= m.vertex_color;
+    }
+    bool mesh_colors = !scene.mesh.colors.empty();
+    for (const MeshView& m : scene.instance_meshes) mesh_colors |= !m.colors.empty();
+    const std::size_t point_vec4s = visible_point_vec4s(microfacet, material_colors && mesh_colors);
+    // Visible points (3 to 5 vec4), pixel statistics (2), direct light (2), film (1):
     // native/render/renderer.cpp allocates them.
     // With render passes, their films (render/render_passes.h) too: the largest block may be
     // theirs.
     const PassLayout passes =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
     const std::size_t pass_bytes = std::size_t(passes.stride) * 16;
-    const std::size_t point_bytes = std::max<std::size_t>((microfacet ? 4 : 3) * 16, pass_bytes);
-    const std::size_t pixel_bytes = (microfacet ? 4 : 3) * 16 + (2 + 2 + 1) * 16 + pass_bytes;
+    const std::size_t point_bytes = std::max<std::size_t>(point_vec4s * 16, pass_bytes);
+    const std::size_t pixel_bytes = point_vec4s * 16 + (2 + 2 + 1) * 16 + pass_bytes;
     // With several workers (settings.devices) every device holds the whole tile: the
     // smallest of their limits.
     const std::vector<int> devices =

@@ -36,6 +36,9 @@ ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
     if (!mesh.tangents.empty() && mesh.tangents.size() != vertex_count)
         throw SceneError("tangents: has " + std::to_string(mesh.tangents.size()) +
                          " rows but positions has " + std::to_string(vertex_count));
+    if (!mesh.colors.empty() && mesh.colors.size() != vertex_count)
+        throw SceneError("colors: has " + std::to_string(mesh.colors.size()) +
+                         " rows but positions has " + std::to_string(vertex_count));
     if (!mesh.material_ids.empty() && mesh.material_ids.size() != mesh.triangles.size())
         throw SceneError("material_ids: has " + std::to_string(mesh.material_ids.size()) +
                          " entries but indices has " + std::to_string(mesh.triangles.size()) +
@@ -54,6 +57,13 @@ ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
         if (!finite(glm::vec3(t)) || !std::isfinite(t.w))
             fail("tangents", i, "component is NaN or Inf");
         if (!(glm::length(glm::vec3(t)) > 0.0f)) fail("tangents", i, "tangent has zero length");
+    }
+
+    // A colour scales reflected light: a negative one would make negative photons.
+    for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
+        const glm::vec3 c = mesh.colors[i];
+        if (!finite(c)) fail("colors", i, "component is NaN or Inf");
+        if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) fail("colors", i, "component is negative");
     }
 
     ValidMesh valid{mesh, {}, {}};

@@ -29,6 +29,9 @@ struct MeshView {
     // (V,4) or empty: tangent dp/du in xyz, bitangent sign in w (scene/tangent_space.h);
     // read only by normal-mapped materials, generated from the uvs where absent.
     std::span<const glm::vec4> tangents;
+    // (V,3) or empty: linear RGB per vertex (Blender's Color Attribute, glTF's COLOR_0),
+    // multiplied into the colour of materials that ask for it (Material::vertex_color).
+    std::span<const glm::vec3> colors;
 };
 
 struct MeshStats {
@@ -54,7 +57,7 @@ struct Instance {
 };
 
 // Throws SceneError naming the array and the first bad index: index out of range, NaN or
-// Inf coordinates or normals or uvs, material id >= material_count, arrays whose lengths
+// Inf coordinates or normals or uvs, negative or non-finite colours, material id >= material_count, arrays whose lengths
 // disagree. Zero-area triangles are dropped and counted.
 ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count);
 

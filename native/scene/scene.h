@@ -103,6 +103,10 @@ struct Material {
     // or Principled's Emission Color fed by an Image Texture, glTF's emissiveTexture). Read
     // on the triangle's own material (a Mix's root), like the normal map.
     std::int32_t emission_texture = -1;
+    // The colour (base, diffuse, glossy, glass: every lobe's colour, not the emission) times
+    // the mesh's per-vertex colour interpolated at the hit (MeshView::colors; white where a
+    // mesh has none): Blender's Color Attribute node, glTF's COLOR_0.
+    bool vertex_color = false;
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
@@ -202,11 +206,14 @@ struct OwnedMesh {
     std::vector<glm::vec2> uvs;
     std::vector<std::uint32_t> material_ids;
     std::vector<glm::vec4> tangents;
+    std::vector<glm::vec3> colors;
 
     // Appends another mesh's triangles, all with one material.
     void append(const std::vector<glm::vec3>& p, const std::vector<glm::uvec3>& t,
                 std::uint32_t material);
-    MeshView view() const { return {positions, triangles, normals, uvs, material_ids, tangents}; }
+    MeshView view() const {
+        return {positions, triangles, normals, uvs, material_ids, tangents, colors};
+    }
     // Multiplies every position by `factor` (normals and uvs unchanged).
     void scale(float factor);
 };

@@ -46,6 +46,14 @@ private:
     const CancelFlag* cancel_;
 };
 
+// Vertex colours after a tag word, so that they never hash like tangents of another mesh;
+// meshes without keep their old hash.
+void colors(Hasher& h, std::span<const glm::vec3> c) {
+    if (c.empty()) return;
+    h.value(std::uint64_t{0x636F6C6F7273ull});  // "colors"
+    h.array(c);
+}
+
 }  // namespace
 
 std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel) {
@@ -56,6 +64,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
     h.array(s.mesh.uvs);
     h.array(s.mesh.material_ids);
     if (!s.mesh.tangents.empty()) h.array(s.mesh.tangents);  // scenes without keep their old hash
+    colors(h, s.mesh.colors);
     // Instanced meshes in their own space and the instances placing them (scene.h).
     h.value(static_cast<std::uint64_t>(s.instance_meshes.size()));
     for (const MeshView& m : s.instance_meshes) {
@@ -65,6 +74,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.array(m.uvs);
         h.array(m.material_ids);
         if (!m.tangents.empty()) h.array(m.tangents);  // scenes without keep their old hash
+        colors(h, m.colors);
     }
     h.value(static_cast<std::uint64_t>(s.instances.size()));
     for (const Instance& i : s.instances) {
@@ -99,6 +109,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
             h.value(m.normal_strength);
         }
         if (m.emission_texture >= 0) h.value(m.emission_texture);
+        if (m.vertex_color) h.value(std::uint64_t{0x766572746578ull});  // "vertex"
         if (m.f82_tint != glm::vec3(1.0f)) h.value(m.f82_tint);
         if (m.bump_texture >= 0) {
             h.value(m.bump_texture);

@@ -35,15 +35,25 @@ const int MATERIAL_ONE_SIDED_EMISSION = 4;
 const int MATERIAL_CASTS_NO_SHADOW = 8;
 const int MATERIAL_MAY_BE_TRANSPARENT = 16;
 const int MATERIAL_HIDDEN_FROM_REFLECTIONS = 32;
+const int MATERIAL_VERTEX_COLOR = 64;
 
-// The surface's colour: the material's, times its base-colour texture at the hit's uv.
-vec3 surface_color(Surface s) {
+// A material's colour at a surface point: its own, times its base-colour texture at uv, times
+// the interpolated vertex colour where the material asks for it (Blender's Color Attribute
+// node, glTF's COLOR_0: base colour = factor x texture x COLOR_0).
+vec3 material_color_at(int m, vec2 uv, vec3 vertex_color) {
+    vec3 c = material_color(m);
 #ifdef HAS_TEXTURES
-    int k = material_texture(s.material);
-    if (k >= 0) return material_color(s.material) * sample_texture(k, s.uv).rgb;
+    int k = material_texture(m);
+    if (k >= 0) c *= sample_texture(k, uv).rgb;
 #endif
-    return material_color(s.material);
+#ifdef HAS_VERTEX_COLORS
+    if ((material_flags(m) & MATERIAL_VERTEX_COLOR) != 0) c *= vertex_color;
+#endif
+    return c;
 }
+
+// The surface's colour: its material's at the hit.
+vec3 surface_color(Surface s) { return material_color_at(s.material, s.uv, s.vertex_color); }
 
 // f(wo, wi) of the material's non-delta lobes at a surface point, without the cosine:
 // what light sampling weighs a light's radiance by. `n` is the shading normal on the side

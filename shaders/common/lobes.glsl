@@ -75,14 +75,6 @@ float material_scalar(float value, int texture, uint channel, vec2 uv) {
     return value;
 }
 
-vec3 material_color_at(int m, vec2 uv) {
-#ifdef HAS_TEXTURES
-    int k = material_texture(m);
-    if (k >= 0) return material_color(m) * sample_texture(k, uv).rgb;
-#endif
-    return material_color(m);
-}
-
 // Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
 // second material with probability equal to its factor, reusing the rest of `u`. `c` is the
 // cosine between the view direction and the shading normal on its side, `front` whether the
@@ -138,7 +130,7 @@ struct Shading {
 };
 
 // A leaf material with its frame: n is the shading normal on wo's side.
-Shading shading_of_leaf(int m, vec3 n, vec2 uv, bool entering) {
+Shading shading_of_leaf(int m, vec3 n, vec2 uv, vec3 vertex_color, bool entering) {
     Shading sh;
     sh.entering = entering;
     sh.n = n;
@@ -149,7 +141,7 @@ Shading shading_of_leaf(int m, vec3 n, vec2 uv, bool entering) {
     sh.material = m;
     sh.kind = material_kind(m);
     sh.options = material_options(m);
-    sh.color = material_color_at(m, uv);
+    sh.color = material_color_at(m, uv, vertex_color);
     sh.roughness = clamp(material_scalar(material_roughness(m), material_roughness_texture(m),
                                          sh.options & OPTION_ROUGHNESS_CHANNEL, uv), 0.0, 1.0);
     sh.alpha = ggx_alpha(sh.roughness);
@@ -204,14 +196,14 @@ float shading_cosine_ratio(vec3 w, vec3 ns, vec3 ng) {
 #endif
 
 // The material at a surface seen from wo; `u` picks between mixes.
-Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 wo, float u) {
+Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, vec3 wo, float u) {
     bool entering = dot(wo, ng) >= 0.0;
     vec3 n_wo = entering ? n : -n;
 #ifdef HAS_NORMAL_MAP
     n_wo = valid_shading_normal(n_wo, entering ? ng : -ng, wo);
 #endif
     int leaf = resolve_mix(material, uv, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u);
-    Shading sh = shading_of_leaf(leaf, n_wo, uv, entering);
+    Shading sh = shading_of_leaf(leaf, n_wo, uv, vertex_color, entering);
 #ifdef HAS_NORMAL_MAP
     sh.ng = entering ? ng : -ng;
 #endif

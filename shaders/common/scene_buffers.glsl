@@ -25,6 +25,11 @@ layout(std430, binding = BINDING_NORMALS) readonly buffer Normals { vec4 vertex_
 layout(std430, binding = BINDING_UVS) readonly buffer Uvs { vec4 vertex_uvs[]; };
 #endif
 
+#ifdef HAS_VERTEX_COLORS
+// Linear vertex colours, 3 per packed triangle: (c.rgb, 0) (native/bvh/packed_bvh.h).
+layout(std430, binding = BINDING_VERTEX_COLORS) readonly buffer VertexColors { vec4 vertex_colors[]; };
+#endif
+
 const int MATERIAL_DIFFUSE = 0;
 const int MATERIAL_CONDUCTOR = 1;
 const int MATERIAL_DIELECTRIC = 2;

@@ -27,7 +27,16 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 // eye, 0), (eye-path weight = throughput * albedo / pi, 0). With HAS_MICROFACET, 4 per
 // pixel, what the gather needs to evaluate f(wo, wi): (position, leaf material id or -1),
 // (shading normal on wo's side, u), (wo, v), (eye-path throughput, flag bits below).
+// With HAS_VERTEX_COLORS too, a fifth: (the vertex colour at the point, 0), for the gather's
+// f(wo, wi).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
+#ifndef HAS_MICROFACET
+#define VISIBLE_POINT_VEC4 3u
+#elif defined(HAS_VERTEX_COLORS)
+#define VISIBLE_POINT_VEC4 5u
+#else
+#define VISIBLE_POINT_VEC4 4u
+#endif
 
 const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
 const uint VISIBLE_POINT_ENTERING = 2u;   // wo is on the geometric front (a dielectric's outside)

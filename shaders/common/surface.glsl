@@ -129,6 +129,7 @@ struct Surface {
     vec3 normal;            // shading normal, on the same side as the geometric one
     int material;
     vec2 uv;                // texture coordinates (HAS_TEXTURES only)
+    vec3 vertex_color;      // linear, interpolated (HAS_VERTEX_COLORS only; else white)
 };
 
 #ifdef GLSLPPM_INSTANCES
@@ -174,6 +175,12 @@ Surface surface_at(Ray ray, Hit hit) {
     s.uv = (1.0 - hit.u - hit.v) * uv01.xy + hit.u * uv01.zw + hit.v * uv2;
 #else
     s.uv = vec2(0.0);
+#endif
+#ifdef HAS_VERTEX_COLORS
+    s.vertex_color = (1.0 - hit.u - hit.v) * vertex_colors[3 * t + 0].rgb +
+                     hit.u * vertex_colors[3 * t + 1].rgb + hit.v * vertex_colors[3 * t + 2].rgb;
+#else
+    s.vertex_color = vec3(1.0);
 #endif
 #ifdef HAS_NORMALS
     vec3 w = vec3(1.0 - hit.u - hit.v, hit.u, hit.v);

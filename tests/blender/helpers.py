@@ -130,6 +130,48 @@ def diffuse_material(name, color):
     return node_material(name, "ShaderNodeBsdfDiffuse", Color=tuple(color) + (1.0,))
 
 
+def color_attribute_material(name, attribute="", multiply=None, factor=1.0):
+    """A Diffuse BSDF (white) whose Color is a mesh colour attribute: a Color Attribute
+    node for the default one (attribute ""), an Attribute node naming another; with
+    `multiply` (rgb) through a Mix set to Multiply (factor `factor`) with that constant,
+    the 4.x Mix node or 3.x's MixRGB."""
+    material = node_material(name, "ShaderNodeBsdfDiffuse", Color=(1.0, 1.0, 1.0, 1.0))
+    tree = material.node_tree
+    diffuse = next(node for node in tree.nodes if node.type == 'BSDF_DIFFUSE')
+    if attribute:
+        source = tree.nodes.new("ShaderNodeAttribute")
+        source.attribute_name = attribute
+    else:
+        source = tree.nodes.new("ShaderNodeVertexColor")
+    color = source.outputs["Color"]
+    if multiply is not None:
+        if BLENDER_4:
+            mix = tree.nodes.new("ShaderNodeMix")
+            mix.data_type = 'RGBA'
+            sockets = {s.identifier: s for s in mix.inputs}
+            factor_in, a, b = sockets["Factor_Float"], sockets["A_Color"], sockets["B_Color"]
+        else:
+            mix = tree.nodes.new("ShaderNodeMixRGB")
+            factor_in, a, b = mix.inputs["Fac"], mix.inputs["Color1"], mix.inputs["Color2"]
+        mix.blend_type = 'MULTIPLY'
+        factor_in.default_value = factor
+        a.default_value = tuple(multiply) + (1.0,)
+        tree.links.new(color, b)
+        color = next(o for o in mix.outputs if o.enabled and o.type == 'RGBA')
+    tree.links.new(color, diffuse.inputs["Color"])
+    return material
+
+
+def set_corner_colors(obj, name, colors, domain='CORNER', data_type='BYTE_COLOR', srgb=False):
+    """A colour attribute on obj's mesh: one rgb per corner (loop) or point; byte colours
+    given as sRGB values when srgb (Blender stores those bytes exactly)."""
+    attribute = obj.data.color_attributes.new(name, data_type, domain)
+    rgba = np.concatenate([np.asarray(colors, np.float32),
+                           np.ones((len(colors), 1), np.float32)], axis=1)
+    attribute.data.foreach_set("color_srgb" if srgb else "color", rgba.ravel())
+    return attribute
+
+
 def emission_material(name, color, strength):
     return node_material(name, "ShaderNodeEmission", Color=tuple(color) + (1.0,),
                          Strength=strength)

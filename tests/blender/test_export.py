@@ -864,3 +864,59 @@ def test_normal_map_and_bump_export():
             assert abs(root.bump_strength - 0.4) < 1e-6, root
             assert abs(root.bump_distance + 0.2) < 1e-6, root
             assert data.tangents is None
+
+
+def test_color_attribute_export():
+    """A Color Attribute node (the default attribute: sRGB bytes per corner) and an
+    Attribute node naming a float point attribute through Multiply with a constant: each
+    material flags its attribute (the constant its colour), the corners carry the linear
+    colours (sRGB byte 128 is 0.2158605 linear, as Blender decodes it), a mesh without the
+    attribute its material reads is black with a warning (as Cycles renders it), and a Mix
+    at factor 0.5 falls back with the one warning."""
+    _camera()
+    painted = add_mesh_object("Painted", [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)],
+                              [(0, 1, 2, 3)], material=helpers.color_attribute_material("Col"))
+    bytes_ = np.array([[128, 0, 255], [255, 128, 0], [0, 255, 128], [64, 64, 64]]) / 255.0
+    helpers.set_corner_colors(painted, "Col", bytes_, srgb=True)
+    tinted = add_mesh_object("Tinted", [(2, 0, -1), (4, 0, -1), (4, 0, 1), (2, 0, 1)],
+                             [(0, 1, 2, 3)], material=helpers.color_attribute_material(
+                                 "Tint", "Paint", multiply=(0.5, 0.25, 1.0)))
+    points = np.array([[0.1, 0.2, 0.3], [1.5, 0.5, 0.0], [0.7, 0.8, 0.9], [0.0, 0.0, 2.0]])
+    helpers.set_corner_colors(tinted, "Paint", points, domain='POINT', data_type='FLOAT_COLOR')
+    data = export()
+    assert not data.warnings, data.warnings
+    colors = data.colors
+    assert colors is not None and colors.shape == (len(data.positions), 3), colors
+    by_name = {m.vertex_color: m for m in data.materials if m.vertex_color is not None}
+    assert set(by_name) == {"", "Paint"}, data.materials
+    assert_close(np.array(by_name["Paint"].color), np.array([0.5, 0.25, 1.0]), 1e-6, "constant")
+    assert_close(np.array(by_name[""].color), np.ones(3), 1e-6, "white")
+
+    def srgb_to_linear(c):
+        return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+    # Each corner's colour by its position: corners of the quads' vertices, any triangulation.
+    corners = {"Painted": (painted, srgb_to_linear(bytes_)), "Tinted": (tinted, points)}
+    for name, (obj, expected) in corners.items():
+        vertices = np.array([v.co for v in obj.data.vertices]) + np.array(obj.location)
+        # Painted's corners are its loops, which from_pydata numbers as its vertices.
+        for corner, position in enumerate(data.positions):
+            distances = np.linalg.norm(vertices - position, axis=1)
+            if distances.min() < 1e-6:
+                assert_close(colors[corner], expected[int(distances.argmin())], 1e-5,
+                             f"{name} corner {corner}")
+    assert_close(srgb_to_linear(np.array([128 / 255])), np.array([0.2158605]), 1e-6, "decode")
+
+    # The attribute missing: black, with a warning; a half-factor Mix: the fallback warning.
+    bpy.data.objects.remove(tinted)
+    add_mesh_object("Bare", [(2, 0, -1), (4, 0, -1), (4, 0, 1), (2, 0, 1)], [(0, 1, 2, 3)],
+                    material=bpy.data.materials["Tint"])
+    add_mesh_object("Half", [(5, 0, -1), (7, 0, -1), (7, 0, 1), (5, 0, 1)], [(0, 1, 2, 3)],
+                    material=helpers.color_attribute_material("Half", "", (0.5,) * 3, 0.5))
+    data = export()
+    assert any("'Bare' has no 'Paint'" in w and "black" in w for w in data.warnings), \
+        data.warnings
+    assert any("material 'Half'" in w and "Mix" in w for w in data.warnings), data.warnings
+    bare = data.positions[:, 0] > 1.5
+    bare &= data.positions[:, 0] < 4.5
+    assert bare.any() and np.all(data.colors[bare] == 0.0)

@@ -40,6 +40,16 @@ def test_plan_bands_rows_by_the_largest_buffer(glslppm):
     plan = g.plan_tiles(plastic, capped(g))
     assert plan["block_bytes_per_pixel"] == 64 and plan["gpu_bytes_per_pixel"] == 144
     assert len(plan["tiles"]) == math.ceil(SIZE / (SIZE * ROWS * 48 // (SIZE * 64)))
+    # Vertex colours read by a material add one more (the gather's colour of the point),
+    # as the renderer allocates (its gpu_bytes_per_pixel).
+    colors = np.ones((4, 3), np.float32)
+    painted = g.Scene(p, t, colors=colors,
+                      materials=[g.Material("plastic", roughness=0.3, vertex_color=True)],
+                      environment=(1, 1, 1))
+    plan = g.plan_tiles(painted, capped(g))
+    assert plan["block_bytes_per_pixel"] == 80 and plan["gpu_bytes_per_pixel"] == 160
+    r = g.Renderer(painted, g.Settings(width=8, height=8, photons_per_pass=64))
+    assert r.stats()["gpu_bytes_per_pixel"] == 160
 
 
 def untiled(g, scene, settings, passes):
