@@ -125,6 +125,7 @@ py::list materials_list(const Scene& s) {
         d["normal_strength"] = m.normal_strength;
         d["bump_texture"] = m.bump_texture;
         d["emission_texture"] = m.emission_texture;
+        d["absorption"] = vec3(m.absorption);
         out.append(d);
     }
     return out;
