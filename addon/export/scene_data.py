@@ -42,6 +42,7 @@ class MaterialData:
     bump_strength: float = 1.0
     bump_distance: float = 1.0       # negative: Invert
     emission_texture: int = -1       # emission x texel (the whole material's)
+    absorption: tuple = (0.0, 0.0, 0.0)  # sigma_a per world unit inside (the whole material's)
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
