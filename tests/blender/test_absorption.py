@@ -23,7 +23,9 @@ def _glass_with_volume(name, volume_type, surface=GLASS, **inputs):
     if "IOR" in shader.inputs:
         shader.inputs["IOR"].default_value = 1.5
     if hasattr(shader, "distribution"):
-        shader.distribution = 'SHARP'  # smooth glass (3.x's default is Beckmann)
+        # Smooth glass: 3.x's Sharp (its default is Beckmann), 4.x's GGX at roughness 0.
+        shader.distribution = 'GGX' if helpers.BLENDER_4 else 'SHARP'
+        shader.inputs["Roughness"].default_value = 0.0
     volume = tree.nodes.new(volume_type)
     for key, value in inputs.items():
         volume.inputs[key].default_value = value
@@ -75,8 +77,11 @@ def test_absorbing_glass_block_matches_cycles():
     under a large area light, seen from above at an angle: the floor through the block (absorbed
     twice, light in and view out) and the coloured caustic beside it. Per channel, worst
     region of 3x3 within 3% of the brightest and means within 1.5% (as the frosted glass in
-    test_materials.py). A 1% bias in sigma_a moves the block's blue by about 2%. Also: the
-    block's region is redder than the clear floor's (blue is absorbed most)."""
+    test_materials.py), and the block's own region within 3% of Cycles' per channel (measured
+    1.0%, 0.7%, 0.2% under 3.4; 0.9%, 0.5%, 0.2% under 4.3). These bounds are the reference's
+    noise: a 1% bias in sigma_a moves the block's blue by about 2%, which the module's closed
+    forms (tests/python/test_absorption.py) catch instead. Also: the block's region is
+    redder than the clear floor's (blue is absorbed most)."""
     helpers.reset_scene(size=(48, 48))
     floor = helpers.diffuse_material("Grey", (0.6, 0.6, 0.6))
     add_quad("Floor", [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], material=floor)
@@ -104,5 +109,7 @@ def test_absorbing_glass_block_matches_cycles():
                f"{a.round(4).tolist()} Cycles {b.round(4).tolist()}")
     print("  " + message)
     assert (region_error < 0.03).all() and (mean_error < 0.015).all(), message
+    block_error = np.abs(a[1, 1] / b[1, 1] - 1.0)
+    assert (block_error < 0.03).all(), (block_error, a[1, 1], b[1, 1])
     centre, corner = a[1, 1], a[0, 0]
     assert centre[0] / centre[2] > 1.5 * corner[0] / corner[2], (centre, corner)
