@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, quad
+from scenes import placement, unit_cube
 
 SIGMA = np.array([0.2, 0.7, 1.6])  # per unit length, one per channel
 
@@ -87,6 +88,33 @@ def test_eye_path_through_glass_slab_sums_absorbed_internal_reflections(glslppm,
     print(f"  measured/expected - 1: {measured / expected - 1.0}, bound {bound:.4f}")
     assert bound < 0.004
     assert np.all(np.abs(measured / expected - 1.0) < bound), (measured, expected)
+
+
+@pytest.mark.parametrize("instancing", ["two-level", "flattened"])
+def test_scaled_instance_absorbs_over_its_world_thickness(glslppm, instancing):
+    """The slab as a unit cube instanced with scale (10, 10, 0.8): light runs 0.8 world units
+    inside, whatever the instance's own units (as Cycles integrates along world rays): still
+    exp(-sigma 0.8), deterministic at index 1 (bound 1e-4)."""
+    g = glslppm
+    d = 0.8
+    light_p, light_t = quad((-9, -9, -2), (9, -9, -2), (9, 9, -2), (-9, 9, -2))
+    scene = g.Scene(light_p, light_t,
+                    materials=[g.Material("diffuse", color=(0, 0, 0), emission=(1, 1, 1)),
+                               g.Material("dielectric", color=(1, 1, 1), ior=1.0,
+                                          absorption=tuple(SIGMA))],
+                    instances=np.array([placement((0, 0, 1), 0.0, (10, 10, d), (0, 0, 0))],
+                                       np.float32),
+                    instance_mesh=np.array([0], np.uint32),
+                    instance_material_offset=np.array([1], np.uint32),
+                    instance_meshes=[unit_cube()],
+                    camera=g.Camera(look_at((0, 0, 5), (0, 0, 0)), projection="orthographic",
+                                    ortho_scale=1.0))
+    r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=1024, seed=2,
+                                     instancing=instancing))
+    r.run(4)
+    measured = r.film()[..., :3].astype(np.float64).mean(axis=(0, 1))
+    print(f"  {instancing}: measured/expected - 1: {measured / np.exp(-SIGMA * d) - 1.0}")
+    np.testing.assert_allclose(measured, np.exp(-SIGMA * d), rtol=1e-4)
 
 
 def test_clear_glass_compiles_no_absorption(glslppm):
