@@ -55,24 +55,46 @@ def test_volume_absorption_exports_sigma_a_per_world_unit():
     assert leaves and all(m.ior == 1.5 for m in leaves)
 
 
+def _principled_volume_glass(name, **inputs):
+    """Glass with a Principled Volume that only absorbs: black Color, no emission."""
+    defaults = {"Color": (0.0, 0.0, 0.0, 1.0), "Emission Strength": 0.0,
+                "Blackbody Intensity": 0.0}
+    return _glass_with_volume(name, "ShaderNodeVolumePrincipled", **dict(defaults, **inputs))
+
+
+def test_absorbing_principled_volume_exports_its_extinction():
+    """Principled Volume with a black Color (no scattering): Cycles' extinction density x
+    (1 - sqrt(Absorption Color)): density 2, (0.25, 0.64, 1) gives (1.0, 0.4, 0)."""
+    add_camera((0, -10, 0), (math.pi / 2, 0, 0))
+    add_cube("Block", material=_principled_volume_glass(
+        "Amber", Density=2.0, **{"Absorption Color": (0.25, 0.64, 1.0, 1.0)}))
+    data = export()
+    assert not data.warnings, data.warnings
+    root = data.materials[int(data.material_ids[0])]
+    assert_close(root.absorption, (1.0, 0.4, 0.0), 1e-6, "sigma_a")
+
+
 def test_unmodelled_volumes_warn_and_absorb_nothing():
-    """A Volume Scatter, and a Volume Absorption behind an opaque surface, each warn once
-    and leave the material without absorption."""
+    """A Volume Scatter, a scattering Principled Volume, and a Volume Absorption behind an
+    opaque surface each warn once and leave the material without absorption."""
     add_camera((0, -10, 0), (math.pi / 2, 0, 0))
     add_cube("Smoke", location=(-3, 0, 0),
              material=_glass_with_volume("Smoke", "ShaderNodeVolumeScatter", Density=1.0))
+    add_cube("Fog", location=(0, 0, 3),
+             material=_principled_volume_glass("Fog", **{"Color": (0.5, 0.5, 0.5, 1.0)}))
     add_cube("Clay", location=(3, 0, 0),
              material=_glass_with_volume("Clay", "ShaderNodeVolumeAbsorption",
                                          surface="ShaderNodeBsdfDiffuse", Density=1.0))
     data = export()
     assert all(m.absorption == (0.0, 0.0, 0.0) for m in data.materials), data.materials
-    assert len(data.warnings) == 2, data.warnings
+    assert len(data.warnings) == 3, data.warnings
+    assert any("Principled Volume" in w and "'Fog'" in w for w in data.warnings), data.warnings
     assert any("Volume Scatter" in w and "'Smoke'" in w for w in data.warnings), data.warnings
     assert any("needs a refracting surface" in w and "'Clay'" in w for w in data.warnings), \
         data.warnings
 
 
-def test_absorbing_glass_block_matches_cycles():
+def _block_matches_cycles(name, material):
     """A glass block (IOR 1.5, 0.6 thick, sigma_a = 2 (0.15, 0.6, 0.9)) 0.3 over a grey floor
     under a large area light, seen from above at an angle: the floor through the block (absorbed
     twice, light in and view out) and the coloured caustic beside it. Per channel, worst
@@ -85,8 +107,7 @@ def test_absorbing_glass_block_matches_cycles():
     helpers.reset_scene(size=(48, 48))
     floor = helpers.diffuse_material("Grey", (0.6, 0.6, 0.6))
     add_quad("Floor", [(-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0)], material=floor)
-    add_cube("Block", location=(0, 0, 0.6), scale=(0.8, 0.8, 0.3),
-             material=_absorbing_glass(color=(0.85, 0.4, 0.1), density=2.0))
+    add_cube("Block", location=(0, 0, 0.6), scale=(0.8, 0.8, 0.3), material=material())
     add_light('AREA', 300.0, location=(0.5, -0.5, 3.0), size=3.0)
     helpers.set_world((0.05, 0.05, 0.05))
     eye = (0.0, -2.6, 3.2)
@@ -95,17 +116,17 @@ def test_absorbing_glass_block_matches_cycles():
     scene = bpy.context.scene
     scene.glslppm.passes = 128
     scene.glslppm.photons_per_pass = 65536
-    ours, error, engine = helpers.render_recorded("absorbing_block")
+    ours, error, engine = helpers.render_recorded(name)
     assert error is None, error
     assert not helpers.warnings_of(engine), helpers.warnings_of(engine)
     assert "absorption" in helpers.last_render_stats()["variant"].split(",")
-    reference = helpers.render_cycles_box_filter("absorbing_block", 1024)
+    reference = helpers.render_cycles_box_filter(name, 1024)
     a = helpers.region_means(ours, 3).astype(np.float64)
     b = helpers.region_means(reference, 3).astype(np.float64)
     region_error = np.abs(a - b).max(axis=(0, 1)) / b.max(axis=(0, 1))
     mean_error = np.abs(a.mean(axis=(0, 1)) - b.mean(axis=(0, 1))) / b.mean(axis=(0, 1))
-    message = (f"worst region per channel {region_error.round(4).tolist()} (tolerance 0.03), "
-               f"mean {mean_error.round(4).tolist()} (tolerance 0.015); GLSLPPM "
+    message = (f"{name}: worst region per channel {region_error.round(4).tolist()} "
+               f"(tolerance 0.03), mean {mean_error.round(4).tolist()} (tolerance 0.015); GLSLPPM "
                f"{a.round(4).tolist()} Cycles {b.round(4).tolist()}")
     print("  " + message)
     assert (region_error < 0.03).all() and (mean_error < 0.015).all(), message
@@ -113,3 +134,15 @@ def test_absorbing_glass_block_matches_cycles():
     assert (block_error < 0.03).all(), (block_error, a[1, 1], b[1, 1])
     centre, corner = a[1, 1], a[0, 0]
     assert centre[0] / centre[2] > 1.5 * corner[0] / corner[2], (centre, corner)
+
+
+def test_absorbing_glass_block_matches_cycles():
+    _block_matches_cycles(
+        "absorbing_block", lambda: _absorbing_glass(color=(0.85, 0.4, 0.1), density=2.0))
+
+
+def test_principled_volume_glass_block_matches_cycles():
+    """The same block with the same medium as an absorbing Principled Volume: density 2,
+    Absorption Color (0.85, 0.4, 0.1)^2, so 1 - sqrt of it is (0.15, 0.6, 0.9) again."""
+    _block_matches_cycles("principled_block", lambda: _principled_volume_glass(
+        "Tinted", Density=2.0, **{"Absorption Color": (0.7225, 0.16, 0.01, 1.0)}))
