@@ -25,6 +25,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/light_sampling.glsl"
 #endif
 #include "common/compensated_sum.glsl"
+#ifdef HAS_ABSORPTION
+#include "common/absorption.glsl"
+#endif
 #include "common/pass_films.glsl"
 
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
@@ -129,6 +132,11 @@ void main() {
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
+#ifdef HAS_ABSORPTION
+        // The segment just traced ran inside an absorbing object if it left through its back.
+        // (After the hidden surfaces: a ray passing an object it does not see is not inside.)
+        throughput *= segment_transmittance(s.material, front, ray.origin, s.position);
+#endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
             if (front && !hidden) ADD_LIGHT(emitted, throughput * material_emission(s.material));

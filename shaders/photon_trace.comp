@@ -17,6 +17,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/emitters.glsl"
 #include "common/pass_films.glsl"
+#ifdef HAS_ABSORPTION
+#include "common/absorption.glsl"
+#endif
 
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
 // one, a smooth bounce makes one.
@@ -84,6 +87,12 @@ void main() {
         bounces = -1.0;  // left the scene: a new path next pass
     } else {
         Surface s = surface_at(make_ray(origin, dir), hit);
+#ifdef HAS_ABSORPTION
+        // This pass's one segment ran inside an absorbing object if it left through its back:
+        // the flux it carries on (and stores here) is what got through.
+        flux *= segment_transmittance(s.material, dot(dir, s.geometric_normal) < 0.0, origin,
+                                      s.position);
+#endif
         int kind = material_kind(s.material);
         bounces += 1.0;
         int flags = material_flags(s.material);

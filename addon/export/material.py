@@ -31,6 +31,7 @@ from .node_inputs import (clamp01, image_texture_index, input_socket, linked_nod
                           vertex_color_input,
                           socket_value)
 from .scene_data import MaterialData
+from .volume import volume_absorption
 
 DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
 BLACK = MaterialData("diffuse", (0.0, 0.0, 0.0))
@@ -93,6 +94,11 @@ def convert_material(material, warn, textures=None):
     emission_texture = emission_texture_of(output.inputs["Surface"], context)
     if emission_texture >= 0:
         mapped["emission_texture"] = emission_texture
+    # The medium inside (Volume Absorption) is the root's too: light leaving the object
+    # through any face has run inside it.
+    absorption = volume_absorption(output, entries, material_warn)
+    if absorption is not None and max(absorption) > 0.0:
+        mapped["absorption"] = absorption
     if mapped:
         entries[0] = replace(entries[0], **mapped)
     return entries

@@ -45,6 +45,7 @@ class MaterialData:
     # The mesh colour attribute the colour is multiplied by ("" the mesh's default one), or
     # None; the module's Material takes only whether there is one (engine/native_scene.py).
     vertex_color: object = None
+    absorption: tuple = (0.0, 0.0, 0.0)  # sigma_a per world unit inside (the whole material's)
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,

@@ -570,7 +570,8 @@ LoadedScene load_gltf_from_memory(std::span<const std::uint8_t> bytes, const std
     for (const std::string& e : model.extensionsRequired)
         if (e != "KHR_materials_transmission" && e != "KHR_materials_ior" &&
             e != "KHR_materials_emissive_strength" && e != "KHR_materials_specular" &&
-            e != "KHR_materials_clearcoat" && e != "KHR_lights_punctual")
+            e != "KHR_materials_clearcoat" && e != "KHR_materials_volume" &&
+            e != "KHR_lights_punctual")
             throw SceneFileError(name + ": extensionsRequired: " + e + " is not supported");
     auto mesh = std::make_shared<OwnedMesh>();
     gltf::convert_materials(model, images, base_dir, out.scene, out.warnings);

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <span>
 
 #include "image/image_file.h"
@@ -51,6 +52,8 @@ struct Converter {
     Material mix_of(int a, int b, float factor, int texture, TextureChannel channel);
     Material mix(const Material& a, const Material& b, float factor, int texture,
                  TextureChannel channel);
+    glm::vec3 volume_absorption(const tinygltf::ExtensionMap& extensions,
+                                const std::string& element);
     Material material(const tinygltf::Material& m, const std::string& element);
 };
 
@@ -277,6 +280,39 @@ int Converter::mask_texture(int k, float alpha, float cutoff) {
     return int(scene.textures.size()) - 1;
 }
 
+// KHR_materials_volume as Beer-Lambert's sigma_a: white light that runs attenuationDistance
+// (world units) inside keeps attenuationColor, so sigma_a = -ln(attenuationColor) /
+// attenuationDistance; the default infinite distance absorbs nothing. thicknessFactor and
+// thicknessTexture are a rasterizer's stand-in for the path length inside, which rays
+// measure: they are not read.
+glm::vec3 Converter::volume_absorption(const tinygltf::ExtensionMap& extensions,
+                                       const std::string& element) {
+    const auto it = extensions.find("KHR_materials_volume");
+    if (it == extensions.end()) return glm::vec3(0.0f);
+    const double distance = number(extensions, "KHR_materials_volume", "attenuationDistance",
+                                   std::numeric_limits<double>::infinity());
+    if (!(distance > 0.0))
+        fail(element, "KHR_materials_volume.attenuationDistance " + number_text(distance) +
+                          " must be > 0");
+    glm::vec3 color(1.0f);
+    if (it->second.Has("attenuationColor")) {
+        const tinygltf::Value& c = it->second.Get("attenuationColor");
+        if (!c.IsArray() || c.ArrayLen() != 3)
+            fail(element, "KHR_materials_volume.attenuationColor must be 3 numbers");
+        for (int k = 0; k < 3; ++k) {
+            const tinygltf::Value& v = c.Get(k);
+            color[k] = v.IsNumber() ? float(v.GetNumberAsDouble()) : -1.0f;
+        }
+    }
+    if (!finite_non_negative(color) || color.x > 1.0f || color.y > 1.0f || color.z > 1.0f)
+        fail(element, "KHR_materials_volume.attenuationColor must be 3 numbers in [0, 1]");
+    if (std::isinf(distance)) return glm::vec3(0.0f);
+    // A black channel would absorb everything at once (an infinite sigma_a): one part in a
+    // million left at the attenuation distance stands for it.
+    const glm::vec3 kept = glm::max(color, glm::vec3(1.0e-6f));
+    return -glm::log(kept) / float(distance);
+}
+
 // glTF's metallic-roughness model (glTF 2.0 appendix B) as a tree of Mix materials:
 //   alpha: Mix(transparent, coat(metallic mix)), coat: Mix(Fresnel(1.5), base,
 //   Mix(clearcoat, base, white GGX)), metallic: Mix(metallic, Mix(transmission, plastic,
@@ -419,6 +455,8 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
             fail(element, "normalTexture.scale must be finite and >= 0");
         out.normal_strength = float(scale);
     }
+    // Read on the root, as the shaders read it: the glass leaf's inside is the object's.
+    out.absorption = volume_absorption(m.extensions, element);
     return out;
 }
 

@@ -126,6 +126,7 @@ py::list materials_list(const Scene& s) {
         d["bump_texture"] = m.bump_texture;
         d["emission_texture"] = m.emission_texture;
         d["vertex_color"] = m.vertex_color;
+        d["absorption"] = vec3(m.absorption);
         out.append(d);
     }
     return out;

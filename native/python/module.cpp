@@ -129,7 +129,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
                        float normal_strength, int bump_texture, float bump_strength,
                        float bump_distance, int emission_texture,
                        std::array<float, 3> f82_tint, bool visible_in_reflections,
-                       bool vertex_color) {
+                       bool vertex_color, std::array<float, 3> absorption) {
     Material m;
     m.kind = parse_name<MaterialKind>(kind, kMaterialKinds, "Material kind");
     m.color = {color[0], color[1], color[2]};
@@ -160,6 +160,7 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
     m.bump_distance = bump_distance;
     m.emission_texture = emission_texture;
     m.f82_tint = {f82_tint[0], f82_tint[1], f82_tint[2]};
+    m.absorption = {absorption[0], absorption[1], absorption[2]};
     m.mix_mode = parse_name<MixFactor>(mix_mode, kMixModes, "Material mix_mode");
     m.mix_ior = mix_ior;
     m.vertex_color = vertex_color;
@@ -523,7 +524,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("bump_texture") = -1, py::arg("bump_strength") = 1.0f,
              py::arg("bump_distance") = 1.0f, py::arg("emission_texture") = -1,
              py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f},
-             py::arg("visible_in_reflections") = true, py::arg("vertex_color") = false);
+             py::arg("visible_in_reflections") = true, py::arg("vertex_color") = false,
+             py::arg("absorption") = std::array<float, 3>{0.0f, 0.0f, 0.0f});
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

@@ -143,10 +143,15 @@ struct GpuMaterial {
     std::uint32_t normal_map;     // see normal_map_word
     std::int32_t emission_texture;  // texture index or -1: emission = emission * texel
     glm::vec3 f82_tint;             // Schlick conductor's F82 tint (white: none)
+    // Beer-Lambert sigma_a inside the object (Material::absorption; shaders/common/
+    // absorption.glsl). Its own vec4, 16 bytes more per material: the five before are full.
+    glm::vec3 absorption;
+    float unused;
 };
-static_assert(sizeof(GpuMaterial) == 96 && offsetof(GpuMaterial, color_texture) == 32 &&
+static_assert(sizeof(GpuMaterial) == 112 && offsetof(GpuMaterial, color_texture) == 32 &&
               offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64 &&
-              offsetof(GpuMaterial, emission_texture) == 80);
+              offsetof(GpuMaterial, emission_texture) == 80 &&
+              offsetof(GpuMaterial, absorption) == 96);
 inline constexpr int kGpuMaterialVec4 = sizeof(GpuMaterial) / 16;  // MATERIAL_STRIDE
 
 // GpuMaterial::normal_map: 0 for none, else the normal (or bump) texture's index + 1 in the

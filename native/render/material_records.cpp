@@ -89,6 +89,7 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
         g.normal_map = textures ? normal_map_word(m) : 0u;
         g.emission_texture = textures ? m.emission_texture : -1;
         g.f82_tint = m.f82_tint;
+        g.absorption = m.absorption;
         if (textures && m.bump_texture >= 0)
             g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;

@@ -346,6 +346,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     for (const Material& m : geometry.materials)
         f82_tint |= m.kind == MaterialKind::Conductor && m.f82_tint != glm::vec3(1.0f);
     feature(f82_tint, "HAS_F82_TINT", "f82-tint");
+    // Beer-Lambert inside closed objects (shaders/common/absorption.glsl): a factor on the
+    // segments that end on such an object's back face, in the eye and photon paths.
+    bool absorption = false;
+    for (const Material& m : geometry.materials) absorption |= m.absorption != glm::vec3(0.0f);
+    feature(absorption, "HAS_ABSORPTION", "absorption");
     // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
     // materials no triangle names). Not part of the full variant: these lobes replace the
     // closed model's code, with its own random numbers, rather than add branches to it.

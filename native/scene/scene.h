@@ -107,6 +107,11 @@ struct Material {
     // the mesh's per-vertex colour interpolated at the hit (MeshView::colors; white where a
     // mesh has none): Blender's Color Attribute node, glTF's COLOR_0.
     bool vertex_color = false;
+    // Homogeneous absorption inside a closed object (Blender's Volume Absorption, glTF's
+    // KHR_materials_volume): sigma_a per RGB, per unit of world length; light that runs a
+    // length t inside keeps exp(-sigma_a t) (Beer-Lambert). Read on the triangle's own
+    // material (a Mix's root) when a ray leaves through its back face; zero: none.
+    glm::vec3 absorption{0.0f};
 };
 
 enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };

@@ -111,6 +111,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         if (m.emission_texture >= 0) h.value(m.emission_texture);
         if (m.vertex_color) h.value(std::uint64_t{0x766572746578ull});  // "vertex"
         if (m.f82_tint != glm::vec3(1.0f)) h.value(m.f82_tint);
+        if (m.absorption != glm::vec3(0.0f)) h.value(m.absorption);
         if (m.bump_texture >= 0) {
             h.value(m.bump_texture);
             h.value(m.bump_strength);

@@ -66,6 +66,7 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
     Checker::colour(name + ".color", m.color);
     Checker::colour(name + ".emission", m.emission);
     Checker::colour(name + ".f82_tint", m.f82_tint);
+    Checker::colour(name + ".absorption", m.absorption);
     if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::Plastic)
         Checker::positive(name + ".ior", m.ior);
     Checker::texture_index(name + ".color_texture", m.color_texture, textures);

@@ -9,10 +9,10 @@
 layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
 #endif
 
-// Materials, 6 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables;
-// their accessors are in common/bsdf.glsl and common/lobes.glsl.
+// Materials, 7 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables;
+// their accessors are in common/bsdf.glsl, common/lobes.glsl and common/absorption.glsl.
 layout(std430, binding = BINDING_MATERIALS) readonly buffer Materials { vec4 materials[]; };
-const int MATERIAL_STRIDE = 6;
+const int MATERIAL_STRIDE = 7;
 
 #ifdef HAS_NORMALS
 // Vertex normals, 3 per packed triangle (n.xyz, 0), or (n.xyz, packed tangent) where normal

@@ -280,6 +280,51 @@ def test_gltf_materials_map_onto_the_material_model(glslppm, tmp_path):
     assert not _material_warnings(warnings), warnings
 
 
+def test_gltf_volume_attenuation_becomes_absorption(glslppm, tmp_path):
+    """KHR_materials_volume: sigma_a = -ln(attenuationColor) / attenuationDistance on the
+    material's root; an infinite (absent) distance absorbs nothing; thicknessFactor, a
+    rasterizer's stand-in for the path length that rays measure, is not read."""
+    g = Gltf()
+    for ext in ("KHR_materials_transmission", "KHR_materials_volume"):
+        g.extension(ext)
+    g.doc["extensionsRequired"] = ["KHR_materials_volume"]
+    glass = {"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}}
+    g.doc["materials"] = [
+        dict(glass, extensions={
+            "KHR_materials_transmission": {"transmissionFactor": 1},
+            "KHR_materials_volume": {"thicknessFactor": 0.3, "attenuationDistance": 2.0,
+                                     "attenuationColor": [0.5, 0.25, 1.0]}}),
+        dict(glass, extensions={
+            "KHR_materials_transmission": {"transmissionFactor": 1},
+            "KHR_materials_volume": {"thicknessFactor": 1, "attenuationColor": [0.5, 0.5, 0.5]}}),
+    ]
+    for m in range(2):
+        g.node(mesh=g.mesh(QUAD + [0, 0, m], QUAD_TRIS, material=m))
+    _, c, warnings = load(glslppm, g.write(tmp_path / "volume.gltf"))
+    mats = c["materials"]
+    roots = [mats[c["material_ids"][0]], mats[c["material_ids"][2]]]
+    np.testing.assert_allclose(roots[0]["absorption"],
+                               [math.log(2) / 2, math.log(4) / 2, 0.0], rtol=1e-6, atol=1e-7)
+    assert roots[1]["absorption"] == (0.0, 0.0, 0.0)
+    assert all(m["absorption"] == (0.0, 0.0, 0.0) for m in mats if m is not roots[0])
+    assert not _material_warnings(warnings), warnings
+
+
+@pytest.mark.parametrize("volume, message", [
+    ({"attenuationDistance": 0.0}, "attenuationDistance 0 must be > 0"),
+    ({"attenuationDistance": 1.0, "attenuationColor": [0.5, 2.0, 0.5]},
+     "attenuationColor must be 3 numbers in [0, 1]"),
+])
+def test_gltf_bad_volume_names_the_field(glslppm, tmp_path, volume, message):
+    g = Gltf()
+    g.extension("KHR_materials_volume")
+    g.doc["materials"] = [{"extensions": {"KHR_materials_volume": volume}}]
+    g.node(mesh=g.mesh(QUAD, QUAD_TRIS, material=0))
+    with pytest.raises(ValueError) as e:
+        glslppm.load_scene(g.write(tmp_path / "volume.gltf"))
+    assert "materials[0]" in str(e.value) and message in str(e.value), str(e.value)
+
+
 def _material_warnings(warnings):
     """The warnings about materials (a file without a camera also warns about that)."""
     return [w for w in warnings if "no camera" not in w]
