@@ -363,7 +363,13 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     p.microfacet = microfacet;
     p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
                                           p.microfacet, colors_uploaded);
-    feature(use.environment, "HAS_ENVIRONMENT_MAP", "environment-map");
+    // An environment map replaces the constant world rather than adding code beside it:
+    // compiled only where the scene has one, in the full variant too (with it, a scene lit by
+    // a constant world rendered black there).
+    if (use.environment) {
+        p.defines.push_back({"HAS_ENVIRONMENT_MAP", "1"});
+        features.push_back("environment-map");
+    }
     // Not features but outputs: the full variant leaves them as the settings say.
     if (settings.transparent) {
         p.defines.push_back({"FILM_TRANSPARENT", "1"});

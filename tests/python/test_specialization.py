@@ -16,9 +16,11 @@ def test_plain_scene_variant_leaves_out_what_it_does_not_use(glslppm):
                     "sun-lights", "depth-of-field"):
         assert feature not in variant, variant
     full = cornell(glslppm, full_variant=True).stats()["variant"].split(",")
-    for feature in ("textures", "dielectric", "conductor", "environment-map", "spot-lights",
-                    "sun-lights", "depth-of-field", "normals"):
+    for feature in ("textures", "dielectric", "conductor", "spot-lights", "sun-lights",
+                    "depth-of-field", "normals"):
         assert feature in full, full
+    # An environment map replaces the constant world: never compiled without one.
+    assert "environment-map" not in full, full
 
 
 def test_specialized_and_full_variants_render_the_same_image(glslppm):
@@ -31,6 +33,27 @@ def test_specialized_and_full_variants_render_the_same_image(glslppm):
     fa, fb = a.film(), b.film()
     assert np.isfinite(fa).all() and fa.mean() > 0.01
     assert np.abs(fa - fb).max() <= 1e-4 * fa.max()
+
+
+def test_full_variant_renders_a_constant_world_as_the_specialized_one(glslppm):
+    """A grey plane under a constant white world (no environment map): radiance 0.5 in
+    both variants (it rendered black in the full one while it compiled the map's code)."""
+    g = glslppm
+    from conftest import look_at
+    plane = np.array([[-1, 0, -1], [1, 0, -1], [1, 0, 1], [-1, 0, 1]], np.float32)
+    triangles = np.array([[0, 2, 1], [0, 3, 2]], np.uint32)
+    camera = g.Camera(to_world=look_at((0, 2, 0.01), (0, 0, 0)))
+    means = []
+    for full in (False, True):
+        scene = g.Scene(plane, triangles, materials=[g.Material("diffuse", color=(0.5,) * 3)],
+                        camera=camera, environment=(1.0, 1.0, 1.0))
+        r = g.Renderer(scene, g.Settings(width=16, height=16, photons_per_pass=4096, seed=2,
+                                         full_variant=full))
+        r.run(8)
+        means.append(float(r.film()[..., :3].mean()))
+        r.close()
+    # Light samples of a constant world on a Lambert plane: 0.5 within the noise of 8 passes.
+    assert abs(means[0] - 0.5) < 0.01 and abs(means[1] - 0.5) < 0.01, means
 
 
 def test_second_renderer_of_a_variant_reuses_the_compiled_programs(glslppm):
