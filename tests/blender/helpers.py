@@ -118,12 +118,19 @@ def node_material(name, node_type, **inputs):
     for node in list(tree.nodes):
         if node.type != 'OUTPUT_MATERIAL':
             tree.nodes.remove(node)
-    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
-    shader = tree.nodes.new(node_type)
-    for key, value in inputs.items():
-        shader.inputs[key].default_value = value
-    tree.links.new(shader.outputs[0], output.inputs["Surface"])
+    link_to_output(tree, node_type, "Surface", **inputs)
     return material
+
+
+def link_to_output(tree, node_type, socket, **inputs):
+    """A new node of node_type with the given inputs, its first output linked to the
+    Material Output's `socket` ("Surface", "Volume"); returns the node."""
+    node = tree.nodes.new(node_type)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    output = next(n for n in tree.nodes if n.type == 'OUTPUT_MATERIAL')
+    tree.links.new(node.outputs[0], output.inputs[socket])
+    return node
 
 
 def diffuse_material(name, color):

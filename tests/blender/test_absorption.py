@@ -26,11 +26,7 @@ def _glass_with_volume(name, volume_type, surface=GLASS, **inputs):
         # Smooth glass: 3.x's Sharp (its default is Beckmann), 4.x's GGX at roughness 0.
         shader.distribution = 'GGX' if helpers.BLENDER_4 else 'SHARP'
         shader.inputs["Roughness"].default_value = 0.0
-    volume = tree.nodes.new(volume_type)
-    for key, value in inputs.items():
-        volume.inputs[key].default_value = value
-    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
-    tree.links.new(volume.outputs[0], output.inputs["Volume"])
+    helpers.link_to_output(tree, volume_type, "Volume", **inputs)
     return material
 
 
