@@ -323,7 +323,8 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
     vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
-    bool world = floatBitsToInt(emitters[4u * pick_emitter(pick)].w) == EMITTER_ENVIRONMENT;
+    uint picked = pick_emitter(pick);  // the emitter sample_light drew from
+    bool world = floatBitsToInt(emitters[4u * picked].w) == EMITTER_ENVIRONMENT;
 #ifdef HAS_EMITTER_MIS
     // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
     // point's cosine lobe is wide, where light samples do well, and its extra ray would cost
@@ -332,7 +333,6 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     bool triangle_mis = !rough_only && (sh.kind == MATERIAL_CONDUCTOR ||
                                         sh.kind == MATERIAL_DIELECTRIC ||
                                         sh.kind == MATERIAL_PLASTIC);
-    uint picked = pick_emitter(pick);
     bool picked_triangle = floatBitsToInt(emitters[4u * picked].w) == EMITTER_TRIANGLE;
 #endif
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)

@@ -52,8 +52,10 @@ def test_full_variant_renders_a_constant_world_as_the_specialized_one(glslppm):
         r.run(8)
         means.append(float(r.film()[..., :3].mean()))
         r.close()
-    # Light samples of a constant world on a Lambert plane: 0.5 within the noise of 8 passes.
-    assert abs(means[0] - 0.5) < 0.01 and abs(means[1] - 0.5) < 0.01, means
+    # A constant world sampled by the cosine on a Lambert plane has no noise: 0.5 to float
+    # rounding (measured 0.5 in both); the plane sees no other surface, so photons add
+    # nothing. Bound 0.1%: a 1% bias, or black, fails it.
+    assert abs(means[0] - 0.5) < 5e-4 and abs(means[1] - 0.5) < 5e-4, means
 
 
 def test_second_renderer_of_a_variant_reuses_the_compiled_programs(glslppm):
