@@ -45,6 +45,13 @@ test-blender:
 test-viewport:
 	@scripts/test-viewport.sh
 
+# The path every user takes first, in Blender's real UI under Xvfb with real key presses:
+# F12, Esc, F12, an edit, a file closed mid-render, Ctrl+S, Ctrl+Q; then F12 / Esc / F12 /
+# Ctrl+Q ten times in a row, each in a fresh Blender (3.4 and 4.3).
+.PHONY: test-user-path
+test-user-path:
+	@scripts/test-user-path.sh
+
 # The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer, in a second
 # build without the Python module. Mesa's DRI driver is preloaded
 # (after libasan, which must come first) so that its globals stay mapped until

@@ -20,7 +20,7 @@ mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
 packages=(blender g++ cmake ninja-build pkg-config python3-dev python3-numpy pybind11-dev
           libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
           libtinygltf-dev nlohmann-json3-dev libtinyobjloader-dev libstb-dev
-          zip ca-certificates xvfb xauth)
+          zip ca-certificates xvfb xauth xdotool)
 
 need_root() {
   if [ "$(id -u)" -ne 0 ]; then

@@ -61,8 +61,8 @@ def bench(text):
 
 def blender(text):
     # tests/blender/run.py's "RESULT Blender 3.4.1: ..." and the viewport suite's
-    # "RESULT Blender 3.4.1 (viewport): ...".
-    results = re.findall(r"^RESULT Blender ([\d.]+)(?: \(viewport\))?: (\d+) passed, "
+    # "RESULT Blender 3.4.1 (viewport): ...", and the user path suite's runs.
+    results = re.findall(r"^RESULT Blender ([\d.]+)(?: \((?:viewport|user path)\))?: (\d+) passed, "
                          r"(\d+) failed, (\d+) skipped", text, re.M)
     if not results:
         return None
@@ -87,7 +87,7 @@ def fuzz(text):
 
 
 PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,
-           "viewport": blender, "sanitize": ctest, "fuzz-replay": fuzz}
+           "viewport": blender, "user-path": blender, "sanitize": ctest, "fuzz-replay": fuzz}
 
 
 def main():

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <thread>
 
 #include "gl/device_limits.h"
 #include "gl/egl_context.h"
@@ -43,6 +44,54 @@ py::array_t<float> array_owning(std::vector<float>&& values, std::vector<py::ssi
     return py::array_t<float>(shape, owned->data(), base);
 }
 
+// References to Python objects let go of where this thread may not hold the GIL. A
+// Renderer is freed by whichever thread drops it last: a worker thread whose run() outlived
+// close(), or a binding that released the GIL. Waiting for the GIL inside a destructor
+// can deadlock (the GIL's holder may be waiting for this very thread), so such references
+// are queued and released under the GIL: by a pending call, which Python runs on its main
+// thread at its next bytecode, or by the next Scene made here, whichever comes first.
+namespace deferred_release {
+
+std::mutex& queue_mutex() {
+    static std::mutex m;
+    return m;
+}
+std::vector<PyObject*>& queue() {
+    static std::vector<PyObject*> q;
+    return q;
+}
+
+// GIL held.
+void drain() {
+    std::vector<PyObject*> objects;
+    {
+        std::lock_guard lock(queue_mutex());
+        objects.swap(queue());
+    }
+    for (PyObject* object : objects) Py_DECREF(object);
+}
+
+int pending_call(void*) {
+    drain();
+    return 0;
+}
+
+// Any thread, GIL or not: takes over the references (objects are left empty).
+void hand_over(std::vector<py::object>& objects) {
+    bool schedule = false;
+    {
+        std::lock_guard lock(queue_mutex());
+        schedule = queue().empty();
+        for (py::object& object : objects)
+            if (object) queue().push_back(object.release().ptr());
+    }
+    objects.clear();  // empty handles now: no reference count is touched
+    // Needs neither the GIL nor a thread state (Python's C API documentation).
+    if (schedule) Py_AddPendingCall(pending_call, nullptr);
+}
+
+}  // namespace deferred_release
+
 // Holds the numpy arrays a Scene's MeshView points into.
 // Registered while alive, so that a Scene's keepalive can be recognised as one (scenes from
 // the loaders and procedural scenes keep an OwnedMesh instead).
@@ -57,8 +106,14 @@ struct ArrayOwner {
             std::lock_guard lock(registry_mutex());
             registry().erase(this);
         }
-        py::gil_scoped_acquire gil;
-        arrays.clear();
+        if (!Py_IsInitialized()) {
+            // Python has gone (a renderer freed at exit): the arrays went with it.
+            for (py::object& array : arrays) array.release();
+        } else if (PyGILState_Check()) {
+            arrays.clear();
+        } else {
+            deferred_release::hand_over(arrays);
+        }
     }
     static bool is_one(const void* p) {
         std::lock_guard lock(registry_mutex());
@@ -314,6 +369,7 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
                     const py::object& instances, const py::object& instance_mesh,
                     const py::object& instance_material_offset, const py::object& tangents,
                     const py::object& colors) {
+    deferred_release::drain();  // what renderers freed off Python's thread left
     auto owner = std::make_shared<ArrayOwner>();
     Scene scene;
     add_instances(scene, *owner, instance_meshes, instances, instance_mesh,
@@ -399,6 +455,17 @@ public:
     bool closed() const {
         std::lock_guard lock(mutex_);
         return !renderer_;
+    }
+    // Tests only: closes, letting go of this handle's reference on a thread Python has never
+    // seen (as Blender's render job threads are), while the caller keeps the GIL released.
+    void close_on_native_thread() {
+        std::shared_ptr<Renderer> last;
+        {
+            std::lock_guard lock(mutex_);
+            last = std::move(renderer_);
+        }
+        if (last) last->cancel();
+        std::thread([owned = std::move(last)]() mutable { owned.reset(); }).join();
     }
 
 private:
@@ -890,7 +957,25 @@ PYBIND11_MODULE(_glslppm, m) {
             py::gil_scoped_release release;
             r.close();
         }, "Frees the GL context and every GPU buffer now (also done on garbage collection).")
-        .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); });
+        .def_property_readonly("closed", [](const PyRenderer& r) { return r.closed(); })
+        .def("_debug_close_on_native_thread", [](PyRenderer& r) {
+            py::gil_scoped_release release;
+            r.close_on_native_thread();
+        }, "Tests only: close(), the last reference dropped on a thread that is not Python's.");
+    // Tests only: a Scene's arrays released on a thread Python has never seen, as a copy of a
+    // Scene freed inside a worker would release them.
+    static std::unique_ptr<Scene> held_scene;
+    m.def("_debug_hold_scene", [](const Scene& scene) {
+        held_scene = std::make_unique<Scene>(scene);
+    }, "Tests only: keeps a copy of the scene (sharing its arrays) in the module.");
+    m.def("_debug_drop_held_scene_on_native_thread", [] {
+        py::gil_scoped_release release;
+        std::thread([owned = std::move(held_scene)]() mutable { owned.reset(); }).join();
+    }, "Tests only: frees the kept copy on a new thread, the GIL released.");
+    m.def("_debug_deferred_releases", [] {
+        std::lock_guard lock(deferred_release::queue_mutex());
+        return deferred_release::queue().size();
+    }, "Tests only: references to Python objects freed off Python's thread, not yet released.");
 
     // Frames larger than one storage buffer holds, as image tiles (render/tiled_render.h).
     auto tile_tuple = [](const Tile& t) { return py::make_tuple(t.x, t.y, t.width, t.height); };
