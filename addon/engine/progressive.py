@@ -56,6 +56,31 @@ class PassSchedule:
         return max(0.0, remaining)
 
 
+# A render projected to take longer than this, with no time limit, is announced as soon
+# as its pass time is known: the Final preset at 1080p is about 8 hours on llvmpipe.
+LONG_RENDER_SECONDS = 600.0
+
+
+def long_render_warning(schedule, elapsed, device):
+    """The warning for a render that will run long, or None: once the pass time is known
+    (two passes after the compiling one), when no time limit caps it."""
+    if schedule.time_limit > 0.0 or schedule.seconds_per_pass is None or schedule.done < 2:
+        return None
+    total = elapsed + schedule.remaining_seconds(elapsed)
+    if total < LONG_RENDER_SECONDS:
+        return None
+    return (f"this render will take about {format_duration(total)} ({schedule.passes:,} "
+            f"passes at {schedule.seconds_per_pass:.3g} s each on {device}); press Esc and "
+            "set Sampling > Time Limit, fewer passes or the Preview preset to finish sooner")
+
+
+def projected_seconds(passes, time_limit, pass_seconds):
+    """A render's length before it starts: its passes at the estimated pass time, capped
+    by the time limit."""
+    total = passes * pass_seconds
+    return min(total, time_limit) if time_limit > 0.0 else total
+
+
 class DisplayClock:
     """When to stream the film into Blender: often while the image changes most
     (the first seconds), about once per second after that."""

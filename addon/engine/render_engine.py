@@ -22,7 +22,7 @@ from ..properties.preferences import render_device, render_devices
 from . import memory, render_passes
 from .cancellable import StageClock, call_cancellable
 from .native_scene import film_options, native_scene, native_settings
-from .progressive import DisplayClock, PassSchedule, stats_line
+from .progressive import DisplayClock, PassSchedule, long_render_warning, stats_line
 from . import viewport
 
 
@@ -254,6 +254,7 @@ class GlslppmEngineMixin:
         start = time.perf_counter()
         film_ok = False
         abandoned = False
+        warned_long = False
         self.stage_clock.enter("render")
         try:
             while not self.should_stop():
@@ -276,6 +277,12 @@ class GlslppmEngineMixin:
                 self.passes_done = schedule.done
                 elapsed = time.perf_counter() - start
                 self.last_stats = renderer.stats()
+                if not warned_long and tile is None:  # (tiles: each has its own limit)
+                    warning = long_render_warning(schedule, elapsed,
+                                                  self.last_stats.get("renderer", "?"))
+                    if warning:
+                        warned_long = True
+                        self.report_to_user('WARNING', warning)
                 self.update_stats("", "GLSLPPM | " + prefix +
                                   stats_line(schedule, self.last_stats, elapsed))
                 done_tiles = 0 if tile is None else tile[1] - 1

@@ -101,6 +101,43 @@ def test_time_limit_stops_the_render():
     assert image[..., :3].mean() > 1e-3
 
 
+def parse_duration(text):
+    """progressive.format_duration's "H:MM:SS" or "MM:SS" in seconds."""
+    seconds = 0
+    for part in text.split(":"):
+        seconds = 60 * seconds + int(part)
+    return seconds
+
+
+def test_long_render_is_announced_with_its_projected_time():
+    """Issue 26: the Final preset at 1080p ran about 8 hours on llvmpipe without a word. A
+    render with no time limit projected past 10 minutes is announced once its pass time is
+    known, with the projection: passes x the measured seconds a pass (within a factor 2:
+    the pass time the engine measures, not the whole render's mean, drifts on a loaded
+    machine)."""
+    small_lit_scene(passes=1_000_000)
+    engine = helpers.recording_engine()
+    engine.break_after_passes = 6
+    _, error = render("long", engine)
+    assert error is None, error
+    warnings = [m for m in messages(engine, 'WARNING') if "this render will take about" in m]
+    assert len(warnings) == 1, engine.reports
+    projected = parse_duration(warnings[0].split("about ")[1].split(" ")[0])
+    per_pass = engine.last_stats["seconds"] / engine.last_stats["passes"]
+    ratio = projected / (1_000_000 * per_pass)
+    print(f"  projected {projected} s, measured {per_pass:.4f} s a pass: ratio {ratio:.2f}")
+    assert 0.5 < ratio < 2.0, f"projection {projected} s against {per_pass:.4f} s a pass"
+    # Capped by a time limit, or short: no warning.
+    for passes, limit in ((1_000_000, 3.0), (5, 0.0)):
+        small_lit_scene(passes=passes)
+        bpy.context.scene.glslppm.time_limit = limit
+        engine = helpers.recording_engine()
+        _, error = render("not-long", engine)
+        assert error is None, error
+        assert not [m for m in messages(engine, 'WARNING') if "will take about" in m], \
+            engine.reports
+
+
 def test_animation_writes_three_different_frames():
     if helpers.SOURCE_MODE:
         raise helpers.Skip("`blender -a` needs the installed add-on")
