@@ -5,9 +5,12 @@
 //
 // Directions point away from the surface. A Shading's frame has its z axis on the side wo
 // leaves from (surfaces are two-sided); a dielectric knows from `entering` which side of it
-// is the inside. f is the radiance form: light refracted into a denser medium is divided by
-// the squared ratio of the indices (eta^2), and the photons, which carry flux, are sampled
-// with the adjoint (no such factor), as in Veach's thesis, section 5.2.
+// is the inside. Refraction follows Cycles' convention, so that an image matches Cycles'
+// where a dielectric is not a closed solid (a window of one plane, a camera inside water):
+// eye paths carry no factor for the change of solid angle, and photons are sampled with that
+// kernel's adjoint, which divides by the squared ratio of the indices (eta^2) going into the
+// denser medium (Veach's thesis, section 5.2, with the roles of the two transport modes
+// exchanged). Through a closed solid the factors cancel, so both conventions agree there.
 #ifndef LOBES_GLSL
 #define LOBES_GLSL
 
@@ -321,7 +324,7 @@ vec3 dielectric_f(Shading sh, vec3 wo, vec3 wi, bool adjoint) {
         float denom = dot(wi, m) + dot(wo, m) / etap;
         f = sh.color * ((1.0 - F) * dg * abs(dot(wi, m) * dot(wo, m)) /
                         (abs(wi.z) * wo.z * denom * denom));
-        if (!adjoint) f /= etap * etap;
+        if (adjoint) f /= etap * etap;  // photons: see the top of this file
     }
     return f / dielectric_albedo(sh, wo);
 }
@@ -491,7 +494,7 @@ bool smooth_sample(Shading sh, vec3 wo, float u, bool adjoint, out vec3 wi, out 
         return true;
     }
     wi = vec3(-eta * wo.x, -eta * wo.y, -cos_t);
-    weight = adjoint ? sh.color : sh.color * (eta * eta);
+    weight = adjoint ? sh.color * (eta * eta) : sh.color;  // see the top of this file
     return true;
 }
 
