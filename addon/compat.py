@@ -1,5 +1,6 @@
-"""Every difference between the Blender versions the add-on supports (3.4 and 4.x) in
-one place: the rest of the add-on asks here instead of testing bpy.app.version."""
+"""Every difference between the Blender versions the add-on supports (3.4, 4.x and 5.x) in
+one place: the rest of the add-on (and its tests) asks here instead of testing
+bpy.app.version."""
 
 import bpy
 
@@ -16,6 +17,20 @@ PASS_NAME_KEY = "blender" if BLENDER_4 else "blender_3x"
 
 # 4.1 replaced calc_normals_split() and MeshLoop.normal with Mesh.corner_normals.
 HAS_CORNER_NORMALS = VERSION >= (4, 1, 0)
+
+# 5.0 deprecated use_nodes on materials, lights, worlds and scenes (it always reads True
+# and 6.0 removes it): a datablock with a node tree renders with it.
+BLENDER_5 = VERSION >= (5, 0, 0)
+USE_NODES_DEPRECATED = BLENDER_5
+
+
+def node_tree(datablock):
+    """The node tree a material, light or world renders with, or None: 3.x and 4.x use it
+    only while use_nodes is on; 5.x always (use_nodes is not read there)."""
+    tree = getattr(datablock, "node_tree", None)
+    if tree is None or USE_NODES_DEPRECATED:
+        return tree
+    return tree if getattr(datablock, "use_nodes", False) else None
 
 
 def set_equirectangular(camera):

@@ -24,6 +24,7 @@ import math
 
 from dataclasses import dataclass, replace
 
+from ..compat import node_tree
 from .image import image_mean_color
 from .normal_map import normal_map_of, shader_nodes
 from .node_inputs import (clamp01, image_texture_index, input_socket, linked_node,
@@ -73,7 +74,7 @@ def convert_material(material, warn, textures=None):
     def material_warn(message):
         warn(f"material '{material.name}': {message}")
 
-    if not material.use_nodes or material.node_tree is None:
+    if node_tree(material) is None:
         return [MaterialData("diffuse", clamp01(material.diffuse_color[:3]))]
     tree = material.node_tree
     output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
@@ -107,7 +108,7 @@ def convert_material(material, warn, textures=None):
 def volume_only(material):
     """True for a material whose output feeds only its Volume: a volume object, which
     has no surface to render."""
-    if material is None or not material.use_nodes or material.node_tree is None:
+    if material is None or node_tree(material) is None:
         return False
     tree = material.node_tree
     output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')

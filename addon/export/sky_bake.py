@@ -71,7 +71,7 @@ def main():
     request = json.load(open(sys.argv[sys.argv.index("--") + 1]))
     compat = _compat(request["compat"])
     scene, sky, camera = _scene(request)
-    has_disc = sky.sky_type == 'NISHITA' and sky.sun_disc
+    has_disc = request["sun_disc"]
     if has_disc:
         sky.sun_disc = False
     # This rotation makes Cycles' equirectangular camera write the renderer's mapping
