@@ -41,3 +41,66 @@ def set_equirectangular(camera):
         camera.panorama_type = 'EQUIRECTANGULAR'
     else:
         camera.cycles.panorama_type = 'EQUIRECTANGULAR'
+
+
+# The sky type a new Sky Texture gets: 5.0 split Nishita into 'SINGLE_SCATTERING' and
+# 'MULTIPLE_SCATTERING' (the default) and renamed its dust_density to aerosol_density.
+DEFAULT_SKY_TYPE = 'MULTIPLE_SCATTERING' if BLENDER_5 else 'NISHITA'
+PHYSICAL_SKY_TYPES = ('SINGLE_SCATTERING', 'MULTIPLE_SCATTERING') if BLENDER_5 else ('NISHITA',)
+
+
+def set_exr_format(image_settings, multilayer=False):
+    """32-bit OpenEXR, one layer or every pass (multi-layer): 5.x chooses the kind by
+    media_type first ('OPEN_EXR_MULTILAYER' is refused while it is 'IMAGE')."""
+    if BLENDER_5:
+        image_settings.media_type = 'MULTI_LAYER_IMAGE' if multilayer else 'IMAGE'
+    image_settings.file_format = 'OPEN_EXR_MULTILAYER' if multilayer else 'OPEN_EXR'
+    image_settings.color_depth = '32'
+
+
+def compositor_tree(scene):
+    """(tree, output): an empty compositor node tree of the scene and the node whose
+    "Image" input is the composited image. 3.x/4.x: scene.node_tree (use_nodes) and a
+    Composite node; 5.x: a new tree in scene.compositing_node_group and its Group Output
+    with an Image socket (the Composite node is gone)."""
+    scene.render.use_compositing = True
+    if BLENDER_5:
+        tree = bpy.data.node_groups.new("Compositor", "CompositorNodeTree")
+        scene.compositing_node_group = tree
+        tree.interface.new_socket("Image", in_out='OUTPUT', socket_type='NodeSocketColor')
+        return tree, tree.nodes.new("NodeGroupOutput")
+    scene.use_nodes = True
+    tree = scene.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    return tree, tree.nodes.new("CompositorNodeComposite")
+
+
+def file_output_node(tree, directory, names):
+    """A File Output node that writes one single-layer 32-bit EXR per name into directory,
+    each file's name starting with its input's name; its inputs are named as `names`.
+    5.x replaced base_path and file_slots with directory, file_name and
+    file_output_items."""
+    node = tree.nodes.new("CompositorNodeOutputFile")
+    set_exr_format(node.format)
+    if BLENDER_5:
+        node.directory = directory
+        node.file_name = ""
+        node.file_output_items.clear()
+        for name in names:
+            node.file_output_items.new('RGBA', name)
+    else:
+        node.base_path = directory
+        node.file_slots.clear()
+        for name in names:
+            node.file_slots.new(name)
+    return node
+
+
+def use_nodes(datablock):
+    """Makes a new material, light or world render with its node tree: 3.x/4.x turn
+    use_nodes on (creating the tree); 5.x gives every one a tree and deprecates the
+    switch."""
+    if not USE_NODES_DEPRECATED:
+        datablock.use_nodes = True
+    return datablock.node_tree

@@ -668,9 +668,16 @@ def test_world_background():
     set_world((0.5, 0.25, 1.0), 2.0)
     assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "background colour x strength")
     world = bpy.context.scene.world
-    world.use_nodes = False
     world.color = (0.1, 0.2, 0.3)
-    assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
+    if helpers.BLENDER_5:
+        # 5.x has no world without nodes (use_nodes is deprecated and always on): the
+        # viewport colour is never the background, and an unlinked World Output is black.
+        assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "nodes, whatever the colour")
+        world.node_tree.links.clear()
+        assert_close(export().environment, (0, 0, 0), 0, "nothing linked to the World Output")
+    else:
+        world.use_nodes = False
+        assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
     bpy.context.scene.world = None
     data = export()
     assert_close(data.environment, (0, 0, 0), 0, "no world")

@@ -14,6 +14,7 @@
 #include <ImfHeader.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
+#include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 
 #include "image/exr.h"
