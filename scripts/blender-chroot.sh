@@ -7,6 +7,7 @@
 #   scripts/blender-chroot.sh [RELEASE] build           build _glslppm for its Python into build-RELEASE/
 #   scripts/blender-chroot.sh [RELEASE] run CMD [ARG..] run a command inside, the repository mounted at /src
 #   scripts/blender-chroot.sh [RELEASE] shell           an interactive shell inside
+#   scripts/blender-chroot.sh [RELEASE] root            print where its root folder is
 #
 # RELEASE (trixie or sid) may also come from GLSLPPM_CHROOT_RELEASE; default trixie.
 # Where each lives: GLSLPPM_CHROOT_TRIXIE / GLSLPPM_CHROOT_SID, else (trixie only, as before)
@@ -117,5 +118,6 @@ case "$cmd" in
   build) build ;;
   run) [ -f "$stamp" ] || create; in_chroot "$@" ;;
   shell) [ -f "$stamp" ] || create; in_chroot /bin/bash ;;
+  root) echo "$root" ;;
   *) echo "usage: $0 [trixie|sid] create|build|run CMD...|shell" >&2; exit 2 ;;
 esac
