@@ -29,8 +29,8 @@ unzip -q "$zip" -d "$out/unzipped"
 system_libs='^(linux-vdso|ld-linux-x86-64|libc|libm|libdl|libpthread|librt|libstdc\+\+|libgcc_s|libEGL|libGL|libOpenGL|libGLX|libGLdispatch)\.so'
 
 # 1. ldd of each module where it was built: every library outside the system list from the zip.
-for entry in host:311 trixie:313 sid:314; do
-  where=${entry%%:*} abi=${entry#*:}
+for entry in 311:host 313:trixie 314:sid; do
+  abi=${entry%%:*} where=${entry#*:}
   module=$(ls "$out"/unzipped/_glslppm.cpython-$abi-*.so 2>/dev/null | head -1)
   [ -n "$module" ] || { fail "ldd cp$abi: no module for Python ${abi:0:1}.${abi:1} in $zip"; continue; }
   root=$(repo_in "$entry")

@@ -5,7 +5,8 @@ extension zip was installed with `blender --command extension install-file`:
 
 Checks that the add-on enabled from the zip loads the zip's own module (the one of this
 Python's ABI, not a build tree's) and renders: a white Lambertian floor (albedo 0.8) under
-a sun of strength 3 W/m^2 straight above, whose radiance is 0.8 x 3 / pi (closed form).
+a sun of strength 3 W/m^2 straight above, whose radiance is 0.8 x 3 / pi (closed form),
+within 0.5%.
 Prints PASS/FAIL lines and "RESULT extension Blender X: N passed, M failed".
 """
 
@@ -21,9 +22,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import helpers  # noqa: E402
 
 MODULE = "bl_ext.user_default.glslppm"
-# 32 passes of 32 x 32 pixels: the centre's mean is within 0.3% of the closed form
-# (measured); 1% fails a 1% bias in the module's sun or Lambert lobe.
-BOUND = 0.01
+# 32 passes of 32 x 32 pixels: the centre's mean is the closed form x 0.99998 in Blender 4.3
+# and 5.2 (measured; the sun's direct light is a light sample, nearly noiseless here). 0.5%
+# fails a 1% bias in the module's sun or Lambert lobe.
+BOUND = 0.005
 
 
 def test_zip_module_is_loaded():

@@ -224,8 +224,7 @@ def render_image(name, engine='GLSLPPM'):
     scene = bpy.context.scene
     scene.render.engine = engine
     settings = scene.render.image_settings
-    settings.file_format = 'OPEN_EXR'
-    settings.color_depth = '32'
+    compat().set_exr_format(settings)  # single-layer (5.x: media type Image)
     settings.exr_codec = 'ZIP'
     path = os.path.join(OUT, f"{name}.exr")
     scene.render.filepath = path
