@@ -24,7 +24,7 @@ import math
 
 from dataclasses import dataclass, replace
 
-from ..compat import node_tree
+from ..compat import DEFAULT_SURFACE_IS_PRINCIPLED, node_tree
 from .image import image_mean_color
 from .normal_map import normal_map_of, shader_nodes
 from .node_inputs import (clamp01, image_texture_index, input_socket, linked_node,
@@ -34,7 +34,10 @@ from .node_inputs import (clamp01, image_texture_index, input_socket, linked_nod
 from .scene_data import MaterialData
 from .volume import volume_absorption
 
-DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
+# An object without a material, as Cycles renders it: a diffuse 0.8 grey up to 4.x, from 5.0
+# a new material's Principled BSDF (base 0.8, roughness 0.5, IOR 1.5, Multiscatter GGX).
+DEFAULT_MATERIAL = (MaterialData("plastic", (0.8, 0.8, 0.8), ior=1.5, roughness=0.5)
+                    if DEFAULT_SURFACE_IS_PRINCIPLED else MaterialData("diffuse", (0.8, 0.8, 0.8)))
 BLACK = MaterialData("diffuse", (0.0, 0.0, 0.0))
 # How deep Mix materials may nest (kMaxMixDepth in native/scene/scene.h).
 MAX_MIX_DEPTH = 8
