@@ -23,6 +23,10 @@ HAS_CORNER_NORMALS = VERSION >= (4, 1, 0)
 # pixels in Cycles 5.2; 5% darker than the diffuse grey seen at 60 degrees).
 DEFAULT_SURFACE_IS_PRINCIPLED = VERSION >= (5, 0, 0)
 
+# Cycles' shadow terminator term for bump and normal maps: Chiang 2019 up to 4.x, Conty
+# Estevez 2021 from 5.0 (the module's Settings bump_shadowing; shaders/common/lobes.glsl).
+BUMP_SHADOWING = "conty2021" if VERSION >= (5, 0, 0) else "chiang2019"
+
 # 5.0 deprecated use_nodes on materials, lights, worlds and scenes (it always reads True
 # and 6.0 removes it): a datablock with a node tree renders with it.
 BLENDER_5 = VERSION >= (5, 0, 0)
