@@ -14,10 +14,14 @@ import numpy as np
 import helpers
 from helpers import add_camera, add_mesh_object, diffuse_material
 
-# The 3x3 region means within 8% of Cycles' brightest region (the baked map is 256x128,
-# filtered bilinearly, against Cycles' per-ray evaluation), the image mean within 5%.
-REGION_TOLERANCE = 0.08
-MEAN_TOLERANCE = 0.05
+# Against the Cycles of the same Blender: the 3x3 region means within 3% of Cycles'
+# brightest region (the baked map is 256x128, filtered bilinearly, against Cycles' per-ray
+# evaluation), the image mean within 0.5%, which a 1% bias fails. Measured worst region /
+# mean: Blender 3.4 1.45% / 0.18%, 4.3 1.30% / 0.18%, 5.2 1.09% / 0.18% (every sky type of
+# each; the mean's worst is Hosek-Wilkie's). Before 5.x's sky types were exported, 5.2's
+# default sky read 0.762 of Cycles with a region 323% off.
+REGION_TOLERANCE = 0.03
+MEAN_TOLERANCE = 0.005
 
 
 def _sky_scene(sky_type=None, **settings):
