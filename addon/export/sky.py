@@ -2,8 +2,9 @@
 its 5.x successors; Hosek-Wilkie, Preetham) evaluated by Blender itself. A second
 Blender renders the node with Cycles (export/sky_bake.py) into an equirectangular map,
 the sky without its sun disc, which becomes the environment map; the sun disc of the
-physical skies becomes a sun light of the disc's measured irradiance, direction and size. Results are kept per set of node settings for the
-session, so an animation bakes once (a bake takes about 2-4 s on two cores).
+physical skies becomes a sun light of the disc's measured irradiance, direction and size.
+Results are kept per set of node settings for the session, so an animation bakes once (a
+bake takes about 2-10 s on two cores).
 
 When the bake fails (no Blender binary, Cycles missing, a timeout) the world falls back
 to grey with a warning naming the world and the reason.

@@ -1,7 +1,7 @@
 """Sky Texture worlds against Cycles: Blender's own default sky (Nishita up to 4.x,
 Multiple Scattering in 5.x; sun 15 degrees up, with its disc), every physical sky type
-of this Blender (5.x: Single and Multiple Scattering) and a Hosek-Wilkie sky, over a grey floor, seen half sky, half
-floor, with the sun behind the camera. The sky is baked by Blender into the environment
+of this Blender (5.x: Single and Multiple Scattering) and a Hosek-Wilkie sky, over a grey
+floor, seen half sky, half floor, with the sun behind the camera. The sky is baked by Blender into the environment
 map and the sun disc into a sun light, so both the sky seen and the floor it lights must
 match Cycles. (The disc itself, seen directly, is not drawn: a sun light is not seen by
 camera rays.)"""
