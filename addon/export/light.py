@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..compat import BLENDER_4
+from ..compat import BLENDER_4, node_tree
 from .node_inputs import linked_node as _linked_node, socket_color, socket_value
 from .scene_data import LightData
 
@@ -77,7 +77,7 @@ def light_node_emission(light, warn):
     """(strength, rgb) of the Emission node feeding the light's node tree output, which
     Cycles multiplies into the light's power and colour: (1, white) without nodes."""
     white = (1.0, 1.0, 1.0)
-    tree = light.node_tree if getattr(light, "use_nodes", False) else None
+    tree = node_tree(light)
     if tree is None:
         return 1.0, white
 

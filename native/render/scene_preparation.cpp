@@ -472,6 +472,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.hash_cell_count = p.hash_cells;
     f.max_bounces = static_cast<std::uint32_t>(settings.max_bounces);
     f.glossy_threshold = settings.glossy_threshold;
+    f.shadow_terminator = settings.bump_shadowing == BumpShadowing::Conty2021 ? 1u : 0u;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;

@@ -424,14 +424,28 @@ float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
     }
 }
 
-// Cycles' shadow terminator for bumped normals (Chiang, Li and Burley 2019, "Taming the
-// Shadow Terminator"), which it applies to its diffuse closures wherever the shading normal
-// is not the smooth one: with g = cos(ng, wi) / (cos(n, wi) cos(ng, n)), light from where a
-// tilted normal would see the surface lit more than its true orientation fades as
-// -g^3 + g^2 + g below g = 1. Without it the diffuse lobe reads 1.1-1.3% brighter than Cycles
-// on a normal-mapped plane under a dim world (tests/blender/test_materials.py).
+// Cycles' shadow terminator for bumped normals, which it applies to its diffuse closures
+// wherever the shading normal is not the smooth one; Frame's shadow_terminator picks the
+// Cycles of the user's Blender. Up to 4.x (Chiang, Li and Burley 2019, "Taming the Shadow
+// Terminator"): with g = cos(ng, wi) / (cos(n, wi) cos(ng, n)), light from where a tilted
+// normal would see the surface lit more than its true orientation fades as -g^3 + g^2 + g
+// below g = 1. Without it the diffuse lobe reads 1.1-1.3% brighter than Cycles on a
+// normal-mapped plane under a dim world (tests/blender/test_materials.py). 5.x (Conty
+// Estevez, Lecocq and Stein 2021, eq. 4-5): Smith's GGX G1 at cos(ng, wi) for alpha^2 =
+// tan^2(ng, n) / 8, light on the far side of ng from n black (Cycles' bump_shadowing_term).
 float bump_shadowing(Shading sh, vec3 wi_world) {
 #ifdef HAS_NORMAL_MAP
+    if (shadow_terminator != 0u) {
+        float cos_i = dot(sh.ng, wi_world), cos_d = dot(sh.ng, sh.n);
+        if (cos_i * cos_d * dot(sh.n, wi_world) < 0.0) return 0.0;
+        cos_i = abs(cos_i);
+        cos_d = abs(cos_d);
+        if (cos_d >= 1.0 || cos_i >= 1.0) return 1.0;
+        if (cos_i < 1.0e-6) return 0.0;
+        float alpha2 = clamp(0.125 * (1.0 / (cos_d * cos_d) - 1.0), 0.0, 1.0);
+        float tan2_i = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
+        return 2.0 / (1.0 + sqrt(1.0 + alpha2 * tan2_i));
+    }
     float g = dot(sh.ng, wi_world) / max(dot(sh.n, wi_world) * dot(sh.ng, sh.n), 1.0e-9);
     if (g >= 1.0) return 1.0;
     if (g <= 0.0) return 0.0;

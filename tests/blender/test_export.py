@@ -2,6 +2,7 @@
 triangle counts, world-space positions, normals, material mapping per node kind,
 lights, camera angles of view and the world."""
 
+import dataclasses
 import math
 import time
 
@@ -662,15 +663,44 @@ def test_camera_transform_ortho_and_depth_of_field():
     assert_close(data.camera.focus_distance, 4.0, 1e-5, "focus distance along the view axis")
 
 
+def test_object_without_material_exports_as_a_new_material():
+    """Cycles renders an object without a material as a new material of that Blender: a
+    diffuse 0.8 grey up to 4.x (whose new materials have no nodes), a default Principled BSDF
+    in 5.x (measured the same pixels in Cycles 5.2). The export of both is the same."""
+    _camera()
+    add_cube()
+    without = export()
+    assert len(without.materials) == 1 and not without.warnings, without.warnings
+    add_cube("Other", location=(3, 0, 0), material=bpy.data.materials.new("New"))
+    with_new = export()
+    assert not with_new.warnings, with_new.warnings
+    default, new = _material_of(without), _material_of(with_new, 12)
+    for field in dataclasses.fields(default):
+        a, b = getattr(default, field.name), getattr(new, field.name)
+        if isinstance(a, (float, tuple)) and a is not None and b is not None:
+            assert_close(a, b, 1e-6, field.name)  # float32 colours, an IOR through F0
+        else:
+            assert a == b, (field.name, default, new)
+    kind = "plastic" if helpers.BLENDER_5 else "diffuse"
+    assert _material_of(without).kind == kind, _material_of(without)
+
+
 def test_world_background():
     _camera()
     add_cube()
     set_world((0.5, 0.25, 1.0), 2.0)
     assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "background colour x strength")
     world = bpy.context.scene.world
-    world.use_nodes = False
     world.color = (0.1, 0.2, 0.3)
-    assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
+    if helpers.BLENDER_5:
+        # 5.x has no world without nodes (use_nodes is deprecated and always on): the
+        # viewport colour is never the background, and an unlinked World Output is black.
+        assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "nodes, whatever the colour")
+        world.node_tree.links.clear()
+        assert_close(export().environment, (0, 0, 0), 0, "nothing linked to the World Output")
+    else:
+        world.use_nodes = False
+        assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
     bpy.context.scene.world = None
     data = export()
     assert_close(data.environment, (0, 0, 0), 0, "no world")

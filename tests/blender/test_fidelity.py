@@ -158,8 +158,7 @@ def test_infinite_or_nan_light_is_off_with_a_warning():
 # Light node trees
 
 def _emission_node(light):
-    light.use_nodes = True
-    tree = light.node_tree
+    tree = helpers.compat().use_nodes(light)
     return tree, next(node for node in tree.nodes if node.type == 'EMISSION')
 
 
@@ -258,8 +257,7 @@ def test_transparent_glass_alpha_matches_cycles():
 
 def _volume_material(name):
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    tree = material.node_tree
+    tree = helpers.compat().use_nodes(material)
     for node in list(tree.nodes):
         if node.type != 'OUTPUT_MATERIAL':
             tree.nodes.remove(node)

@@ -452,7 +452,7 @@ def test_material_preview_renders_a_sphere():
     preview scene's sphere with the material, and the icon is not black."""
     scene = cornell()
     material = bpy.data.materials.new("PreviewMaterial")
-    material.use_nodes = True
+    helpers.compat().use_nodes(material)
     principled = material.node_tree.nodes["Principled BSDF"]
     principled.inputs["Base Color"].default_value = (0.8, 0.3, 0.1, 1.0)
     bpy.data.objects["Floor"].data.materials[0] = material
