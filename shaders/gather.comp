@@ -27,6 +27,13 @@ shared float group_max_radius[LOCAL_SIZE];
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
 
+// Whether photon p landed on a surface facing the visible point's side (either way when
+// both_sides): see photon_side_word.
+bool photon_on_side(uint p, vec3 side, bool both_sides) {
+    float c = dot(photon_side(photons[3u * p + 2u].w), side);
+    return (both_sides ? abs(c) : c) > PHOTON_SIDE_MIN_COS;
+}
+
 #ifdef PASS_PHOTON_SPLIT
 // One class's photons into its pass, updated as Combined's tau is: PPPM adds the pass's
 // estimate, SPPM adds and shrinks with the radius.
@@ -88,6 +95,19 @@ void main() {
             vec3 n = visible_points[VISIBLE_POINT_VEC4 * i + 1].xyz;
             vec3 weight = visible_points[VISIBLE_POINT_VEC4 * i + 2].xyz;
 #endif
+            // The side photons must have arrived on (sppm_buffers.glsl, photon_side_word):
+            // either side for a lobe that transmits.
+#ifdef HAS_MICROFACET
+#ifdef HAS_NORMAL_MAP
+            vec3 side = sh.ng;
+#else
+            vec3 side = sh.n;
+#endif
+            bool both_sides = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
+#else
+            vec3 side = n;
+            bool both_sides = false;
+#endif
             float cell_size = hash_cell_size();
             ivec3 center = grid_cell(point.xyz, cell_size);
             float r2 = r * r;
@@ -117,7 +137,8 @@ void main() {
                 // Only from the cell it belongs to: cells sharing a table entry must not
                 // count their survivor twice.
 #ifdef HAS_MICROFACET
-                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                    photon_on_side(p, side, both_sides)) {
                     vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
                     float count = float(entry.y);
                     m += count;
@@ -125,7 +146,7 @@ void main() {
                 }
 #else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                    dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                    dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, side, both_sides)) {
                     float count = float(entry.y);
                     m += count;
                     ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
@@ -137,14 +158,16 @@ void main() {
                     vec3 x = photons[3 * p + 0].xyz;
                     vec3 d = x - point.xyz;
 #ifdef HAS_MICROFACET
-                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                        photon_on_side(p, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
                                           photons[3 * p + 2].xyz);
                     }
 #else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                        dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                        dot(photons[3 * p + 1].xyz, n) > 0.0 &&
+                        photon_on_side(p, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }

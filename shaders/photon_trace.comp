@@ -76,7 +76,7 @@ void main() {
         atomicAdd(pass_emitted, 1u);
     }
 
-    vec4 stored = vec4(0.0);  // flux.w = 1 when a photon is stored
+    vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
 #ifdef PASS_PHOTON_SPLIT
@@ -117,7 +117,9 @@ void main() {
                 uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
-                stored = vec4(flux, 1.0);
+                stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
+                                                         ? s.geometric_normal
+                                                         : -s.geometric_normal));
 #ifdef HAS_NORMAL_MAP
                 // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
                 // density (per area of the true surface) into the shading normal's cosine:
@@ -179,7 +181,9 @@ void main() {
             uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
-            stored = vec4(flux, 1.0);
+            stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
+                                                     ? s.geometric_normal
+                                                     : -s.geometric_normal));
 #ifdef DIRECT_LIGHT_SAMPLED
             }
 #endif
