@@ -27,11 +27,18 @@ shared float group_max_radius[LOCAL_SIZE];
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
 
-// Whether photon p landed on a surface facing the visible point's side (either way when
-// both_sides): see photon_side_word.
-bool photon_on_side(uint p, vec3 side, bool both_sides) {
-    float c = dot(photon_side(photons[3u * p + 2u].w), side);
-    return (both_sides ? abs(c) : c) > PHOTON_SIDE_MIN_COS;
+// Whether photon p, at offset d from the visible point, lit the point's side of its surface:
+// it landed on a surface facing that side (photon_side_word), and the two surfaces are one
+// surface, not the two walls of a slab thinner than the radius (a letter's stroke, a thin
+// wall), whose far wall holds the light inside it. On one sphere, convex or concave, the
+// point lies as far above the photon's tangent plane as the photon below the point's:
+// d.(n_point + n_photon) = 0; behind a wall of thickness w it is -2w. A lobe that transmits
+// (both_sides) takes photons of either side.
+bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
+    vec3 n = photon_side(photons[3u * p + 2u].w);
+    float c = dot(n, side);
+    if (both_sides) return abs(c) > PHOTON_SIDE_MIN_COS;
+    return c > PHOTON_SIDE_MIN_COS && dot(d, side + n) >= -PHOTON_WALL_TOLERANCE * r;
 }
 
 #ifdef PASS_PHOTON_SPLIT
@@ -138,7 +145,7 @@ void main() {
                 // count their survivor twice.
 #ifdef HAS_MICROFACET
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                    photon_on_side(p, side, both_sides)) {
+                    photon_on_side(p, d, r, side, both_sides)) {
                     vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
                     float count = float(entry.y);
                     m += count;
@@ -146,7 +153,7 @@ void main() {
                 }
 #else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                    dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, side, both_sides)) {
+                    dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, d, r, side, both_sides)) {
                     float count = float(entry.y);
                     m += count;
                     ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
@@ -159,7 +166,7 @@ void main() {
                     vec3 d = x - point.xyz;
 #ifdef HAS_MICROFACET
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                        photon_on_side(p, side, both_sides)) {
+                        photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
                                           photons[3 * p + 2].xyz);
@@ -167,7 +174,7 @@ void main() {
 #else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         dot(photons[3 * p + 1].xyz, n) > 0.0 &&
-                        photon_on_side(p, side, both_sides)) {
+                        photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }

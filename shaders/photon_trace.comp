@@ -129,6 +129,12 @@ void main() {
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             vec3 wi, w;
+            // Where the photon goes on: a leaf chosen by what the mix's parts scatter (its own
+            // draw; the leaf above decided only whether it is stored).
+            float mix_weight = 1.0;
+            if (material_kind(s.material) == MATERIAL_MIX)
+                sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, s.uv,
+                                           s.vertex_color, -dir, rng_next(rng), mix_weight);
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
@@ -137,6 +143,7 @@ void main() {
                        !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
                 bounces = -1.0;
             } else {
+                w *= mix_weight;
                 float q = min(1.0, max_component(w));
                 if (rng_next(rng) >= q) {
                     bounces = -1.0;

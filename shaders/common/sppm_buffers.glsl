@@ -90,6 +90,9 @@ vec3 photon_side(float word) {
 // 84 degrees of its side: photons of a perpendicular face meeting at an edge, or of the
 // surface's other side, stay out; those of a curved surface's neighbouring facets stay in.
 const float PHOTON_SIDE_MIN_COS = 0.1;
+// The slack of the gather's test against the far walls of thin slabs (gather.comp), in
+// radii: it covers facets, whose normals differ from the smooth surface's.
+const float PHOTON_WALL_TOLERANCE = 0.05;
 #endif
 
 #ifdef USES_HASH
