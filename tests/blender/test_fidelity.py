@@ -509,3 +509,102 @@ def test_multiview_cameras_match_cycles():
         print(f"  multi-view {eye}: pixel error {measured:.4f} (tolerance 0.05)")
         assert measured < 0.05, measured
     assert _pixel_error(reference["left"], reference["right"]) > 0.2
+
+
+# A surface that both emits and reflects (Principled BSDF's Emission)
+
+def _emissive_principled(name, strength):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    node = next(n for n in material.node_tree.nodes if n.type == 'BSDF_PRINCIPLED')
+    color = node.inputs["Emission Color" if "Emission Color" in node.inputs else "Emission"]
+    color.default_value = (1.0, 1.0, 1.0, 1.0)
+    node.inputs["Emission Strength"].default_value = strength
+    return material
+
+
+def test_emissive_principled_cube_is_its_emission_alone():
+    """A grey Principled cube emitting 2 W/m^2 sr, no lamp, a black world: a convex surface
+    sees nothing but the black world, so every pixel wholly on it is exactly 2 (closed form;
+    the emission seen is noiseless and nothing else may add to it: 0.1% on the mean, 1% on
+    any pixel). Its back faces light its closed inside, whose photons the gather took up near
+    the edges outside: measured before the fix 14.3x on the mean and 3,019 at worst (64
+    passes); after, 1.0000 and 1.0000."""
+    scene = helpers.reset_scene(size=(64, 64))
+    scene.glslppm.passes = 64
+    scene.glslppm.photons_per_pass = 16384
+    helpers.add_cube(material=_emissive_principled("Glow", 2.0))
+    location = (4, -5, 3)
+    add_camera(location, helpers.look_at_rotation(location, (0, 0, 0)), lens=35.0)
+    ours, error, engine = helpers.render_recorded("emissive_principled_cube")
+    assert error is None, error
+    value = ours[..., :3].mean(axis=2)
+    lit = value > 1.0
+    # Pixels wholly on the cube: lit, with their 8 neighbours lit.
+    inner = lit.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            inner &= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
+    print(f"  emissive Principled cube: {int(inner.sum())} pixels, mean "
+          f"{value[inner].mean():.5f} max {value.max():.4f} (expected 2)")
+    assert inner.sum() > 300, int(inner.sum())
+    assert abs(value[inner].mean() - 2.0) < 2e-3, value[inner].mean()
+    assert np.abs(value[inner] - 2.0).max() < 0.02, np.abs(value[inner] - 2.0).max()
+    assert value.max() < 2.02, value.max()
+
+
+def _emissive_text():
+    """The word "Text" (extruded 0.1: a mesh of 696 triangles) emitting 1 W/m^2 sr from
+    a grey Principled BSDF, seen from the front and above: its strokes light each other."""
+    scene = helpers.reset_scene(size=(96, 48))
+    scene.glslppm.passes = 128
+    scene.glslppm.photons_per_pass = 16384
+    bpy.ops.object.text_add(location=(-1.0, 0.0, -0.3), rotation=(math.pi / 2, 0.0, 0.0))
+    text = bpy.context.object
+    text.data.extrude = 0.1
+    text.data.materials.append(_emissive_principled("TextGlow", 1.0))
+    location = (0.2, -2.5, 1.2)
+    add_camera(location, helpers.look_at_rotation(location, (0.0, 0.0, 0.0)), lens=35.0)
+    return text
+
+
+def test_text_object_is_exported_once():
+    """A text object is listed by the depsgraph itself and then its evaluated mesh as an
+    instance of it; Cycles reads only the mesh. Exported: exactly the mesh's triangles, once
+    (before: 696 as world triangles and 696 again as an instance)."""
+    text = _emissive_text()
+    mesh = text.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+    mesh.calc_loop_triangles()
+    expected = len(mesh.loop_triangles)
+    text.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+    data = helpers.export()
+    exported = data.triangle_count + sum(len(m["indices"]) for m in data.instance_meshes)
+    print(f"  text: {data.triangle_count} triangles and {data.instance_count} instances of "
+          f"{len(data.instance_meshes)} meshes exported; its mesh has {expected}")
+    assert expected > 100, expected
+    assert exported == expected, (exported, expected)
+    assert data.instance_count <= 1, data.instance_count
+
+
+def test_emissive_principled_text_matches_cycles():
+    """The emissive text against Cycles: its strokes' light on each other, with nothing
+    added from inside the letters (their closed insides are lit by the back faces) or
+    through strokes thinner than the gather radius, and no photon whose flux a mix doubled
+    again and again. Measured before: image mean 1.59x Cycles', one pixel 211 where Cycles
+    has at most 2.3 (the issue's 26.7x included the text drawn twice); after, at 128 passes
+    against Cycles with a box filter: 1.007 and 9.9 against 2.6 (photons of many bounces
+    in the letters' crevices, which average out). The bounds, 4% on the mean and 6x Cycles'
+    brightest pixel, are not tight enough for a 1% bias: at 128 passes SPPM's radius still
+    blurs the strokes' corners, and Cycles' 64 samples of light bouncing in them are noisy;
+    the cube test above holds the closed form to 0.1%."""
+    _emissive_text()
+    ours, error, engine = helpers.render_recorded("emissive_text")
+    assert error is None, error
+    reference = helpers.render_cycles_box_filter("emissive_text", REFERENCE_SAMPLES)
+    mean_ratio = float(ours[..., :3].mean() / reference[..., :3].mean())
+    worst = float(ours[..., :3].mean(axis=2).max())
+    brightest = float(reference[..., :3].mean(axis=2).max())
+    print(f"  emissive text: mean ratio {mean_ratio:.4f}; brightest pixel GLSLPPM {worst:.3f} "
+          f"Cycles {brightest:.3f}")
+    assert abs(mean_ratio - 1.0) < 0.04, mean_ratio
+    assert worst < 6.0 * brightest, (worst, brightest)
