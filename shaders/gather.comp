@@ -27,18 +27,23 @@ shared float group_max_radius[LOCAL_SIZE];
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
 
-// Whether photon p, at offset d from the visible point, lit the point's side of its surface:
-// it landed on a surface facing that side (photon_side_word), and the two surfaces are one
-// surface, not the two walls of a slab thinner than the radius (a letter's stroke, a thin
-// wall), whose far wall holds the light inside it. On one sphere, convex or concave, the
-// point lies as far above the photon's tangent plane as the photon below the point's:
-// d.(n_point + n_photon) = 0; behind a wall of thickness w it is -2w. A lobe that transmits
-// (both_sides) takes photons of either side.
+// Whether photon p, at offset d from the visible point, lit the point's side of its surface
+// (photon_side_word). With a the photon's height above the point's tangent plane and b the
+// point's above the photon's: a surface facing away (cos below -0.5) is the point's own back;
+// flat or concave, the two face each other (a, b >= 0: a room's corner, as always); on one
+// convex sphere a = b (both below), with slack for facets. Left out: the far wall of a slab
+// thinner than the radius (a = -w, b = w: a letter's stroke, a thin wall) and the far side of
+// a convex edge or of a concave one seen from outside (a or b negative, the normals apart),
+// which hold the light inside a closed emissive mesh. A lobe that transmits (both_sides)
+// takes photons of either side, as before.
 bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
+    if (both_sides) return true;
     vec3 n = photon_side(photons[3u * p + 2u].w);
     float c = dot(n, side);
-    if (both_sides) return abs(c) > PHOTON_SIDE_MIN_COS;
-    return c > PHOTON_SIDE_MIN_COS && dot(d, side + n) >= -PHOTON_WALL_TOLERANCE * r;
+    float a = dot(d, side), b = -dot(d, n);
+    return c > -PHOTON_SIDE_MIN_COS &&
+           ((a >= 0.0 && b >= 0.0) ||
+            (c > PHOTON_SIDE_MIN_COS && abs(a - b) <= PHOTON_WALL_TOLERANCE * r));
 }
 
 #ifdef PASS_PHOTON_SPLIT

@@ -86,12 +86,12 @@ vec3 photon_side(float word) {
     return normalize(t);
 }
 
-// A photon counts at a visible point whose normal (on the viewer's side) is within about
-// 84 degrees of its side: photons of a perpendicular face meeting at an edge, or of the
-// surface's other side, stay out; those of a curved surface's neighbouring facets stay in.
-const float PHOTON_SIDE_MIN_COS = 0.1;
-// The slack of the gather's test against the far walls of thin slabs (gather.comp), in
-// radii: it covers facets, whose normals differ from the smooth surface's.
+// The gather's tests (gather.comp, photon_on_side): a photon whose surface faces away from
+// the visible point's by more than 120 degrees (cos below -0.5) is on its other side; a convex
+// surface's neighbouring photons are within 60 degrees (cos above 0.5).
+const float PHOTON_SIDE_MIN_COS = 0.5;
+// The slack of the test against the far walls of thin slabs, in radii: it covers facets,
+// whose normals differ from the smooth surface's.
 const float PHOTON_WALL_TOLERANCE = 0.05;
 #endif
 
