@@ -41,9 +41,11 @@ bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
     vec3 n = photon_side(photons[3u * p + 2u].w);
     float c = dot(n, side);
     float a = dot(d, side), b = -dot(d, n);
+    // Slack for facets where the normals agree, none across an edge (c near 0).
+    float slack = PHOTON_WALL_TOLERANCE * r * max(c, 0.0);
     return c > -PHOTON_SIDE_MIN_COS &&
-           ((a >= 0.0 && b >= 0.0) ||
-            (c > PHOTON_SIDE_MIN_COS && abs(a - b) <= PHOTON_WALL_TOLERANCE * r));
+           ((a >= -slack && b >= -slack) ||
+            (c > PHOTON_SIDE_MIN_COS && abs(a - b) <= slack));
 }
 
 #ifdef PASS_PHOTON_SPLIT

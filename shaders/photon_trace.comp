@@ -118,8 +118,7 @@ void main() {
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
                 stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                         ? s.geometric_normal
-                                                         : -s.geometric_normal));
+                                                         ? s.normal : -s.normal));
 #ifdef HAS_NORMAL_MAP
                 // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
                 // density (per area of the true surface) into the shading normal's cosine:
@@ -189,8 +188,7 @@ void main() {
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
             stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                     ? s.geometric_normal
-                                                     : -s.geometric_normal));
+                                                     ? s.normal : -s.normal));
 #ifdef DIRECT_LIGHT_SAMPLED
             }
 #endif

@@ -64,7 +64,7 @@ layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_
 // them.
 layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
 
-// The side word: the geometric normal of the surface a photon landed on, on the side it
+// The side word: the (shading) normal of the surface a photon landed on, on the side it
 // arrived from, as two 11-bit octahedral coordinates plus 1 (an integer below 2^23, exact
 // in a float, never 0). The gather leaves out photons whose surface faces away from the
 // visible point's (gather.comp): the light inside a closed emissive mesh, or behind a thin
