@@ -590,7 +590,7 @@ def test_emissive_principled_text_matches_cycles():
     """The emissive text against Cycles (box filter, 64 samples), 128 passes. Measured
     before (text drawn twice, photons from the letters' lit insides gathered outside, a
     mix doubling photon flux): image mean 2.35x Cycles', one pixel 211 where Cycles has
-    at most 2.3. After: 1.395x, brightest 50.9 against 2.6. NOT YET RIGHT: the excess lies
+    at most 2.3. After: 1.365x, brightest 50.9 against 2.6. NOT YET RIGHT: the excess lies
     in the crevices of 'e' and 'x' (concave corners between strokes). A gather that also
     left out photons of perpendicular walls measured 1.007 here, but darkened every room's
     corners (the Cornell box's worst region 24% off against 8.7%), so it is not used; the
