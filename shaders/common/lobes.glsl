@@ -150,8 +150,11 @@ int resolve_mix_by_scatter(int m, vec2 uv, float c, bool front, float u, out flo
         float ea = (1.0 - f) * scatter_estimate(ab.x, uv, c, front);
         float eb = f * scatter_estimate(ab.y, uv, c, front);
         float pb = ea + eb > 0.0 ? eb / (ea + eb) : f;
-        // A part with a non-zero factor keeps a chance (its estimate may be zero only where
-        // it scatters nothing).
+        // A part with a non-zero factor keeps its factor's chance where the other's estimate
+        // takes all: Principled v1's Fresnel mix of black and a doubled specular then picks
+        // black (1 - F) as before. Without this the weights stay at the albedo, but the
+        // emissive Principled text under 3.4 measured 1.77x Cycles against 1.37x with it;
+        // why is open (4.3's Principled, which has no such mixes, matches: 0.9987).
         if (f > 0.0 && pb <= 0.0) pb = f;
         if (f < 1.0 && pb >= 1.0) pb = f;
         if (u < pb) {
