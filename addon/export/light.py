@@ -42,6 +42,14 @@ def convert_light(light, matrix, builder, visible_to_camera=True):
         builder.warn(f"light '{light.name}': {problem}; the light is off")
         return
     strength, color = light_node_emission(light, builder.warn)
+    if light.energy * strength < 0.0:
+        # Cycles subtracts a negative light's light (a -50 W point light under a 100 W one
+        # halves it); photons of negative flux are not modelled here.
+        energy_name = "strength" if light.type == 'SUN' else "power"
+        builder.warn(f"light '{light.name}': negative {energy_name} "
+                     f"{light.energy * strength:g} is not supported (Cycles subtracts its "
+                     "light); the light is off")
+        return
     if light.energy <= 0.0 or strength <= 0.0 or max(color) <= 0.0:
         return
     scaled = _NodeScaledLight(light, strength, color)

@@ -218,10 +218,14 @@ _DISTRIBUTIONS = {'SHARP': (False, False), 'GGX': (False, False),
 
 
 def distribution(node, context):
-    """multiscatter for a node's distribution, warning where it is not GGX."""
+    """multiscatter for a node's distribution, warning where it is not GGX and the two
+    differ: not at roughness 0, where every distribution is the same perfect mirror or
+    refraction (Blender 3.x's Glass BSDF defaults to Beckmann there)."""
     name = getattr(node, "distribution", 'GGX')
     multiscatter, approximated = _DISTRIBUTIONS.get(name, (False, True))
-    if approximated:
+    roughness = input_socket(node, "Roughness")
+    smooth = roughness is not None and not roughness.is_linked and roughness.default_value <= 0.0
+    if approximated and not smooth:
         context(f"{node.bl_label} '{node.name}': the {name.replace('_', '-').title()} "
                 "distribution is rendered as GGX")
     return multiscatter

@@ -140,8 +140,9 @@ public:
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
     // towards where it came from, its path's class with the light split's passes
-    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, 1 if
-    // stored else 0 (tests and debugging).
+    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, and
+    // the side word (shaders/common/sppm_buffers.glsl: a positive integer) if stored else 0
+    // (tests and debugging).
     std::vector<float> photons();
     const RenderSettings& settings() const { return settings_; }
 

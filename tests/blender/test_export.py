@@ -487,7 +487,7 @@ def test_image_texture_colour_spaces_and_fallbacks():
     assert texture.wrap == "clip"
     assert any("Extend" in w for w in data.warnings), data.warnings
 
-    # A missing file: the input's own colour and a warning.
+    # A missing file: magenta (1, 0, 1), as Cycles renders it, and a warning naming it.
     missing = node_material("Missing", PRINCIPLED, **{"Base Color": (0.1, 0.2, 0.3, 1)})
     tree = missing.node_tree
     texture = tree.nodes.new("ShaderNodeTexImage")
@@ -496,10 +496,12 @@ def test_image_texture_colour_spaces_and_fallbacks():
     tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
     data = _single(missing)
     color, texture = _base_colour(data)
-    assert_close(color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
-    assert texture == -1 and not data.textures
-    assert data.uvs is None
-    assert any("missing" in w for w in data.warnings), data.warnings
+    assert_close(color, (1.0, 1.0, 1.0), 1e-6, "colour under the texture")
+    assert texture == 0 and len(data.textures) == 1
+    assert_close(data.textures[0].pixels, np.float32([[[1, 0, 1, 1]]]), 0.0, "magenta texel")
+    name = tree.nodes["Image Texture"].image.name
+    assert any(f"image '{name}' is missing" in w and "magenta" in w
+               for w in data.warnings), data.warnings
 
     # An image on an emission colour: the emission is the strength, times the image's
     # texel (emission_texture, the material's root), with no warning.
@@ -745,12 +747,12 @@ def test_world_environment_texture():
     mapping.vector_type = 'TEXTURE'  # the inverse transform
     assert_close(export().environment_to_world[:3, :3].T, lookup.T, 1e-6, "inverse lookup")
 
-    # A missing image: the Background node's own colour x strength, and a warning.
+    # A missing image: magenta x strength, as Cycles renders it, and a warning.
     environment_world(missing_image(), strength=2.0)
     data = export()
-    assert data.environment_texture == -1 and not data.textures
-    assert_close(data.environment, (0.4, 0.6, 0.8), 1e-6, "fallback colour x strength")
-    assert any("missing" in w for w in data.warnings), data.warnings
+    assert data.environment_texture == 0 and len(data.textures) == 1
+    assert_close(data.textures[0].pixels, np.float32([[[1, 0, 1, 1]]]), 0.0, "magenta texel")
+    assert any("missing" in w and "magenta" in w for w in data.warnings), data.warnings
 
 
 def test_presets_set_the_settings_they_name():
@@ -950,3 +952,17 @@ def test_color_attribute_export():
     bare = data.positions[:, 0] > 1.5
     bare &= data.positions[:, 0] < 4.5
     assert bare.any() and np.all(data.colors[bare] == 0.0)
+
+
+def test_beckmann_glass_warns_only_where_it_differs_from_ggx():
+    """At roughness 0 every distribution is the same perfect refraction: Blender 3.x's Glass
+    BSDF (Beckmann by default) exports without a warning there, and warns once rough."""
+    for roughness, warned in ((0.0, False), (0.2, True)):
+        glass = node_material(f"Glass{roughness}", "ShaderNodeBsdfGlass", Roughness=roughness)
+        for node in glass.node_tree.nodes:
+            if node.type == 'BSDF_GLASS':
+                node.distribution = 'BECKMANN'
+        data = _single(glass)
+        expected = [f"material 'Glass{roughness}': Glass BSDF 'Glass BSDF': the Beckmann "
+                    "distribution is rendered as GGX"] if warned else []
+        assert data.warnings == expected, (roughness, data.warnings)
