@@ -450,7 +450,7 @@ public:
             std::lock_guard lock(mutex_);
             last = std::move(renderer_);
         }
-        if (last) last->cancel();
+        if (last) last->stop();
     }
     bool closed() const {
         std::lock_guard lock(mutex_);
@@ -464,7 +464,7 @@ public:
             std::lock_guard lock(mutex_);
             last = std::move(renderer_);
         }
-        if (last) last->cancel();
+        if (last) last->stop();
         std::thread([owned = std::move(last)]() mutable { owned.reset(); }).join();
     }
 
