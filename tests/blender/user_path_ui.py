@@ -31,6 +31,9 @@ import traceback
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
 PASSES = 6          # a finished F12 render
 LONG_PASSES = 100000  # a render that runs until Esc or the file closes
 RENDER_TIMEOUT = 90.0
@@ -130,16 +133,13 @@ def shown_pixels(name):
     (Blender keeps a render result's pixels out of Image.pixels)."""
     image = render_result_in_image_editor()
     assert image is not None, "no Image Editor shows the Render Result"
+    return saved_pixels(image, name)
+
+
+def saved_pixels(image, name):
     path = os.path.join(OUT, f"{name}.exr")
     image.save_render(filepath=path)
-    loaded = bpy.data.images.load(path, check_existing=False)
-    try:
-        width, height = loaded.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        loaded.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(loaded)
-    return pixels.reshape(height, width, 4)
+    return helpers.load_image(path)
 
 
 def set_passes(passes):
@@ -150,20 +150,7 @@ def reference(name):
     """The frame rendered on Blender's main thread, as `blender -b -f` renders it."""
     set_passes(PASSES)
     bpy.ops.render.render()
-    return shown_pixels(name) if render_result_in_image_editor() else _saved_result(name)
-
-
-def _saved_result(name):
-    path = os.path.join(OUT, f"{name}.exr")
-    bpy.data.images['Render Result'].save_render(filepath=path)
-    loaded = bpy.data.images.load(path, check_existing=False)
-    try:
-        width, height = loaded.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        loaded.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(loaded)
-    return pixels.reshape(height, width, 4)
+    return saved_pixels(bpy.data.images['Render Result'], name)
 
 
 def assert_same_image(shown, expected, what):
