@@ -26,6 +26,11 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/environment.glsl"
 #include "common/camera.glsl"
+// The include splicer takes a file once, wherever it first appears, #ifdef or not: the
+// emitter table's functions come first, outside either feature's block.
+#ifdef USES_EMITTERS
+#include "common/emitters.glsl"
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif

@@ -109,7 +109,8 @@ void main() {
             // sample's weight.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv,
                                     s.vertex_color, -dir, rng_next(rng));
-            bool store = bsdf_has_rough_lobe(sh);
+            bool store = material_kind(s.material) == MATERIAL_MIX
+                             ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
 #ifdef DIRECT_LIGHT_SAMPLED
             store = store && scattered > 0.5;
 #endif

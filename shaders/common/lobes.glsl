@@ -490,6 +490,35 @@ bool bsdf_has_rough_lobe(Shading sh) {
     return sh.kind != MATERIAL_TRANSPARENT;
 }
 
+// Whether any leaf of material m has a lobe that visible points evaluate: a photon landing
+// on a mix is stored by this, not by the leaf its own draw picked. The eye path already picks
+// the leaf its visible point holds, by the mix's factor; deciding the photon's storage by a
+// second pick halved the photon light of a mix of a smooth and a rough part (a mirror and a
+// diffuse half: 0.499 of its closed form). A leaf's roughness texture counts as rough; a mix
+// deeper than the stack is taken as rough (storing a photon no visible point gathers costs a
+// slot, never a bias).
+bool material_has_rough_leaf(int m) {
+    int stack[16];
+    int top = 0;
+    stack[top++] = m;
+    for (int steps = 0; steps < 64 && top > 0; ++steps) {
+        int k = stack[--top];
+        int kind = material_kind(k);
+        if (kind == MATERIAL_MIX) {
+            if (top + 2 > 16) return true;
+            ivec2 ab = material_mix(k);
+            stack[top++] = ab.x;
+            stack[top++] = ab.y;
+        } else if (kind == MATERIAL_CONDUCTOR) {
+            if (material_roughness_texture(k) >= 0 || material_roughness(k) >= glossy_threshold)
+                return true;
+        } else if (kind != MATERIAL_TRANSPARENT && kind != MATERIAL_DIELECTRIC) {
+            return true;  // Lambert, plastic (its diffuse base), translucent
+        }
+    }
+    return top > 0;
+}
+
 // The probability that an eye path goes on through the smooth part of the material at wo.
 float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
     switch (sh.kind) {

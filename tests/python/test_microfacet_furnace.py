@@ -43,7 +43,7 @@ CASES = [
                                             # lobe's estimate is noisy: bound 1%, below)
     ("conductor", 0.5, 100, "stochastic"),  # +0.14%
     ("conductor", 1.0, 100, "stochastic"),  # +0.11%
-    ("plastic", 0.1, 100, "stochastic"),    # smooth layer followed, base gathered
+    ("plastic", 0.1, 100, "stochastic"),    # smooth layer followed, base gathered: -0.25%
     ("plastic", 0.5, 100, "stochastic"),    # +0.11%
     ("plastic", 1.0, 100, "stochastic"),    # +0.14%
 ]
@@ -55,8 +55,11 @@ def test_lossless_lobe_in_closed_furnace(glslppm, kind, roughness, passes, hash_
     leaf = g.Material(kind, color=(1.0,) * 3, emission=(1.0,) * 3, roughness=roughness)
     image = furnace(g, leaf, passes, roughness, hash=hash_mode)
     # Photon path regeneration's known start-up bias (test_sppm.py), for albedo 0.5; eye
-    # paths that never gather (roughness below the threshold) have none.
-    gathered = roughness >= 0.2
+    # paths that never gather (a conductor below the threshold) have none. A plastic's base
+    # is gathered whatever its coat: below the threshold the coat is followed and the base
+    # still holds the visible point (this case read -0.42% to -0.66% over seeds 3-9 against
+    # an expected value without the bias, which is 0.50% here).
+    gathered = roughness >= 0.2 or kind == "plastic"
     startup = 0.5 / (passes * 0.5 + 0.5) if gathered else 0.0
     expected = 2.0 - startup
     error = image.mean() / expected - 1.0

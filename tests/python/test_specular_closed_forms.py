@@ -42,9 +42,9 @@ def ortho_camera(g, eye, target, up, scale):
     return g.Camera(look_at(eye, target, up), projection="orthographic", ortho_scale=scale)
 
 
-def render(g, scene, size=64, passes=64, seed=1):
+def render(g, scene, size=64, passes=64, seed=1, **settings):
     r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=1024,
-                                     max_bounces=1024, hash="exact", seed=seed))
+                                     max_bounces=1024, hash="exact", seed=seed, **settings))
     r.run(passes)
     image = r.film()[..., :3].astype(np.float64)
     assert np.isfinite(image).all()

@@ -52,9 +52,11 @@ def test_mirror_shows_a_sphere_light(glslppm, kind):
     assert np.allclose(measured, radiance(), rtol=1e-4), (measured, radiance())
 
 
-def test_bulb_under_a_glass_pane(glslppm):
+@pytest.mark.parametrize("direct", ["sampled", "photons"])
+def test_bulb_under_a_glass_pane(glslppm, direct):
     """The light under a glass pane (IOR 1.5) above a black floor: the camera sees it through
-    the pane, L (1 - R) at normal incidence, R = 0.04 (was black)."""
+    the pane, L (1 - R) at normal incidence, R = 0.04 (was black). With light sampling and
+    with photons alone (programs compiled without the light sampling code)."""
     g = glslppm
     pane = (*oriented_quad([(-9, -9, 5), (9, -9, 5), (9, 9, 5), (-9, 9, 5)], (0, 0, 1)), 0)
     p, t, ids = merge(pane, floor(1))
@@ -63,7 +65,7 @@ def test_bulb_under_a_glass_pane(glslppm):
                                g.Material("diffuse", color=(0, 0, 0))],
                     lights=[light(g, "point")],
                     camera=ortho_camera(g, (0, 0, 8), (0, 0, 0), (0, 1, 0), 1.0))
-    image, samples = render(g, scene)
+    image, samples = render(g, scene, direct_light=direct)
     r = ((IOR - 1) / (IOR + 1)) ** 2
     measured = image.mean(axis=(0, 1)) / radiance()
     bound = bernoulli_bound(1.0 - r, samples)
