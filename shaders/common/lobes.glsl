@@ -79,24 +79,29 @@ float material_scalar(float value, int texture, uint channel, vec2 uv) {
 // second material with probability equal to its factor, reusing the rest of `u`. `c` is the
 // cosine between the view direction and the shading normal on its side, `front` whether the
 // view is on the geometric front (Blender's Fresnel and Layer Weight nodes read both).
+// A Mix material's factor (the weight of its second material) at a surface point.
+float mix_factor(int m, vec2 uv, float c, bool front) {
+    uint options = material_options(m);
+    uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
+    float f;
+    if (mode == 0u) {
+        f = material_scalar(material_mix_factor(m), material_mix_texture(m),
+                            (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, uv);
+    } else if (mode == 1u) {
+        float ior = material_mix_ior(m), cos_t;
+        f = fresnel_dielectric(c, front ? 1.0 / ior : ior, cos_t);
+    } else {
+        // Layer Weight's Facing: 1 - c^b, the blend b mapped as Blender maps it.
+        float blend = min(material_mix_ior(m), 1.0 - 1.0e-5);
+        float b = blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend);
+        f = 1.0 - pow(c, b);
+    }
+    return clamp(f, 0.0, 1.0);
+}
+
 int resolve_mix(int m, vec2 uv, float c, bool front, float u) {
     for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
-        uint options = material_options(m);
-        uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
-        float f;
-        if (mode == 0u) {
-            f = material_scalar(material_mix_factor(m), material_mix_texture(m),
-                                (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, uv);
-        } else if (mode == 1u) {
-            float ior = material_mix_ior(m), cos_t;
-            f = fresnel_dielectric(c, front ? 1.0 / ior : ior, cos_t);
-        } else {
-            // Layer Weight's Facing: 1 - c^b, the blend b mapped as Blender maps it.
-            float blend = min(material_mix_ior(m), 1.0 - 1.0e-5);
-            float b = blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend);
-            f = 1.0 - pow(c, b);
-        }
-        f = clamp(f, 0.0, 1.0);
+        float f = mix_factor(m, uv, c, front);
         ivec2 ab = material_mix(m);
         if (u < f) {
             m = ab.y;

@@ -194,10 +194,12 @@ def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
     assert depth.shape == (48, 48, 1)
     # Float rounding of the hit point (a few ulps of 3) and of the mean over 4 passes.
     assert np.allclose(depth, 3.0, rtol=0, atol=2e-5), np.abs(depth - 3.0).max()
+    # Normal in world space; Denoising Normal in Cycles' camera space (x right, y up, z along
+    # the view), where a plane facing the camera is (0, 0, -1).
     facing = -forward / np.linalg.norm(forward)
-    for name in ["normal", "denoising_normal"]:
+    for name, want in [("normal", facing), ("denoising_normal", (0.0, 0.0, -1.0))]:
         n = r.render_pass(name)
-        assert np.allclose(n, facing, rtol=0, atol=1e-5), (name, np.abs(n - facing).max())
+        assert np.allclose(n, want, rtol=0, atol=1e-5), (name, np.abs(n - want).max())
     albedo = r.render_pass("denoising_albedo")
     assert np.allclose(albedo, (0.8, 0.4, 0.2), rtol=0, atol=1e-6)
 
@@ -205,7 +207,8 @@ def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
 def test_depth_of_background_and_textured_albedo(glslppm):
     """The textured plane's Denoising Albedo is the texel's colour (float stripes 0.2 and 0.9,
     compared in each stripe's central half, away from the bilinear blend); where the camera
-    sees no surface, Depth is Cycles' 1e10 and the albedo and normals 0."""
+    sees no surface, Depth is Cycles' 1e10, the normals 0 and the albedo the world's
+    radiance (1 here), as Cycles writes the background into Denoising Albedo."""
     g = glslppm
     scene, _ = plane_scene(g, textured=True)
     r = render(g, scene, ["depth", "normal", "denoising_albedo"])
@@ -221,12 +224,13 @@ def test_depth_of_background_and_textured_albedo(glslppm):
                     materials=[g.Material("diffuse", color=(0.5, 0.5, 0.5))],
                     camera=g.Camera(np.eye(4, dtype=np.float32), fov_x=0.5),
                     environment=(1.0, 1.0, 1.0))
-    r = render(g, empty, ["depth", "normal", "denoising_albedo"])
+    r = render(g, empty, ["depth", "normal", "denoising_normal", "denoising_albedo"])
     r.run(2)
     depth = r.render_pass("depth")[..., 0]
     assert depth[24, 4] == 1e10 and abs(depth[24, 40] - 5.0) < 1e-5
     assert np.all(r.render_pass("normal")[24, 4] == 0.0)
-    assert np.all(r.render_pass("denoising_albedo")[24, 4] == 0.0)
+    assert np.all(r.render_pass("denoising_normal")[24, 4] == 0.0)
+    assert np.all(r.render_pass("denoising_albedo")[24, 4] == 1.0)
 
 
 def test_pass_names_and_errors(glslppm):
