@@ -36,16 +36,22 @@ vec2 texture_uv(int k, vec2 uv) {
     return vec2(dot(texture_records[k].uv_map_u.xyz, h), dot(texture_records[k].uv_map_v.xyz, h));
 }
 
-// A texel index under the extension, as Cycles' wrap_periodic, wrap_clamp and wrap_mirror;
-// Clip gives -1 outside the image (read as transparent black).
-ivec2 wrap_texel(ivec2 p, ivec2 n, int wrap) {
-    if (wrap == WRAP_REPEAT) return (p % n + n) % n;
-    if (wrap == WRAP_EXTEND) return clamp(p, ivec2(0), n - 1);
+// A texel index along an axis of n texels under the extension, as Cycles' wrap_periodic,
+// wrap_clamp and wrap_mirror; Clip gives -1 outside the image (read as transparent black).
+// (GLSL leaves % of a negative operand undefined: llvmpipe's (-1 % 5 + 5) % 5 gave 0, not 4,
+// so negative indices are folded by hand.)
+int wrap_index(int i, int n, int wrap) {
+    if (wrap == WRAP_REPEAT) return i >= 0 ? i % n : n - 1 - (-1 - i) % n;
+    if (wrap == WRAP_EXTEND) return clamp(i, 0, n - 1);
     if (wrap == WRAP_MIRROR) {
-        ivec2 m = abs(p + ivec2(lessThan(p, ivec2(0)))) % (2 * n);
-        return mix(m, 2 * n - m - 1, greaterThanEqual(m, n));
+        int m = abs(i + (i < 0 ? 1 : 0)) % (2 * n);
+        return m >= n ? 2 * n - m - 1 : m;
     }
-    return mix(p, ivec2(-1), bvec2(uvec2(lessThan(p, ivec2(0))) | uvec2(greaterThanEqual(p, n))));
+    return i < 0 || i >= n ? -1 : i;
+}
+
+ivec2 wrap_texel(ivec2 p, ivec2 n, int wrap) {
+    return ivec2(wrap_index(p.x, n.x, wrap), wrap_index(p.y, n.y, wrap));
 }
 
 vec4 fetch_texel(ivec4 rect, ivec4 info, ivec2 p) {
