@@ -65,10 +65,11 @@ vec4 fetch_texel(ivec4 rect, ivec4 info, ivec2 p) {
 vec4 sample_texture_st(int k, vec2 st) {
     ivec4 rect = texture_records[k].rect;
     ivec4 info = texture_records[k].info;
-    // Repeat and Mirror are periodic over 2: reducing there keeps the texel arithmetic small;
+    // Reduced to one period (Repeat 1, Mirror 2), which keeps the texel arithmetic small;
     // Clip and Extend read the same texels anywhere past the edges.
-    st = info.z == WRAP_REPEAT || info.z == WRAP_MIRROR ? st - 2.0 * floor(0.5 * st)
-                                                        : clamp(st, vec2(-1.0), vec2(2.0));
+    if (info.z == WRAP_REPEAT) st -= floor(st);
+    else if (info.z == WRAP_MIRROR) st -= 2.0 * floor(0.5 * st);
+    else st = clamp(st, vec2(-1.0), vec2(2.0));
     vec2 xy = st * vec2(rect.zw) - 0.5;
     vec2 base = floor(xy);
     vec2 f = xy - base;

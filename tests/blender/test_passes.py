@@ -184,6 +184,13 @@ def test_caustics_pass_holds_the_glass_balls_caustic():
         (centre.mean(), corners.mean())
 
 
+# Denoising Albedo against Cycles on a Principled face: rms of the per-pixel difference and
+# the relative difference of the face's mean (measured under 3.4: rms 1e-4 to 7e-4, means
+# within 0.03%; under 4.3 see test_denoising_passes_match_cycles_on_a_principled_cube).
+ALBEDO_RMS = 0.004
+ALBEDO_MEAN = 0.005
+
+
 def principled_cube_scene():
     """Blender's default cube (default Principled BSDF, base colour 0.8) seen from the
     default camera's place, under a point light and a grey world: three faces in view."""
@@ -230,9 +237,9 @@ def test_denoising_passes_match_cycles_on_a_principled_cube():
         for dy in (-1, 0, 1):
             for dx in (-1, 0, 1):
                 inner &= np.roll(np.roll(on, dy, axis=0), dx, axis=1)
-        if inner.sum() >= 40:
+        if inner.sum() >= 20:
             faces.append(inner)
-    assert len(faces) == 3, [f.sum() for f in faces]
+    assert len(faces) == 3, [f.sum() for f in faces]  # the top face is the smallest
     every = np.any(faces, axis=0)
     normal_error = float(np.abs(n_ours - n_ref)[every].max())
     print(f"  denoising normal: {every.sum()} pixels, largest difference {normal_error:.2e}")
@@ -240,8 +247,10 @@ def test_denoising_passes_match_cycles_on_a_principled_cube():
     for face in faces:
         spread = a_ours[face].std(axis=0)
         mean, want = a_ours[face].mean(axis=0), a_ref[face].mean(axis=0)
+        rms = np.sqrt(np.mean((a_ours[face] - a_ref[face]) ** 2, axis=0))
         print(f"  denoising albedo: {face.sum()} pixels, std {spread.max():.4f} "
-              f"(Cycles {a_ref[face].std(axis=0).max():.4f}), mean {mean.round(4).tolist()} "
-              f"Cycles {want.round(4).tolist()}")
+              f"(Cycles {a_ref[face].std(axis=0).max():.4f}), rms difference {rms.max():.4f}, "
+              f"mean {mean.round(4).tolist()} Cycles {want.round(4).tolist()}")
         assert spread.max() < 0.01, spread
-        assert np.all(np.abs(mean / want - 1.0) < 0.015), (mean, want)
+        assert rms.max() < ALBEDO_RMS, rms
+        assert np.all(np.abs(mean / want - 1.0) < ALBEDO_MEAN), (mean, want)
