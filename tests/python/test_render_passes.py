@@ -375,3 +375,36 @@ def test_two_pppm_workers_merge_their_passes_as_their_films(glslppm):
     assert np.allclose(two.render_pass("depth"), one.render_pass("depth"), rtol=1e-6, atol=0)
     assert np.allclose(two.render_pass("caustics"), one.render_pass("caustics"), rtol=1e-5,
                        atol=1e-6)
+
+
+@pytest.mark.parametrize("wall", ["diffuse", "rough_conductor"])
+def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall):
+    """Cycles' rule (kernel/film/denoising_passes.h): a specular surface multiplies the
+    feature throughput by its albedo and the features come from the next surface. A mirror
+    of colour (0.9, 0.8, 0.7) at 45 degrees fills an orthographic view and shows a wall of
+    colour (0.8, 0.4, 0.2): Denoising Albedo is their product in every pixel, noiselessly
+    (bound 1e-5: a 1% error is 3e-3), and Denoising Normal the wall's normal (-1, 0, 0) in
+    camera space (x right, y up, z along the view; the mirror's own would be (0.71, 0,
+    -0.71)). The wall is a Lambert (closed model) or a GGX conductor of roughness 0.5 (the
+    lobes), which Cycles counts as diffuse-like (alpha 0.25 > 0.075)."""
+    g = glslppm
+    p = np.array([(-1, -1, 1), (1, -1, -1), (1, 1, -1), (-1, 1, 1),
+                  (3, -5, -5), (3, 5, -5), (3, 5, 5), (3, -5, 5)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]], dtype=np.uint32)
+    colour = (0.8, 0.4, 0.2)
+    materials = [g.Material("conductor", color=(0.9, 0.8, 0.7)),
+                 g.Material("diffuse", color=colour) if wall == "diffuse" else
+                 g.Material("conductor", color=colour, roughness=0.5)]
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    scene = g.Scene(p, t, material_ids=np.array([0, 0, 1, 1], dtype=np.uint32),
+                    materials=materials, environment=(1.0, 1.0, 1.0),
+                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=1.9))
+    r = render(g, scene, ["denoising_normal", "denoising_albedo"])
+    r.run(4)
+    assert ("microfacet" in r.stats()["variant"]) == (wall != "diffuse")
+    albedo = r.render_pass("denoising_albedo")
+    want = np.array([0.9 * 0.8, 0.8 * 0.4, 0.7 * 0.2])
+    assert np.abs(albedo - want).max() < 1e-5, np.abs(albedo - want).max()
+    normal = r.render_pass("denoising_normal")
+    assert np.abs(normal - (-1.0, 0.0, 0.0)).max() < 1e-5, np.abs(normal - (-1, 0, 0)).max()
