@@ -40,7 +40,7 @@ test-mutations: build
 test-blender:
 	@scripts/test-blender.sh
 
-# The rendered viewport and material previews in Blender's UI under Xvfb (3.4 and 4.3).
+# The rendered viewport and material previews in Blender's UI under Xvfb (3.4, 4.3, 5.2).
 .PHONY: test-viewport
 test-viewport:
 	@scripts/test-viewport.sh
@@ -51,6 +51,16 @@ test-viewport:
 .PHONY: test-user-path
 test-user-path:
 	@scripts/test-user-path.sh
+
+# The one extension zip for Blender 4.2+ (official builds and Debian's): the module for
+# CPython 3.11, 3.13 and 3.14 with the libraries each links, build/dist/glslppm-<v>-linux-x64.zip.
+.PHONY: extension dist test-extension
+extension dist:
+	@scripts/make-extension.sh
+
+# That zip checked with ldd and installed into a fresh Blender 4.3 and 5.2, rendering.
+test-extension:
+	@scripts/test-extension.sh
 
 # The native tests again under AddressSanitizer + UndefinedBehaviorSanitizer, in a second
 # build without the Python module. Mesa's DRI driver is preloaded

@@ -1,5 +1,6 @@
-"""Every difference between the Blender versions the add-on supports (3.4 and 4.x) in
-one place: the rest of the add-on asks here instead of testing bpy.app.version."""
+"""Every difference between the Blender versions the add-on supports (3.4, 4.x and 5.x) in
+one place: the rest of the add-on (and its tests) asks here instead of testing
+bpy.app.version."""
 
 import bpy
 
@@ -17,6 +18,29 @@ PASS_NAME_KEY = "blender" if BLENDER_4 else "blender_3x"
 # 4.1 replaced calc_normals_split() and MeshLoop.normal with Mesh.corner_normals.
 HAS_CORNER_NORMALS = VERSION >= (4, 1, 0)
 
+# An object without a material: Cycles renders Blender's default surface, a diffuse 0.8 grey
+# up to 4.x and from 5.0 what a new material is, a default Principled BSDF (measured: the same
+# pixels in Cycles 5.2; 5% darker than the diffuse grey seen at 60 degrees).
+DEFAULT_SURFACE_IS_PRINCIPLED = VERSION >= (5, 0, 0)
+
+# Cycles' shadow terminator term for bump and normal maps: Chiang 2019 up to 4.x, Conty
+# Estevez 2021 from 5.0 (the module's Settings bump_shadowing; shaders/common/lobes.glsl).
+BUMP_SHADOWING = "conty2021" if VERSION >= (5, 0, 0) else "chiang2019"
+
+# 5.0 deprecated use_nodes on materials, lights, worlds and scenes (it always reads True
+# and 6.0 removes it): a datablock with a node tree renders with it.
+BLENDER_5 = VERSION >= (5, 0, 0)
+USE_NODES_DEPRECATED = BLENDER_5
+
+
+def node_tree(datablock):
+    """The node tree a material, light or world renders with, or None: 3.x and 4.x use it
+    only while use_nodes is on; 5.x always (use_nodes is not read there)."""
+    tree = getattr(datablock, "node_tree", None)
+    if tree is None or USE_NODES_DEPRECATED:
+        return tree
+    return tree if getattr(datablock, "use_nodes", False) else None
+
 
 def set_equirectangular(camera):
     """A panoramic camera with the equirectangular projection: 4.0 moved panorama_type
@@ -26,3 +50,66 @@ def set_equirectangular(camera):
         camera.panorama_type = 'EQUIRECTANGULAR'
     else:
         camera.cycles.panorama_type = 'EQUIRECTANGULAR'
+
+
+# The sky type a new Sky Texture gets: 5.0 split Nishita into 'SINGLE_SCATTERING' and
+# 'MULTIPLE_SCATTERING' (the default) and renamed its dust_density to aerosol_density.
+DEFAULT_SKY_TYPE = 'MULTIPLE_SCATTERING' if BLENDER_5 else 'NISHITA'
+PHYSICAL_SKY_TYPES = ('SINGLE_SCATTERING', 'MULTIPLE_SCATTERING') if BLENDER_5 else ('NISHITA',)
+
+
+def set_exr_format(image_settings, multilayer=False):
+    """32-bit OpenEXR, one layer or every pass (multi-layer): 5.x chooses the kind by
+    media_type first ('OPEN_EXR_MULTILAYER' is refused while it is 'IMAGE')."""
+    if BLENDER_5:
+        image_settings.media_type = 'MULTI_LAYER_IMAGE' if multilayer else 'IMAGE'
+    image_settings.file_format = 'OPEN_EXR_MULTILAYER' if multilayer else 'OPEN_EXR'
+    image_settings.color_depth = '32'
+
+
+def compositor_tree(scene):
+    """(tree, output): an empty compositor node tree of the scene and the node whose
+    "Image" input is the composited image. 3.x/4.x: scene.node_tree (use_nodes) and a
+    Composite node; 5.x: a new tree in scene.compositing_node_group and its Group Output
+    with an Image socket (the Composite node is gone)."""
+    scene.render.use_compositing = True
+    if BLENDER_5:
+        tree = bpy.data.node_groups.new("Compositor", "CompositorNodeTree")
+        scene.compositing_node_group = tree
+        tree.interface.new_socket("Image", in_out='OUTPUT', socket_type='NodeSocketColor')
+        return tree, tree.nodes.new("NodeGroupOutput")
+    scene.use_nodes = True
+    tree = scene.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    return tree, tree.nodes.new("CompositorNodeComposite")
+
+
+def file_output_node(tree, directory, names):
+    """A File Output node that writes one single-layer 32-bit EXR per name into directory,
+    each file's name starting with its input's name; its inputs are named as `names`.
+    5.x replaced base_path and file_slots with directory, file_name and
+    file_output_items."""
+    node = tree.nodes.new("CompositorNodeOutputFile")
+    set_exr_format(node.format)
+    if BLENDER_5:
+        node.directory = directory
+        node.file_name = ""
+        node.file_output_items.clear()
+        for name in names:
+            node.file_output_items.new('RGBA', name)
+    else:
+        node.base_path = directory
+        node.file_slots.clear()
+        for name in names:
+            node.file_slots.new(name)
+    return node
+
+
+def use_nodes(datablock):
+    """Makes a new material, light or world render with its node tree: 3.x/4.x turn
+    use_nodes on (creating the tree); 5.x gives every one a tree and deprecates the
+    switch."""
+    if not USE_NODES_DEPRECATED:
+        datablock.use_nodes = True
+    return datablock.node_tree

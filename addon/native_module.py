@@ -1,7 +1,11 @@
 """Finds and imports the compiled module ``_glslppm``.
 
-Packaged, the module sits beside this file (with ``shaders/`` beside it). For
-development and tests, ``GLSLPPM_MODULE_DIR`` names a build directory to import
+Packaged, the module sits beside this file (with ``shaders/`` beside it). The extension
+zip for official Blender builds holds one module per CPython it supports, each under
+Python's own name for that ABI (``_glslppm.cpython-311-x86_64-linux-gnu.so``, ...;
+the shared libraries each links in ``libs/cp311/`` ...), so the import below finds the
+one matching the running Python, and a Python the zip has none for is named in the
+message. For development and tests, ``GLSLPPM_MODULE_DIR`` names a build directory to import
 it from instead. Import failures become a message for the render report, never
 an exception at add-on registration: the add-on must register (and show its
 settings) even where the module cannot load.
@@ -9,6 +13,7 @@ settings) even where the module cannot load.
 
 import importlib
 import os
+import re
 import sys
 
 _cache = {}
@@ -34,10 +39,24 @@ def load():
     except ImportError as error:
         errors.append(f"packaged module: {error}")
     python = "%d.%d" % sys.version_info[:2]
+    bundled = bundled_pythons()
+    held = (f"this add-on holds the module for Python {', '.join(bundled)}"
+            if bundled else "this add-on holds no module")
     return None, (
         "the GLSLPPM native module _glslppm could not be loaded for Python "
-        f"{python} ({'; '.join(errors)}); reinstall the add-on built for this "
+        f"{python} ({'; '.join(errors)}); {held}: install the add-on built for this "
         "Blender, or set GLSLPPM_MODULE_DIR to a build directory")
+
+
+def bundled_pythons(folder=None):
+    """The Python versions ("3.11", ...) whose module lies in the package folder."""
+    folder = folder or os.path.dirname(os.path.abspath(__file__))
+    versions = []
+    for name in sorted(os.listdir(folder)):
+        match = re.fullmatch(r"_glslppm\.cpython-(\d)(\d+)-.*\.so", name)
+        if match:
+            versions.append(f"{match.group(1)}.{match.group(2)}")
+    return sorted(versions, key=lambda v: tuple(map(int, v.split("."))))
 
 
 def _import_from(module_dir):

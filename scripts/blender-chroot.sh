@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
-# The Debian 13 ("trixie") chroot that runs Blender 4.3 (Python 3.13) beside the
-# host's Debian 12 Blender 3.4.
+# The Debian chroots that run the newer Blenders beside the host's Debian 12 Blender 3.4:
+#   trixie (Debian 13): Blender 4.3 (Python 3.13)   the default
+#   sid (unstable):     Blender 5.2 (Python 3.14)   sid floats: whatever 5.2.x sid has today
 #
-#   scripts/blender-chroot.sh create          debootstrap it once (a stamp file makes this idempotent)
-#   scripts/blender-chroot.sh build           build _glslppm for the chroot's Python into build-trixie/
-#   scripts/blender-chroot.sh run CMD [ARG..] run a command inside, the repository mounted at /src
-#   scripts/blender-chroot.sh shell           an interactive shell inside
+#   scripts/blender-chroot.sh [RELEASE] create          debootstrap it once (a stamp file makes this idempotent)
+#   scripts/blender-chroot.sh [RELEASE] build           build _glslppm for its Python into build-RELEASE/
+#   scripts/blender-chroot.sh [RELEASE] run CMD [ARG..] run a command inside, the repository mounted at /src
+#   scripts/blender-chroot.sh [RELEASE] shell           an interactive shell inside
+#   scripts/blender-chroot.sh [RELEASE] root            print where its root folder is
+#
+# RELEASE (trixie or sid) may also come from GLSLPPM_CHROOT_RELEASE; default trixie.
+# Where each lives: GLSLPPM_CHROOT_TRIXIE / GLSLPPM_CHROOT_SID, else (trixie only, as before)
+# GLSLPPM_CHROOT, else build/RELEASE in the repository. Point several worktrees at one
+# chroot to make it once per machine.
 #
 # Mounts (/proc, /dev, the repository) live in a private mount namespace made by
 # unshare(1): they vanish with the command, even when it is killed, so nothing is
@@ -14,13 +21,24 @@ set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$repo/scripts/apt-wait.sh"
-root=${GLSLPPM_CHROOT:-$repo/build/trixie}
+release=${GLSLPPM_CHROOT_RELEASE:-trixie}
+case "${1:-}" in trixie|sid) release=$1; shift ;; esac
+case "$release" in
+  trixie) root=${GLSLPPM_CHROOT_TRIXIE:-${GLSLPPM_CHROOT:-$repo/build/trixie}} ;;
+  sid) root=${GLSLPPM_CHROOT_SID:-$repo/build/sid} ;;
+  *) echo "blender-chroot: unknown release '$release' (trixie or sid)" >&2; exit 2 ;;
+esac
 stamp=$root/.glslppm-ready
 mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
 packages=(blender g++ cmake ninja-build pkg-config python3-dev python3-numpy pybind11-dev
           libepoxy-dev libopenexr-dev libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
           libtinygltf-dev nlohmann-json3-dev libtinyobjloader-dev libstb-dev
           zip ca-certificates xvfb xauth xdotool)
+# sid's Blender starts its extension manager, which imports these (Debian does not pull
+# them in; without them every start prints a traceback).
+[ "$release" = sid ] && packages+=(python3-cattr python3-requests)
+# sid's Release file may be past its Valid-Until on a mirror snapshot.
+apt_release_options="-o Acquire::Check-Valid-Until=false"
 
 need_root() {
   if [ "$(id -u)" -ne 0 ]; then
@@ -65,8 +83,8 @@ create() {
     }
     rm -rf "$root"
     mkdir -p "$(dirname "$root")"
-    echo "chroot: debootstrap trixie into $root"
-    debootstrap --variant=minbase trixie "$root" "$mirror" >"$root.debootstrap.log" 2>&1 || {
+    echo "chroot: debootstrap $release into $root"
+    debootstrap --variant=minbase "$release" "$root" "$mirror" >"$root.debootstrap.log" 2>&1 || {
       tail -20 "$root.debootstrap.log"
       echo "chroot: debootstrap failed (log: $root.debootstrap.log)" >&2
       exit 1
@@ -78,7 +96,7 @@ create() {
   chmod +x "$root/usr/sbin/policy-rc.d"
   # The chroot's apt has its own locks (another user of this chroot may hold them).
   wait_for_apt "$root"
-  local apt="apt-get ${APT_LOCK_OPTIONS[*]}"
+  local apt="apt-get ${APT_LOCK_OPTIONS[*]} $apt_release_options"
   CHROOT_WORKDIR=/ in_chroot /bin/bash -c \
     "$apt update -qq && $apt install -y -qq --no-install-recommends ${packages[*]} >/dev/null && $apt clean"
   echo "${packages[*]}" >"$stamp"
@@ -88,17 +106,18 @@ create() {
 build() {
   create
   in_chroot /bin/bash -c \
-    'cmake -S . -B build-trixie -G Ninja -DPython3_EXECUTABLE=/usr/bin/python3 -DGLSLPPM_TESTS=OFF >/dev/null &&
-     cmake --build build-trixie -j "$(nproc)" --target _glslppm'
+    "cmake -S . -B build-$release -G Ninja -DPython3_EXECUTABLE=/usr/bin/python3 -DGLSLPPM_TESTS=OFF >/dev/null &&
+     cmake --build build-$release -j \"\$(nproc)\" --target _glslppm"
 }
 
 cmd=${1:-create}
 shift || true
-need_root "$cmd" "$@"
+need_root "$release" "$cmd" "$@"
 case "$cmd" in
   create) create ;;
   build) build ;;
   run) [ -f "$stamp" ] || create; in_chroot "$@" ;;
   shell) [ -f "$stamp" ] || create; in_chroot /bin/bash ;;
-  *) echo "usage: $0 create|build|run CMD...|shell" >&2; exit 2 ;;
+  root) echo "$root" ;;
+  *) echo "usage: $0 [trixie|sid] create|build|run CMD...|shell" >&2; exit 2 ;;
 esac

@@ -3,7 +3,8 @@
 # sphere, ceiling area light; scenes/demo_cornell.py) and renders it with `blender -b`
 # and the GLSLPPM engine into out/demo.png and out/demo.exr, printing progress.
 #
-# Environment: DEMO_BLENDER=3.4|4.3 (default 3.4; 4.3 runs in the Debian 13 chroot),
+# Environment: DEMO_BLENDER=3.4|4.3|5.2 (default 3.4; 4.3 runs in the Debian 13 chroot,
+# 5.2 in the Debian sid chroot),
 # DEMO_SIZE (pixels, default 256), DEMO_PASSES (default 512), DEMO_TIME_LIMIT (seconds,
 # default 120; 0 = none), DEMO_PHOTONS (per pass, default 65536).
 set -euo pipefail
@@ -18,8 +19,13 @@ mkdir -p out
 
 scripts/install-addon.sh --only "$blender_version"
 started=$SECONDS
-if [ "$blender_version" = 4.3 ]; then
-  scripts/blender-chroot.sh run blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
+chroot=()
+case "$blender_version" in
+  4.3) chroot=(scripts/blender-chroot.sh trixie run) ;;
+  5.2) chroot=(scripts/blender-chroot.sh sid run) ;;
+esac
+if [ ${#chroot[@]} -gt 0 ]; then
+  "${chroot[@]}" blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
 else
   blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
 fi 2>&1 | grep --line-buffered -vE "^$|^Blender quit"

@@ -11,7 +11,9 @@ pkgs=(cmake ninja-build g++ pkg-config python3-dev python3-numpy pybind11-dev
 case "$what" in
   # clang + libclang-rt-14-dev (libFuzzer, clang's ASan/UBSan runtimes): make test-fuzz-replay
   # xvfb + xauth: the rendered viewport tests run Blender's UI on a virtual display
-  test) pkgs+=(python3-pytest dieharder blender debootstrap clang libclang-rt-14-dev xvfb xauth xdotool) ;;
+  # zip, unzip: the add-on and extension zips (scripts/install-addon.sh, test-extension.sh)
+  test) pkgs+=(python3-pytest dieharder blender debootstrap clang libclang-rt-14-dev xvfb xauth xdotool
+              zip unzip) ;;
   demo) pkgs+=(blender) ;;
   bench) pkgs+=(python3-matplotlib) ;;  # scripts/plot_performance.py
 esac

@@ -11,7 +11,7 @@ repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo"
 logs=build/test-logs
 suites=("$@")
-[ ${#suites[@]} -gt 0 ] || suites=(native python bench blender viewport user-path sanitize fuzz-replay)
+[ ${#suites[@]} -gt 0 ] || suites=(native python bench blender viewport user-path extension sanitize fuzz-replay)
 mkdir -p "$logs"
 
 status=0

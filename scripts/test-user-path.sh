@@ -2,12 +2,13 @@
 # `make test-user-path`: the path every user takes first, in Blender's real UI on an Xvfb
 # display with real key presses (tests/blender/user_path_ui.py): F12, Esc, F12 again, an
 # edit, a file closed during a render, Ctrl+S, Ctrl+Q. Then the F12 / Esc / F12 / Ctrl+Q
-# cycle ten times in a row, each in a fresh Blender. Under Blender 3.4 (host) and 4.3 (the
-# Debian 13 chroot), each against the add-on installed the way users install it. A run
+# cycle ten times in a row, each in a fresh Blender. On every Blender of the matrix
+# (scripts/blender-suites.sh; GLSLPPM_BLENDERS narrows it), each against the add-on installed
+# the way users install it. A run
 # passes when its steps pass AND Blender then quits by itself with status 0: a crash, a
 # freeze (the run's timeout) or a lost Ctrl+Q fails it.
 #
-# Usage: [USER_PATH_BLENDERS="3.4 4.3"] scripts/test-user-path.sh [CYCLES]   (default 10)
+# Usage: [GLSLPPM_BLENDERS="3.4 5.2"] scripts/test-user-path.sh [CYCLES]   (default 10)
 set -uo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -36,28 +37,27 @@ s.render.engine = 'GLSLPPM'
 s.render.resolution_x = s.render.resolution_y = 64
 s.render.resolution_percentage = 100
 s.glslppm.passes = 6
+if hasattr(s.render.image_settings, 'media_type'):  # 5.x
+    s.render.image_settings.media_type = 'IMAGE'
 s.render.image_settings.file_format = 'OPEN_EXR'
 s.render.image_settings.color_depth = '32'
 bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])
 "
 
-# One run: $1 label, $2 Blender (3.4|4.3), $3 the add-on's module, the rest user_path_ui.py's arguments. The run has
-# 300 s; after its RESULT line Blender must exit by itself within 20 s, with status 0.
+# One run: $1 label, $2 the Blender environment ("VERSION:WHERE"), the rest
+# user_path_ui.py's arguments. The run has 300 s; after its RESULT line Blender must exit by
+# itself, with status 0.
 run_once() {
-  local label=$1 blender=$2 module=$3; shift 3
+  local label=$1 entry=$2; shift 2
+  local version=${entry%%:*} root
+  root=$(repo_in "$entry")
   local log=$out/$label.log copy=$out/$label.blend
-  cp "$out/start-$blender.blend" "$copy"
-  local screen="-screen 0 1280x800x24"
-  local cmd=(blender --factory-startup -p 0 0 800 600)
-  if [ "$blender" = 3.4 ]; then
-    env BLENDER_USER_RESOURCES="$repo/$user_dir/3.4" timeout 300 \
-      xvfb-run -a -s "$screen" "${cmd[@]}" --addons "$module" "$copy" \
-      --python tests/blender/user_path_ui.py -- --out "$out/$label" "$@" >"$log" 2>&1
-  else
-    scripts/blender-chroot.sh run env BLENDER_USER_RESOURCES="/src/$user_dir/4.3" timeout 300 \
-      xvfb-run -a -s "$screen" "${cmd[@]}" --addons "$module" "/src/$copy" \
-      --python tests/blender/user_path_ui.py -- --out "/src/$out/$label" "$@" >"$log" 2>&1
-  fi
+  cp "$out/start-$version.blend" "$copy"
+  blender_env_prefix "$entry"
+  "${prefix[@]}" env BLENDER_USER_RESOURCES="$root/$user_dir/$version" timeout 300 \
+    xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup -p 0 0 800 600 \
+    --addons "$(addon_module "$version")" "$root/$copy" \
+    --python tests/blender/user_path_ui.py -- --out "$root/$out/$label" "$@" >"$log" 2>&1
   local rc=$?
   grep -E "^(PASS|FAIL|RESULT|  )" "$log" | sed "s/^/[$label] /"
   if ! grep -q "^RESULT.* 0 failed" "$log"; then
@@ -74,33 +74,29 @@ run_once() {
 }
 
 suite() {
-  local blender=$1 module=$2 passed=0 failed=0
-  if [ "$blender" = 3.4 ]; then
-    BLENDER_USER_RESOURCES="$repo/$user_dir/3.4" blender -b --factory-startup \
-      --python-expr "$start_script" -- "$module" "$repo/$out/start-3.4.blend" \
-      >"$out/start-3.4.log" 2>&1
-  else
-    scripts/blender-chroot.sh run env BLENDER_USER_RESOURCES="/src/$user_dir/4.3" \
-      blender -b --factory-startup --python-expr "$start_script" -- "$module" \
-      "/src/$out/start-4.3.blend" >"$out/start-4.3.log" 2>&1
-  fi
-  [ -f "$out/start-$blender.blend" ] || { cat "$out/start-$blender.log"; failed=1; }
-  if [ $failed -eq 0 ]; then
-    if run_once "full-$blender" "$blender" "$module"; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+  local entry=$1 version=${1%%:*} passed=0 failed=0 root suite_started=$SECONDS
+  root=$(repo_in "$entry")
+  in_blender_env "$entry" env BLENDER_USER_RESOURCES="$root/$user_dir/$version" \
+    blender -b --factory-startup --python-expr "$start_script" -- \
+    "$(addon_module "$version")" "$root/$out/start-$version.blend" >"$out/start-$version.log" 2>&1
+  if [ -f "$out/start-$version.blend" ]; then
+    if run_once "full-$version" "$entry"; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
     for i in $(seq 1 "$cycles"); do
-      if run_once "cycle-$blender-$i" "$blender" "$module" --only-cycle; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+      if run_once "cycle-$version-$i" "$entry" --only-cycle; then
+        passed=$((passed + 1)); else failed=$((failed + 1)); fi
     done
+  else
+    cat "$out/start-$version.log"
+    failed=1
   fi
-  echo "RESULT Blender $blender (user path): $passed passed, $failed failed, 0 skipped"
-  summaries+=("Blender $blender (user path): $passed runs passed, $failed failed")
+  echo "RESULT Blender $version (user path): $passed passed, $failed failed, 0 skipped"
+  echo "TIME user-path-$version $((SECONDS - suite_started)) s"
+  summaries+=("Blender $version (user path): $passed runs passed, $failed failed")
   [ $failed -eq 0 ] || status=1
 }
 
-for blender in ${USER_PATH_BLENDERS:-3.4 4.3}; do
-  case $blender in
-    3.4) suite 3.4 glslppm ;;
-    *) suite "$blender" bl_ext.user_default.glslppm ;;
-  esac
+for entry in "${blenders[@]}"; do
+  suite "$entry"
 done
 
 echo "== user path tests ($((SECONDS - started)) s) =="

@@ -75,6 +75,16 @@ def blender(text):
                 what=per)
 
 
+def extension(text):
+    # scripts/test-extension.sh's "RESULT extension: N passed, M failed (K KiB zip)".
+    m = re.findall(r"^RESULT extension: (\d+) passed, (\d+) failed(.*)$", text, re.M)
+    if not m:
+        return None
+    passed, failed, rest = int(m[-1][0]), int(m[-1][1]), m[-1][2].strip()
+    return dict(ran=passed + failed, failed=failed, skipped=[],
+                what=f"extension zip: {passed} passed, {failed} failed {rest}".strip())
+
+
 def fuzz(text):
     replays = re.findall(r"^fuzz (\S+): (\d+) kept inputs replayed, no crash", text, re.M)
     failed = len(re.findall(r"^fuzz \S+: FAILED", text, re.M))
@@ -87,7 +97,8 @@ def fuzz(text):
 
 
 PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,
-           "viewport": blender, "user-path": blender, "sanitize": ctest, "fuzz-replay": fuzz}
+           "viewport": blender, "user-path": blender, "extension": extension, "sanitize": ctest,
+           "fuzz-replay": fuzz}
 
 
 def main():
@@ -117,7 +128,8 @@ def main():
     if cycles_skipped:
         print(f"FAILED: {len(cycles_skipped)} comparisons against Cycles were skipped")
         ok = False
-    blender = f"Blender {' and '.join(versions)}" if versions else "no Blender"
+    blender = (f"Blender {', '.join(versions[:-1])} and {versions[-1]}" if len(versions) > 1
+               else f"Blender {versions[0]}" if versions else "no Blender")
     print(f"{'TESTS PASSED' if ok else 'TESTS FAILED'}: {total} tests in {len(suites)} suites, "
           f"{blender}, {len(skipped)} skipped")
     return 0 if ok else 1

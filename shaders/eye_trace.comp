@@ -13,6 +13,11 @@ layout(local_size_x = LOCAL_SIZE) in;
 #define BVH_ANY_HIT_FILTER
 #endif
 #endif
+#ifdef SPHERE_LIGHT_RECORDS
+#ifndef USES_EMITTERS
+#define USES_EMITTERS
+#endif
+#endif
 #include "common/frame.glsl"
 #include "common/sppm_buffers.glsl"
 #include "common/sampling.glsl"
@@ -23,6 +28,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/camera.glsl"
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
+#endif
+#ifdef SPHERE_LIGHT_RECORDS
+#include "common/sphere_lights.glsl"
 #endif
 #include "common/compensated_sum.glsl"
 #ifdef HAS_ABSORPTION
@@ -112,6 +120,16 @@ void main() {
     for (uint depth = 0u; depth < max_bounces; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
+#ifdef SPHERE_LIGHT_RECORDS
+        // After a mirror or glass, a point or spot light's sphere in front of the surface.
+        vec3 sphere_radiance;
+        if (!seen_by_camera &&
+            hit_sphere_light(ray.origin, ray.dir, hit.triangle < 0 ? 1e30 : hit.t,
+                             sphere_radiance)) {
+            ADD_LIGHT(emitted, throughput * sphere_radiance);
+            break;
+        }
+#endif
         if (hit.triangle < 0) {
 #ifdef FILM_TRANSPARENT
             if (seen_by_camera) {

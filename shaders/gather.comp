@@ -27,6 +27,27 @@ shared float group_max_radius[LOCAL_SIZE];
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
 
+// Whether photon p, at offset d from the visible point, lit the point's side of its surface
+// (photon_side_word). With a the photon's height above the point's tangent plane and b the
+// point's above the photon's: a surface facing away (cos below -0.5) is the point's own back;
+// flat or concave, the two face each other (a, b >= 0: a room's corner, as always); on one
+// convex sphere a = b (both below), with slack for facets. Left out: the far wall of a slab
+// thinner than the radius (a = -w, b = w: a letter's stroke, a thin wall) and the far side of
+// a convex edge or of a concave one seen from outside (a or b negative, the normals apart),
+// which hold the light inside a closed emissive mesh. A lobe that transmits (both_sides)
+// takes photons of either side, as before.
+bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
+    if (both_sides) return true;
+    vec3 n = photon_side(photons[3u * p + 2u].w);
+    float c = dot(n, side);
+    float a = dot(d, side), b = -dot(d, n);
+    // Slack for facets where the normals agree, none across an edge (c near 0).
+    float slack = PHOTON_WALL_TOLERANCE * r * max(c, 0.0);
+    return c > -PHOTON_SIDE_MIN_COS &&
+           ((a >= -slack && b >= -slack) ||
+            (c > PHOTON_SIDE_MIN_COS && abs(a - b) <= slack));
+}
+
 #ifdef PASS_PHOTON_SPLIT
 // One class's photons into its pass, updated as Combined's tau is: PPPM adds the pass's
 // estimate, SPPM adds and shrinks with the radius.
@@ -88,6 +109,19 @@ void main() {
             vec3 n = visible_points[VISIBLE_POINT_VEC4 * i + 1].xyz;
             vec3 weight = visible_points[VISIBLE_POINT_VEC4 * i + 2].xyz;
 #endif
+            // The side photons must have arrived on (sppm_buffers.glsl, photon_side_word):
+            // either side for a lobe that transmits.
+#ifdef HAS_MICROFACET
+#ifdef HAS_NORMAL_MAP
+            vec3 side = sh.ng;
+#else
+            vec3 side = sh.n;
+#endif
+            bool both_sides = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
+#else
+            vec3 side = n;
+            bool both_sides = false;
+#endif
             float cell_size = hash_cell_size();
             ivec3 center = grid_cell(point.xyz, cell_size);
             float r2 = r * r;
@@ -117,7 +151,8 @@ void main() {
                 // Only from the cell it belongs to: cells sharing a table entry must not
                 // count their survivor twice.
 #ifdef HAS_MICROFACET
-                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                    photon_on_side(p, d, r, side, both_sides)) {
                     vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
                     float count = float(entry.y);
                     m += count;
@@ -125,7 +160,7 @@ void main() {
                 }
 #else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                    dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                    dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, d, r, side, both_sides)) {
                     float count = float(entry.y);
                     m += count;
                     ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
@@ -137,14 +172,16 @@ void main() {
                     vec3 x = photons[3 * p + 0].xyz;
                     vec3 d = x - point.xyz;
 #ifdef HAS_MICROFACET
-                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell) {
+                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
+                        photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
                                           photons[3 * p + 2].xyz);
                     }
 #else
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                        dot(photons[3 * p + 1].xyz, n) > 0.0) {
+                        dot(photons[3 * p + 1].xyz, n) > 0.0 &&
+                        photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
                         ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }

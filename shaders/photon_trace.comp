@@ -76,7 +76,7 @@ void main() {
         atomicAdd(pass_emitted, 1u);
     }
 
-    vec4 stored = vec4(0.0);  // flux.w = 1 when a photon is stored
+    vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
 #ifdef PASS_PHOTON_SPLIT
@@ -117,7 +117,8 @@ void main() {
                 uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
-                stored = vec4(flux, 1.0);
+                stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
+                                                         ? s.normal : -s.normal));
 #ifdef HAS_NORMAL_MAP
                 // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
                 // density (per area of the true surface) into the shading normal's cosine:
@@ -127,6 +128,12 @@ void main() {
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             vec3 wi, w;
+            // Where the photon goes on: a leaf chosen by what the mix's parts scatter (its own
+            // draw; the leaf above decided only whether it is stored).
+            float mix_weight = 1.0;
+            if (material_kind(s.material) == MATERIAL_MIX)
+                sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, s.uv,
+                                           s.vertex_color, -dir, rng_next(rng), mix_weight);
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
@@ -135,6 +142,7 @@ void main() {
                        !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
                 bounces = -1.0;
             } else {
+                w *= mix_weight;
                 float q = min(1.0, max_component(w));
                 if (rng_next(rng) >= q) {
                     bounces = -1.0;
@@ -179,7 +187,8 @@ void main() {
             uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
-            stored = vec4(flux, 1.0);
+            stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
+                                                     ? s.normal : -s.normal));
 #ifdef DIRECT_LIGHT_SAMPLED
             }
 #endif

@@ -3,6 +3,8 @@ The one place that knows the module's constructor signatures."""
 
 from dataclasses import asdict
 
+from ..compat import BUMP_SHADOWING
+
 
 def native_material(native, material):
     fields = asdict(material)
@@ -66,4 +68,5 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         device=settings.device if device is None else device,
         seed=(settings.seed + seed_offset) % (2**31),
         max_block_bytes=settings.max_block_bytes,
+        bump_shadowing=BUMP_SHADOWING,
         passes=list(passes))

@@ -112,7 +112,9 @@ class GlslppmEngineMixin:
         if data is None:
             self._cancelled(width, height)
             return
-        for warning in data.warnings:
+        # Material and light previews render Blender's own preview scenes: what they would
+        # warn about is not the user's to fix (issue 26), so they stay quiet.
+        for warning in ([] if self.is_preview else data.warnings):
             self.report_to_user('WARNING', warning)
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {data.instance_count} "
               f"instances of {len(data.instance_meshes)} meshes, {len(data.lights)} lights, "
@@ -169,7 +171,7 @@ class GlslppmEngineMixin:
                 if self.should_stop():
                     self._cancelled(width, height)
                 return  # else failed, with a report and an image
-            if index == 0:
+            if index == 0 and not self.is_preview:
                 for warning in renderer.stats().get("warnings", []):
                     self.report_to_user('WARNING', warning)
             try:

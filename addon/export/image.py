@@ -9,8 +9,9 @@ encoding there, float images in scene-linear values, hence:
 - 8-bit Non-Color/Linear/Raw, and float images -> float32 linear as they are
 - 8-bit in any other colour space -> float32 as stored, with a warning.
 
-A missing or unreadable file falls back to the socket's own colour with a warning;
-export never fails over an image.
+A missing file renders magenta (1, 0, 1), as Cycles renders it, with a warning naming the
+image; an image that cannot be read otherwise falls back to the socket's own colour with a
+warning. Export never fails over an image.
 """
 
 import os
@@ -71,12 +72,18 @@ def image_missing(image):
     return None if os.path.isfile(path) else (path or "no file path")
 
 
+# Cycles' colour for an image it cannot find (TEX_IMAGE_MISSING_R/G/B/A).
+MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
+
+
 def image_pixels(image, warn):
-    """(H, W, 4) float32 of image.pixels (row 0 at the bottom), or None with a warning."""
+    """(H, W, 4) float32 of image.pixels (row 0 at the bottom): one magenta texel for a
+    missing file, as Cycles shows it; None (warned) for an image that cannot be read."""
     missing = image_missing(image)
     if missing is not None:
-        warn(f"image '{image.name}' is missing ({missing}); using the input's own colour")
-        return None
+        warn(f"image '{image.name}' is missing ({missing}); rendering it magenta, as Cycles "
+             "does")
+        return np.array(MISSING_IMAGE_RGBA, dtype=np.float32).reshape(1, 1, 4)
     if image.source == 'TILED' and len(image.tiles) > 1:
         first = image.tiles[0].number
         warn(f"image '{image.name}' is a UDIM image of {len(image.tiles)} tiles; only tile "
@@ -106,6 +113,8 @@ def image_texture(image, wrap, warn):
     pixels = image_pixels(image, warn)
     if pixels is None:
         return None
+    if image_missing(image) is not None:
+        return TextureData(pixels, wrap, image.name)  # magenta, linear
     space = image.colorspace_settings.name
     if not image.is_float and space == "sRGB":
         encoded = np.rint(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8)
@@ -125,6 +134,8 @@ def image_mean_color(image, fallback, warn):
     if pixels is None:
         return fallback
     rgb = pixels[..., :3].reshape(-1, 3)
+    if image_missing(image) is not None:
+        return tuple(float(c) for c in rgb[0])
     if not image.is_float and image.colorspace_settings.name == "sRGB":
         rgb = srgb_to_linear(rgb)
     mean = tuple(float(c) for c in rgb.mean(axis=0))

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..compat import BLENDER_4
+from ..compat import BLENDER_4, node_tree
 from .node_inputs import linked_node as _linked_node, socket_color, socket_value
 from .scene_data import LightData
 
@@ -42,6 +42,14 @@ def convert_light(light, matrix, builder, visible_to_camera=True):
         builder.warn(f"light '{light.name}': {problem}; the light is off")
         return
     strength, color = light_node_emission(light, builder.warn)
+    if light.energy * strength < 0.0:
+        # Cycles subtracts a negative light's light (a -50 W point light under a 100 W one
+        # halves it); photons of negative flux are not modelled here.
+        energy_name = "strength" if light.type == 'SUN' else "power"
+        builder.warn(f"light '{light.name}': negative {energy_name} "
+                     f"{light.energy * strength:g} is not supported (Cycles subtracts its "
+                     "light); the light is off")
+        return
     if light.energy <= 0.0 or strength <= 0.0 or max(color) <= 0.0:
         return
     scaled = _NodeScaledLight(light, strength, color)
@@ -77,7 +85,7 @@ def light_node_emission(light, warn):
     """(strength, rgb) of the Emission node feeding the light's node tree output, which
     Cycles multiplies into the light's power and colour: (1, white) without nodes."""
     white = (1.0, 1.0, 1.0)
-    tree = light.node_tree if getattr(light, "use_nodes", False) else None
+    tree = node_tree(light)
     if tree is None:
         return 1.0, white
 

@@ -24,6 +24,7 @@ import math
 
 from dataclasses import dataclass, replace
 
+from ..compat import DEFAULT_SURFACE_IS_PRINCIPLED, node_tree
 from .image import image_mean_color
 from .normal_map import normal_map_of, shader_nodes
 from .node_inputs import (clamp01, image_texture_index, input_socket, linked_node,
@@ -33,7 +34,10 @@ from .node_inputs import (clamp01, image_texture_index, input_socket, linked_nod
 from .scene_data import MaterialData
 from .volume import volume_absorption
 
-DEFAULT_MATERIAL = MaterialData("diffuse", (0.8, 0.8, 0.8))
+# An object without a material, as Cycles renders it: a diffuse 0.8 grey up to 4.x, from 5.0
+# a new material's Principled BSDF (base 0.8, roughness 0.5, IOR 1.5, Multiscatter GGX).
+DEFAULT_MATERIAL = (MaterialData("plastic", (0.8, 0.8, 0.8), ior=1.5, roughness=0.5)
+                    if DEFAULT_SURFACE_IS_PRINCIPLED else MaterialData("diffuse", (0.8, 0.8, 0.8)))
 BLACK = MaterialData("diffuse", (0.0, 0.0, 0.0))
 # How deep Mix materials may nest (kMaxMixDepth in native/scene/scene.h).
 MAX_MIX_DEPTH = 8
@@ -73,7 +77,7 @@ def convert_material(material, warn, textures=None):
     def material_warn(message):
         warn(f"material '{material.name}': {message}")
 
-    if not material.use_nodes or material.node_tree is None:
+    if node_tree(material) is None:
         return [MaterialData("diffuse", clamp01(material.diffuse_color[:3]))]
     tree = material.node_tree
     output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
@@ -107,7 +111,7 @@ def convert_material(material, warn, textures=None):
 def volume_only(material):
     """True for a material whose output feeds only its Volume: a volume object, which
     has no surface to render."""
-    if material is None or not material.use_nodes or material.node_tree is None:
+    if material is None or node_tree(material) is None:
         return False
     tree = material.node_tree
     output = tree.get_output_node('CYCLES') or tree.get_output_node('ALL')
@@ -214,10 +218,14 @@ _DISTRIBUTIONS = {'SHARP': (False, False), 'GGX': (False, False),
 
 
 def distribution(node, context):
-    """multiscatter for a node's distribution, warning where it is not GGX."""
+    """multiscatter for a node's distribution, warning where it is not GGX and the two
+    differ: not at roughness 0, where every distribution is the same perfect mirror or
+    refraction (Blender 3.x's Glass BSDF defaults to Beckmann there)."""
     name = getattr(node, "distribution", 'GGX')
     multiscatter, approximated = _DISTRIBUTIONS.get(name, (False, True))
-    if approximated:
+    roughness = input_socket(node, "Roughness")
+    smooth = roughness is not None and not roughness.is_linked and roughness.default_value <= 0.0
+    if approximated and not smooth:
         context(f"{node.bl_label} '{node.name}': the {name.replace('_', '-').title()} "
                 "distribution is rendered as GGX")
     return multiscatter

@@ -25,7 +25,11 @@ from .scene_data import SceneData
 from .visibility import object_visibility
 from .world import convert_world
 
-GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'FONT', 'META'}
+# Geometry is read from objects whose data is a mesh, as Cycles does (object_is_geometry in
+# its blender/object.cpp): since Blender 3.0 a curve, surface, text or metaball object is
+# listed itself (its data a Curve or MetaBall) and then its evaluated mesh as an instance of
+# it, so reading both drew it twice.
+GEOMETRY_TYPES = {'MESH'}
 
 
 class ExportError(Exception):

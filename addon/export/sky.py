@@ -1,9 +1,10 @@
-"""Sky Texture: Blender's sky models (Nishita, Hosek-Wilkie, Preetham) evaluated by
-Blender itself. A second Blender renders the node with Cycles (export/sky_bake.py)
-into an equirectangular map, the sky without its sun disc, which becomes the
-environment map; Nishita's sun disc becomes a sun light of the disc's measured
-irradiance, direction and size. Results are kept per set of node settings for the
-session, so an animation bakes once (a bake takes about 2-4 s on two cores).
+"""Sky Texture: Blender's sky models (Nishita up to 4.x; Single and Multiple Scattering,
+its 5.x successors; Hosek-Wilkie, Preetham) evaluated by Blender itself. A second
+Blender renders the node with Cycles (export/sky_bake.py) into an equirectangular map,
+the sky without its sun disc, which becomes the environment map; the sun disc of the
+physical skies becomes a sun light of the disc's measured irradiance, direction and size.
+Results are kept per set of node settings for the session, so an animation bakes once (a
+bake takes about 2-10 s on two cores).
 
 When the bake fails (no Blender binary, Cycles missing, a timeout) the world falls back
 to grey with a warning naming the world and the reason.
@@ -25,13 +26,30 @@ MAP_SIZE = (256, 128)
 MAP_SAMPLES = 16
 TIMEOUT_SECONDS = 120
 
-# The node settings that shape each sky, as the bake reproduces them.
+# The node settings that shape each sky, as the bake reproduces them. 5.0 split Nishita
+# into 'SINGLE_SCATTERING' and 'MULTIPLE_SCATTERING' and renamed dust_density to
+# aerosol_density.
+_PHYSICAL = ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation",
+             "altitude", "air_density", "ozone_density")
 SETTINGS = {
-    'NISHITA': ("sun_disc", "sun_size", "sun_intensity", "sun_elevation", "sun_rotation",
-                "altitude", "air_density", "dust_density", "ozone_density"),
+    'NISHITA': _PHYSICAL + ("dust_density",),
+    'SINGLE_SCATTERING': _PHYSICAL + ("aerosol_density",),
+    'MULTIPLE_SCATTERING': _PHYSICAL + ("aerosol_density",),
     'HOSEK_WILKIE': ("sun_direction", "turbidity", "ground_albedo"),
     'PREETHAM': ("sun_direction", "turbidity"),
 }
+# The skies whose sun disc (sun_disc, sun_elevation, sun_rotation, sun_size) becomes a
+# sun light; the others draw no disc.
+SUN_DISC_TYPES = ('NISHITA', 'SINGLE_SCATTERING', 'MULTIPLE_SCATTERING')
+# The Node's own properties, which no sky type reads.
+_NODE_PROPERTIES = {"rna_type", "type", "location", "width", "width_hidden", "height",
+                    "dimensions", "name", "label", "inputs", "outputs", "internal_links",
+                    "parent", "use_custom_color", "color", "select", "show_options",
+                    "show_preview", "hide", "mute", "show_texture", "bl_idname", "bl_label",
+                    "bl_description", "bl_icon", "bl_static_type", "bl_width_default",
+                    "bl_width_min", "bl_width_max", "bl_height_default", "bl_height_min",
+                    "bl_height_max", "texture_mapping", "color_mapping", "warning_propagation",
+                    "location_absolute", "color_tag", "is_active_output"}
 
 _baked = {}
 
@@ -40,10 +58,21 @@ class SkyBakeError(Exception):
     pass
 
 
-def sky_settings(node):
-    """The node's sky type and settings as plain values (JSON and dictionary keys)."""
+def sky_settings(node, warn=None):
+    """The node's sky type and settings as plain values (JSON and dictionary keys). A sky
+    type this add-on does not know (a newer Blender's) is baked with every setting the
+    node has, its sun disc (if any) in the map, after a warning naming it."""
     settings = {"sky_type": node.sky_type}
-    for name in SETTINGS.get(node.sky_type, ()):
+    names = SETTINGS.get(node.sky_type)
+    if names is None:
+        if warn is not None:
+            warn(f"the Sky Texture's type '{node.sky_type}' is not known to this add-on; "
+                 "it is baked as Blender renders it, with its sun disc (if any) in the "
+                 "environment map instead of a sun light")
+        names = sorted(p.identifier for p in node.bl_rna.properties
+                       if not p.is_readonly and p.identifier not in _NODE_PROPERTIES
+                       and p.type in ('BOOLEAN', 'INT', 'FLOAT'))
+    for name in names:
         value = getattr(node, name)
         settings[name] = tuple(float(v) for v in value) if hasattr(value, "__len__") \
             else (bool(value) if isinstance(value, bool) else float(value))
@@ -53,7 +82,7 @@ def sky_settings(node):
 def bake_sky(node, strength, warn, textures, add_light):
     """The environment texture index for a Sky Texture node (its sun disc added as a sun
     light of strength x the disc's irradiance), or -1 after a warning."""
-    settings = sky_settings(node)
+    settings = sky_settings(node, warn)
     key = json.dumps(settings, sort_keys=True)
     if key not in _baked:
         try:
@@ -84,6 +113,7 @@ def _bake(settings):
     with tempfile.TemporaryDirectory(prefix="glslppm-sky-") as folder:
         request = {
             "settings": {k: v for k, v in settings.items()},
+            "sun_disc": settings["sky_type"] in SUN_DISC_TYPES and bool(settings["sun_disc"]),
             "compat": os.path.abspath(compat.__file__),
             "map": os.path.join(folder, "sky.exr"),
             "sun": os.path.join(folder, "sun.json"),

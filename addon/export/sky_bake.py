@@ -24,7 +24,7 @@ def _compat(path):
     return module
 
 
-def _scene(request):
+def _scene(request, compat):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = 'CYCLES'
@@ -39,8 +39,7 @@ def _scene(request):
     scene.render.image_settings.color_depth = '32'
     scene.render.use_file_extension = False
     world = bpy.data.worlds.new("Sky")
-    world.use_nodes = True
-    tree = world.node_tree
+    tree = compat.use_nodes(world)
     background = next(node for node in tree.nodes if node.type == 'BACKGROUND')
     background.inputs["Strength"].default_value = 1.0
     sky = tree.nodes.new("ShaderNodeTexSky")
@@ -70,8 +69,8 @@ def _render(scene, path, width, height, samples):
 def main():
     request = json.load(open(sys.argv[sys.argv.index("--") + 1]))
     compat = _compat(request["compat"])
-    scene, sky, camera = _scene(request)
-    has_disc = sky.sky_type == 'NISHITA' and sky.sun_disc
+    scene, sky, camera = _scene(request, compat)
+    has_disc = request["sun_disc"]
     if has_disc:
         sky.sun_disc = False
     # This rotation makes Cycles' equirectangular camera write the renderer's mapping

@@ -9,6 +9,7 @@ node's own colour with a warning; the render goes on.
 
 import numpy as np
 
+from ..compat import node_tree
 from .node_inputs import linked_node as _linked_node, socket_color, socket_value
 from .sky import bake_sky
 
@@ -31,13 +32,13 @@ def convert_world(world, warn, textures=None, add_light=None):
 def _convert_world(world, warn, textures, add_light):
     if world is None:
         return BLACK, -1, None
-    if not world.use_nodes or world.node_tree is None:
+    tree = node_tree(world)
+    if tree is None:
         return tuple(max(0.0, float(c)) for c in world.color[:3]), -1, None
 
     def world_warn(message):
         warn(f"world '{world.name}': {message}")
 
-    tree = world.node_tree
     output = next((node for node in tree.nodes
                    if node.type == 'OUTPUT_WORLD' and node.is_active_output), None)
     if output is None:

@@ -6,6 +6,8 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <ImfInputPart.h>
+#include <ImfMultiPartInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
 
@@ -93,27 +95,61 @@ void write_multilayer_exr(const std::string& path, int width, int height,
     write_exr_file(path, file);
 }
 
+namespace {
+
+// A channel's full name in a multi-part file. Blender 5.x writes one part per pass, named
+// "<view layer>.<pass>", whose channels keep their full names; a file written by other tools
+// may name the channels of a part "R", "G", "B" only: those get the part's name in front, so
+// that no two parts' channels share a name.
+std::string part_channel_name(const Imf::Header& header, int parts, const std::string& channel) {
+    if (parts < 2 || !header.hasName()) return channel;
+    const std::string& part = header.name();
+    if (channel.rfind(part + ".", 0) == 0) return channel;
+    return part + "." + channel;
+}
+
+}  // namespace
+
 ExrChannels read_exr_file(const std::string& path) {
     try {
-        Imf::InputFile in(path.c_str());
-        const Imath::Box2i window = in.header().dataWindow();
+        // Every part of the file (a single-part file is one part), each into its channels.
+        Imf::MultiPartInputFile in(path.c_str());
         ExrChannels file;
-        file.width = window.max.x - window.min.x + 1;
-        file.height = window.max.y - window.min.y + 1;
-        file.attributes = read_attributes(in.header());
-        file.multilayer = in.header().find(kBlenderMultiChannel) != in.header().end();
-        Imf::FrameBuffer frame;
-        const std::size_t w = static_cast<std::size_t>(file.width);
-        for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it) {
-            std::vector<float>& data = file.channels[it.name()];
-            data.assign(w * file.height, 0.0f);
-            char* base = reinterpret_cast<char*>(data.data()) -
-                         (static_cast<std::ptrdiff_t>(window.min.x) * sizeof(float) +
-                          static_cast<std::ptrdiff_t>(window.min.y) * w * sizeof(float));
-            frame.insert(it.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * w));
+        for (int p = 0; p < in.parts(); ++p) {
+            Imf::InputPart part(in, p);
+            const Imf::Header& header = part.header();
+            const Imath::Box2i window = header.dataWindow();
+            const int width = window.max.x - window.min.x + 1;
+            const int height = window.max.y - window.min.y + 1;
+            if (p == 0) {
+                file.width = width;
+                file.height = height;
+            } else if (width != file.width || height != file.height) {
+                throw std::runtime_error("part " + std::to_string(p) + " is " +
+                                         std::to_string(width) + "x" + std::to_string(height) +
+                                         ", part 0 " + std::to_string(file.width) + "x" +
+                                         std::to_string(file.height));
+            }
+            for (const auto& [key, value] : read_attributes(header))
+                file.attributes.emplace(key, value);
+            file.multilayer = file.multilayer || header.find(kBlenderMultiChannel) != header.end();
+            Imf::FrameBuffer frame;
+            const std::size_t w = static_cast<std::size_t>(width);
+            for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+                const std::string name = part_channel_name(header, in.parts(), it.name());
+                if (file.channels.count(name))
+                    throw std::runtime_error("channel " + name + " is in two parts");
+                std::vector<float>& data = file.channels[name];
+                data.assign(w * height, 0.0f);
+                char* base = reinterpret_cast<char*>(data.data()) -
+                             (static_cast<std::ptrdiff_t>(window.min.x) * sizeof(float) +
+                              static_cast<std::ptrdiff_t>(window.min.y) * w * sizeof(float));
+                frame.insert(it.name(),
+                             Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * w));
+            }
+            part.setFrameBuffer(frame);
+            part.readPixels(window.min.y, window.max.y);
         }
-        in.setFrameBuffer(frame);
-        in.readPixels(window.min.y, window.max.y);
         return file;
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot read EXR file " + path + ": " + e.what());

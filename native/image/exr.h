@@ -35,7 +35,7 @@ void write_multilayer_exr(const std::string& path, int width, int height,
                           const std::map<std::string, std::string>& attributes = {},
                           const std::string& view_layer = "ViewLayer");
 
-// Every channel of a file by its full name, each height x width floats.
+// Every channel of a file (of every part) by its full name, each height x width floats.
 std::map<std::string, std::vector<float>> read_exr_channels(const std::string& path, int* width,
                                                             int* height);
 
@@ -48,7 +48,10 @@ struct ExrChannels {
     bool multilayer = false;  // Blender's BlenderMultiChannel header: it opens layers and passes
 };
 
-// Throws std::runtime_error naming the file on failure.
+// Reads every part of the file (Blender 5.x writes a multi-layer EXR as one part per pass,
+// named "<view layer>.<pass>"; a channel named only "R" in such a part is returned as
+// "<part>.R"), with the attributes of all parts. Throws std::runtime_error naming the file on
+// failure, also when the parts differ in size or two parts hold the same channel.
 ExrChannels read_exr_file(const std::string& path);
 // 32-bit float channels; attributes as write_exr writes them.
 void write_exr_file(const std::string& path, const ExrChannels& file);

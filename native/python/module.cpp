@@ -455,7 +455,7 @@ public:
             std::lock_guard lock(mutex_);
             last = std::move(renderer_);
         }
-        if (last) last->cancel();
+        if (last) last->stop();
     }
     bool closed() const {
         std::lock_guard lock(mutex_);
@@ -469,7 +469,7 @@ public:
             std::lock_guard lock(mutex_);
             last = std::move(renderer_);
         }
-        if (last) last->cancel();
+        if (last) last->stop();
         std::thread([owned = std::move(last)]() mutable { owned.reset(); }).join();
     }
 
@@ -754,7 +754,8 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& direct_light, float glossy_threshold,
                          const std::string& estimator, std::vector<int> devices,
                          std::uint64_t first_pass, const std::string& instancing,
-                         std::uint64_t max_block_bytes, std::vector<std::string> passes) {
+                         std::uint64_t max_block_bytes, std::vector<std::string> passes,
+                         const std::string& bump_shadowing) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -780,6 +781,7 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.first_pass = first_pass;
                  s.instancing = parse_instancing(instancing);
                  s.max_block_bytes = max_block_bytes;
+                 s.bump_shadowing = parse_bump_shadowing(bump_shadowing);
                  for (const std::string& name : passes) {
                      for (RenderPass p : parse_render_pass_list(name))
                          if (std::find(s.passes.begin(), s.passes.end(), p) == s.passes.end())
@@ -805,7 +807,8 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("devices") = defaults.devices, py::arg("first_pass") = defaults.first_pass,
              py::arg("instancing") = to_string(defaults.instancing),
              py::arg("max_block_bytes") = defaults.max_block_bytes,
-             py::arg("passes") = std::vector<std::string>{})
+             py::arg("passes") = std::vector<std::string>{},
+             py::arg("bump_shadowing") = to_string(defaults.bump_shadowing))
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)

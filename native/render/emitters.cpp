@@ -144,6 +144,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
             add(EmitterKind::Triangle, v0, glm::vec4(v1, two_sided ? 1.0f : 0.0f), v2, power);
     }
     const float r = bounds.radius();
+    table.first_light = list.size();
     for (const Light& light : scene.lights) {
         const glm::vec3 color = light.color * light.power;
         switch (light.kind) {
@@ -175,6 +176,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                 break;  // emissive triangles (render/area_lights.h), listed above
         }
     }
+    table.light_count = list.size() - table.first_light;
     // The environment radiates onto the bounding disc from every direction: power
     // pi r^2 * (integral of L over the sphere); a constant L gives 4 pi * pi r^2 * L.
     if (environment) {

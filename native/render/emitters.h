@@ -39,6 +39,8 @@ struct EmitterTable {
     bool has[5] = {false, false, false, false, false};  // by EmitterKind
     // Per packed triangle of the BVH, the index of its record, or -1 (not emitting).
     std::vector<std::int32_t> triangle_records;
+    // The point, spot and sun lights' records: [first_light, first_light + light_count).
+    std::size_t first_light = 0, light_count = 0;
 };
 
 // Bounding sphere of the scene (distant lights shine through its disc).

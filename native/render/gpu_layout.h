@@ -58,7 +58,7 @@ struct FrameBlock {
     float pass_radius = 0.0f;
     float pass_scale = 0.0f;
     std::uint32_t photon_step = 0;
-    std::uint32_t padding0 = 0;  // std140 rounds the block to 16 bytes
+    std::uint32_t shadow_terminator = 0;  // BumpShadowing: 0 Chiang 2019, 1 Conty 2021
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -93,7 +93,7 @@ static_assert(offsetof(FrameBlock, frame_pixels) == 268);
 static_assert(offsetof(FrameBlock, pass_radius) == 272);
 static_assert(offsetof(FrameBlock, pass_scale) == 276);
 static_assert(offsetof(FrameBlock, photon_step) == 280);
-static_assert(offsetof(FrameBlock, padding0) == 284);
+static_assert(offsetof(FrameBlock, shadow_terminator) == 284);
 static_assert(sizeof(FrameBlock) == 288);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the

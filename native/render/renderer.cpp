@@ -101,6 +101,11 @@ void Renderer::cancel() {
     for (auto& g : gpus_) g->cancel = true;
 }
 
+void Renderer::stop() {
+    stopped_ = true;
+    cancel();
+}
+
 int Renderer::run(int passes) {
     if (settings_.estimator == Estimator::Pppm) {
         // The next indices, past any that run_passes() already ran.
@@ -125,7 +130,7 @@ int Renderer::run(int passes) {
         const auto start = std::chrono::steady_clock::now();
         g.cancel = false;
         int done = 0;
-        for (; done < passes && !g.cancel; ++done) {
+        for (; done < passes && !g.cancel && !stopped_; ++done) {
             g.run_pass(g.passes);
             // Let a cancel or a film read in between interrupt long runs (the GPU queue is
             // flushed every few passes so that a cancel takes effect quickly).
@@ -165,7 +170,7 @@ int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
             g.cancel = false;
             int done = 0;
             GLsync in_flight = nullptr;
-            while (!g.cancel) {
+            while (!g.cancel && !stopped_) {
                 const std::size_t k = next.fetch_add(1);
                 if (k >= indices.size()) break;
                 const auto submit = std::chrono::steady_clock::now();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <atomic>
 #include <memory>
 #include <string>
 #include <utility>
@@ -105,6 +106,9 @@ public:
     int run_passes(const std::vector<std::uint64_t>& indices);
     // Stops a run in progress after its current pass; safe from any thread.
     void cancel();
+    // Stops every run for good, in progress or yet to start: a renderer being closed (a
+    // cancel() that comes before a run begins is otherwise forgotten, since a run clears it).
+    void stop();
     // Tests only: sets the 64-bit count of photon paths started, so that a short test can
     // carry it past 2^32.
     void debug_set_photons_emitted(std::uint64_t count);
@@ -140,8 +144,9 @@ public:
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
     // towards where it came from, its path's class with the light split's passes
-    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, 1 if
-    // stored else 0 (tests and debugging).
+    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, and
+    // the side word (shaders/common/sppm_buffers.glsl: a positive integer) if stored else 0
+    // (tests and debugging).
     std::vector<float> photons();
     const RenderSettings& settings() const { return settings_; }
 
@@ -156,6 +161,7 @@ private:
     RenderSettings settings_;
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
     std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
+    std::atomic<bool> stopped_{false};        // stop(): no pass runs any more
     std::size_t flatten_max_triangles_ = 0;   // the devices' bound (render/instancing.h)
     double seconds_ = 0.0;                    // wall time of runs with several workers
     std::uint64_t scene_hash_without_camera_ = 0;  // scene/scene_hash.h

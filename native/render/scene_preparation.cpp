@@ -329,6 +329,17 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     feature(p.emitters.has[3], "HAS_SUN_LIGHTS", "sun-lights");
     feature(p.emitters.has[4] || glm::length(scene.environment) > 0.0f, "HAS_ENVIRONMENT",
             "environment");
+    // Point and spot lights of a radius are spheres that mirrors and glass show
+    // (common/sphere_lights.glsl); the shader looks through the analytic lights' records.
+    bool sphere_lights = false;
+    for (const Light& light : scene.lights)
+        sphere_lights |= (light.kind == LightKind::Point || light.kind == LightKind::Spot) &&
+                         light.radius > 0.0f && light.power > 0.0f;
+    if (sphere_lights && p.emitters.light_count > 0) {
+        p.defines.push_back({"SPHERE_LIGHT_FIRST", std::to_string(p.emitters.first_light) + "u"});
+        p.defines.push_back({"SPHERE_LIGHT_RECORDS", std::to_string(p.emitters.light_count) + "u"});
+        features.push_back("sphere-lights");
+    }
     feature(use.materials, "HAS_TEXTURES", "textures");
     feature(p.vertex_colors, "HAS_VERTEX_COLORS", "vertex-colors");
     // Materials read colours only where meshes have them; the full variant's programs (and
@@ -461,6 +472,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.hash_cell_count = p.hash_cells;
     f.max_bounces = static_cast<std::uint32_t>(settings.max_bounces);
     f.glossy_threshold = settings.glossy_threshold;
+    f.shadow_terminator = settings.bump_shadowing == BumpShadowing::Conty2021 ? 1u : 0u;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;

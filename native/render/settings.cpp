@@ -39,6 +39,17 @@ Instancing parse_instancing(const std::string& name) {
                                 "' is not an instancing mode (auto, two-level, flattened)");
 }
 
+BumpShadowing parse_bump_shadowing(const std::string& name) {
+    if (name == "chiang2019") return BumpShadowing::Chiang2019;
+    if (name == "conty2021") return BumpShadowing::Conty2021;
+    throw std::invalid_argument("bump_shadowing: '" + name +
+                                "' is not a bump shadowing term (chiang2019, conty2021)");
+}
+
+std::string to_string(BumpShadowing shadowing) {
+    return shadowing == BumpShadowing::Conty2021 ? "conty2021" : "chiang2019";
+}
+
 std::string to_string(Instancing instancing) {
     return instancing == Instancing::Auto       ? "auto"
            : instancing == Instancing::TwoLevel ? "two-level"

@@ -27,6 +27,11 @@ enum class Estimator { Sppm, Pppm };
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.
 enum class Instancing { Auto, TwoLevel, Flattened };
+// How a diffuse lobe under a bumped or normal-mapped normal fades towards the shadow
+// terminator, as the Cycles of the user's Blender does: Chiang, Li and Burley 2019 ("Taming
+// the Shadow Terminator"; Cycles up to 4.x) or Conty Estevez, Lecocq and Stein 2021 ("A
+// Microfacet-Based Shadowing Function to Solve the Bump Terminator Problem"; Cycles 5.x).
+enum class BumpShadowing { Chiang2019, Conty2021 };
 
 struct RenderSettings {
     int width = 256;
@@ -70,6 +75,7 @@ struct RenderSettings {
     bool transparent = false;
     bool transparent_glass = false;
     Instancing instancing = Instancing::Auto;
+    BumpShadowing bump_shadowing = BumpShadowing::Chiang2019;
     // Render passes beside Combined (render/render_passes.h); empty: Combined alone, and
     // programs without any pass code.
     std::vector<RenderPass> passes;
@@ -85,6 +91,8 @@ std::string to_string(RngKind kind);
 std::string to_string(DirectLight direct);
 std::string to_string(Estimator estimator);
 std::string to_string(Instancing instancing);
+BumpShadowing parse_bump_shadowing(const std::string& name);  // "chiang2019" | "conty2021"
+std::string to_string(BumpShadowing shadowing);
 
 // Throws std::invalid_argument naming the setting when one is out of range.
 void validate(const RenderSettings& settings);

@@ -67,10 +67,11 @@ vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
 
 // Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or
 // refraction by Fresnel with probability equal to the reflectance, so the weight is the
-// colour alone, times eta^2 for the radiance that eye paths carry across a refraction (the
-// solid angle changes by the squared ratio of the indices; photons carry flux, which does
-// not: Veach's thesis, section 5.2). `n` is the shading normal on the geometric normal's
-// side; returns the new direction and multiplies `weight`.
+// colour alone on eye paths (Cycles' convention: no factor for the change of solid angle, so
+// a window of one plane or a camera inside water renders as in Cycles) and, for photons,
+// times eta^2, that kernel's adjoint (Veach's thesis, section 5.2; through a closed solid
+// the factors cancel). `n` is the shading normal on the geometric normal's side; returns the
+// new direction and multiplies `weight`.
 vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, bool radiance,
                       inout vec3 weight) {
 #ifdef HAS_DIELECTRIC
@@ -82,7 +83,7 @@ vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, boo
         float cos_t;
         float f = fresnel_dielectric(cos_i, eta, cos_t);
         if (u < f) return reflect(dir, nn);
-        weight *= radiance ? color * (eta * eta) : color;
+        weight *= radiance ? color : color * (eta * eta);
         return normalize(eta * dir + (eta * cos_i - cos_t) * nn);
     }
 #endif

@@ -42,6 +42,7 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     float pass_radius;
     float pass_scale;
     uint photon_step;
+    uint shadow_terminator;       // bump shadowing, 0: Chiang 2019 (Cycles up to 4.x), 1: Conty Estevez 2021 (5.x)
 };
 
 const float PI = 3.14159265358979;

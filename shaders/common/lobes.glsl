@@ -5,9 +5,12 @@
 //
 // Directions point away from the surface. A Shading's frame has its z axis on the side wo
 // leaves from (surfaces are two-sided); a dielectric knows from `entering` which side of it
-// is the inside. f is the radiance form: light refracted into a denser medium is divided by
-// the squared ratio of the indices (eta^2), and the photons, which carry flux, are sampled
-// with the adjoint (no such factor), as in Veach's thesis, section 5.2.
+// is the inside. Refraction follows Cycles' convention, so that an image matches Cycles'
+// where a dielectric is not a closed solid (a window of one plane, a camera inside water):
+// eye paths carry no factor for the change of solid angle, and photons are sampled with that
+// kernel's adjoint, which divides by the squared ratio of the indices (eta^2) going into the
+// denser medium (Veach's thesis, section 5.2, with the roles of the two transport modes
+// exchanged). Through a closed solid the factors cancel, so both conventions agree there.
 #ifndef LOBES_GLSL
 #define LOBES_GLSL
 
@@ -75,11 +78,9 @@ float material_scalar(float value, int texture, uint channel, vec2 uv) {
     return value;
 }
 
-// Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
-// second material with probability equal to its factor, reusing the rest of `u`. `c` is the
-// cosine between the view direction and the shading normal on its side, `front` whether the
-// view is on the geometric front (Blender's Fresnel and Layer Weight nodes read both).
-// A Mix material's factor (the weight of its second material) at a surface point.
+// A Mix material's factor: the probability of its second material. `c` is the cosine between
+// the view direction and the shading normal on its side, `front` whether the view is on the
+// geometric front (Blender's Fresnel and Layer Weight nodes read both).
 float mix_factor(int m, vec2 uv, float c, bool front) {
     uint options = material_options(m);
     uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
@@ -99,6 +100,8 @@ float mix_factor(int m, vec2 uv, float c, bool front) {
     return clamp(f, 0.0, 1.0);
 }
 
+// Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
+// second material with probability equal to its factor (mix_factor), reusing the rest of `u`.
 int resolve_mix(int m, vec2 uv, float c, bool front, float u) {
     for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
         float f = mix_factor(m, uv, c, front);
@@ -109,6 +112,62 @@ int resolve_mix(int m, vec2 uv, float c, bool front, float u) {
         } else {
             m = ab.x;
             u = (u - f) / max(1.0 - f, 1.0e-7);
+        }
+        u = min(u, 0.99999994);
+    }
+    return m;
+}
+
+float max_component(vec3 c) { return max(c.r, max(c.g, c.b)); }
+
+// How much a material scatters, roughly, for choosing between a mix's parts by what they
+// return: a leaf's colour (at least 0.1 for lobes whose Fresnel reflection is white), a mix's
+// parts one level down by its factor, deeper ones as 1. Nothing for a black leaf.
+float leaf_scatter_estimate(int m) {
+    int kind = material_kind(m);
+    float c = max_component(material_color(m));
+    if (kind == MATERIAL_DIELECTRIC || kind == MATERIAL_PLASTIC ||
+        (kind == MATERIAL_CONDUCTOR && (material_options(m) & OPTION_SCHLICK) != 0u))
+        return max(c, 0.1);
+    return kind == MATERIAL_MIX ? 1.0 : max(c, 0.0);
+}
+
+float scatter_estimate(int m, vec2 uv, float c, bool front) {
+    if (material_kind(m) != MATERIAL_MIX) return leaf_scatter_estimate(m);
+    float f = mix_factor(m, uv, c, front);
+    ivec2 ab = material_mix(m);
+    return (1.0 - f) * leaf_scatter_estimate(ab.x) + f * leaf_scatter_estimate(ab.y);
+}
+
+// resolve_mix for a photon's scattering: each mix picks a part with probability proportional
+// to its factor times its scatter_estimate, and `weight` gains the factor over that
+// probability. The expected scattering is the material's, but a part mixed in with weight
+// doubled (Add Shader, Principled v1's specular over black) no longer doubles a photon's flux
+// half of the time: its flux stays near the albedo's, where heavy tails made fireflies that
+// never averaged out (a closed emissive Principled mesh, whose light bounces inside).
+int resolve_mix_by_scatter(int m, vec2 uv, float c, bool front, float u, out float weight) {
+    weight = 1.0;
+    for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
+        float f = mix_factor(m, uv, c, front);
+        ivec2 ab = material_mix(m);
+        float ea = (1.0 - f) * scatter_estimate(ab.x, uv, c, front);
+        float eb = f * scatter_estimate(ab.y, uv, c, front);
+        float pb = ea + eb > 0.0 ? eb / (ea + eb) : f;
+        // A part with a non-zero factor keeps its factor's chance where the other's estimate
+        // takes all: Principled v1's Fresnel mix of black and a doubled specular then picks
+        // black (1 - F) as before. Without this the weights stay at the albedo, but the
+        // emissive Principled text under 3.4 measured 1.77x Cycles against 1.37x with it;
+        // why is open (4.3's Principled, which has no such mixes, matches: 0.9987).
+        if (f > 0.0 && pb <= 0.0) pb = f;
+        if (f < 1.0 && pb >= 1.0) pb = f;
+        if (u < pb) {
+            m = ab.y;
+            weight *= f / pb;
+            u = u / pb;
+        } else {
+            m = ab.x;
+            weight *= (1.0 - f) / (1.0 - pb);
+            u = (u - pb) / max(1.0 - pb, 1.0e-7);
         }
         u = min(u, 0.99999994);
     }
@@ -215,10 +274,27 @@ Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, ve
     return sh;
 }
 
+// shading_at for a photon's scattering: the leaf chosen by resolve_mix_by_scatter, whose
+// `weight` multiplies the sample's.
+Shading shading_at_by_scatter(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, vec3 wo,
+                              float u, out float weight) {
+    bool entering = dot(wo, ng) >= 0.0;
+    vec3 n_wo = entering ? n : -n;
+#ifdef HAS_NORMAL_MAP
+    n_wo = valid_shading_normal(n_wo, entering ? ng : -ng, wo);
+#endif
+    int leaf = resolve_mix_by_scatter(material, uv, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u,
+                                      weight);
+    Shading sh = shading_of_leaf(leaf, n_wo, uv, vertex_color, entering);
+#ifdef HAS_NORMAL_MAP
+    sh.ng = entering ? ng : -ng;
+#endif
+    return sh;
+}
+
 vec3 to_local(Shading sh, vec3 v) { return vec3(dot(v, sh.t), dot(v, sh.b), dot(v, sh.n)); }
 vec3 to_world(Shading sh, vec3 v) { return v.x * sh.t + v.y * sh.b + v.z * sh.n; }
 
-float max_component(vec3 c) { return max(c.r, max(c.g, c.b)); }
 
 // ---- Conductor: GGX with Fresnel = the colour (Glossy) or Schlick from it (Principled's
 // metal), plus Kulla and Conty's multiple-scattering lobe where compensation is on:
@@ -326,7 +402,7 @@ vec3 dielectric_f(Shading sh, vec3 wo, vec3 wi, bool adjoint) {
         float denom = dot(wi, m) + dot(wo, m) / etap;
         f = sh.color * ((1.0 - F) * dg * abs(dot(wi, m) * dot(wo, m)) /
                         (abs(wi.z) * wo.z * denom * denom));
-        if (!adjoint) f /= etap * etap;
+        if (adjoint) f /= etap * etap;  // photons: see the top of this file
     }
     return f / dielectric_albedo(sh, wo);
 }
@@ -426,14 +502,28 @@ float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
     }
 }
 
-// Cycles' shadow terminator for bumped normals (Chiang, Li and Burley 2019, "Taming the
-// Shadow Terminator"), which it applies to its diffuse closures wherever the shading normal
-// is not the smooth one: with g = cos(ng, wi) / (cos(n, wi) cos(ng, n)), light from where a
-// tilted normal would see the surface lit more than its true orientation fades as
-// -g^3 + g^2 + g below g = 1. Without it the diffuse lobe reads 1.1-1.3% brighter than Cycles
-// on a normal-mapped plane under a dim world (tests/blender/test_materials.py).
+// Cycles' shadow terminator for bumped normals, which it applies to its diffuse closures
+// wherever the shading normal is not the smooth one; Frame's shadow_terminator picks the
+// Cycles of the user's Blender. Up to 4.x (Chiang, Li and Burley 2019, "Taming the Shadow
+// Terminator"): with g = cos(ng, wi) / (cos(n, wi) cos(ng, n)), light from where a tilted
+// normal would see the surface lit more than its true orientation fades as -g^3 + g^2 + g
+// below g = 1. Without it the diffuse lobe reads 1.1-1.3% brighter than Cycles on a
+// normal-mapped plane under a dim world (tests/blender/test_materials.py). 5.x (Conty
+// Estevez, Lecocq and Stein 2021, eq. 4-5): Smith's GGX G1 at cos(ng, wi) for alpha^2 =
+// tan^2(ng, n) / 8, light on the far side of ng from n black (Cycles' bump_shadowing_term).
 float bump_shadowing(Shading sh, vec3 wi_world) {
 #ifdef HAS_NORMAL_MAP
+    if (shadow_terminator != 0u) {
+        float cos_i = dot(sh.ng, wi_world), cos_d = dot(sh.ng, sh.n);
+        if (cos_i * cos_d * dot(sh.n, wi_world) < 0.0) return 0.0;
+        cos_i = abs(cos_i);
+        cos_d = abs(cos_d);
+        if (cos_d >= 1.0 || cos_i >= 1.0) return 1.0;
+        if (cos_i < 1.0e-6) return 0.0;
+        float alpha2 = clamp(0.125 * (1.0 / (cos_d * cos_d) - 1.0), 0.0, 1.0);
+        float tan2_i = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
+        return 2.0 / (1.0 + sqrt(1.0 + alpha2 * tan2_i));
+    }
     float g = dot(sh.ng, wi_world) / max(dot(sh.n, wi_world) * dot(sh.ng, sh.n), 1.0e-9);
     if (g >= 1.0) return 1.0;
     if (g <= 0.0) return 0.0;
@@ -496,7 +586,7 @@ bool smooth_sample(Shading sh, vec3 wo, float u, bool adjoint, out vec3 wi, out 
         return true;
     }
     wi = vec3(-eta * wo.x, -eta * wo.y, -cos_t);
-    weight = adjoint ? sh.color : sh.color * (eta * eta);
+    weight = adjoint ? sh.color * (eta * eta) : sh.color;  // see the top of this file
     return true;
 }
 

@@ -59,9 +59,40 @@ layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_
 
 #ifdef USES_PHOTONS
 // Photons stored this pass, 3 per photon thread: (position, random key bits),
-// (direction towards where it came from, 0), (flux, 1 if stored). Keys are normal floats
-// (2^24 + 29 random bits) so that no driver may flush or canonicalise them.
+// (direction towards where it came from, 0), (flux, side word or 0 if none stored). Keys
+// are normal floats (2^24 + 29 random bits) so that no driver may flush or canonicalise
+// them.
 layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
+
+// The side word: the (shading) normal of the surface a photon landed on, on the side it
+// arrived from, as two 11-bit octahedral coordinates plus 1 (an integer below 2^23, exact
+// in a float, never 0). The gather leaves out photons whose surface faces away from the
+// visible point's (gather.comp): the light inside a closed emissive mesh, or behind a thin
+// wall, lies within the radius of the points near its edges outside.
+float photon_side_word(vec3 n) {
+    vec3 t = n / (abs(n.x) + abs(n.y) + abs(n.z));
+    vec2 o = t.z >= 0.0 ? t.xy
+                        : (1.0 - abs(t.yx)) * vec2(t.x >= 0.0 ? 1.0 : -1.0, t.y >= 0.0 ? 1.0 : -1.0);
+    uvec2 q = uvec2(round(clamp(o, -1.0, 1.0) * 1023.0) + 1023.0);
+    return float(1u + q.x + (q.y << 11));
+}
+
+vec3 photon_side(float word) {
+    uint bits = uint(word) - 1u;
+    vec2 o = (vec2(float(bits & 2047u), float(bits >> 11)) - 1023.0) / 1023.0;
+    vec3 t = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+    if (t.z < 0.0)
+        t.xy = (1.0 - abs(o.yx)) * vec2(o.x >= 0.0 ? 1.0 : -1.0, o.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(t);
+}
+
+// The gather's tests (gather.comp, photon_on_side): a photon whose surface faces away from
+// the visible point's by more than 120 degrees (cos below -0.5) is on its other side; a convex
+// surface's neighbouring photons are within 60 degrees (cos above 0.5).
+const float PHOTON_SIDE_MIN_COS = 0.5;
+// The slack of the test against the far walls of thin slabs, in radii: it covers facets,
+// whose normals differ from the smooth surface's.
+const float PHOTON_WALL_TOLERANCE = 0.05;
 #endif
 
 #ifdef USES_HASH

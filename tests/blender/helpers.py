@@ -14,6 +14,13 @@ SOURCE_MODE = False  # the add-on was imported from the source tree (run.py --so
 
 BLENDER_4_1 = bpy.app.version >= (4, 1, 0)
 BLENDER_4 = bpy.app.version >= (4, 0, 0)
+BLENDER_5 = bpy.app.version >= (5, 0, 0)
+
+
+def compat():
+    """The add-on's compat module: the one home of Blender version switches (the
+    compositor, File Output, EXR formats, use_nodes, sky types) for the tests too."""
+    return ADDON.compat
 
 
 class Skip(Exception):
@@ -113,8 +120,7 @@ def node_material(name, node_type, **inputs):
     """A material whose output's Surface is one shader node with the given inputs
     (names as Blender spells them; a missing name is an error)."""
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    tree = material.node_tree
+    tree = compat().use_nodes(material)
     for node in list(tree.nodes):
         if node.type != 'OUTPUT_MATERIAL':
             tree.nodes.remove(node)
@@ -186,7 +192,7 @@ def emission_material(name, color, strength):
 
 def set_world(color, strength=1.0):
     world = bpy.data.worlds.new("World")
-    world.use_nodes = True
+    compat().use_nodes(world)
     background = next(node for node in world.node_tree.nodes if node.type == 'BACKGROUND')
     background.inputs["Color"].default_value = tuple(color) + (1.0,)
     background.inputs["Strength"].default_value = strength
@@ -218,8 +224,7 @@ def render_image(name, engine='GLSLPPM'):
     scene = bpy.context.scene
     scene.render.engine = engine
     settings = scene.render.image_settings
-    settings.file_format = 'OPEN_EXR'
-    settings.color_depth = '32'
+    compat().set_exr_format(settings)  # single-layer (5.x: media type Image)
     settings.exr_codec = 'ZIP'
     path = os.path.join(OUT, f"{name}.exr")
     scene.render.filepath = path

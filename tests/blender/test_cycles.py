@@ -435,7 +435,7 @@ def test_default_cube_matches_cycles_once_its_material_is_diffuse():
     # Blender's startup file, as it stands: a 2 m cube with the default Principled BSDF, a
     # 1000 W point light of radius 0.1, a 50 mm camera and a grey world.
     material = bpy.data.materials.new("Material")
-    material.use_nodes = True
+    helpers.compat().use_nodes(material)
     h = 1.0
     corners = [(x, y, z) for z in (-h, h) for y in (-h, h) for x in (-h, h)]
     faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]

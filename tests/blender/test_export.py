@@ -2,6 +2,7 @@
 triangle counts, world-space positions, normals, material mapping per node kind,
 lights, camera angles of view and the world."""
 
+import dataclasses
 import math
 import time
 
@@ -547,7 +548,7 @@ def test_image_texture_colour_spaces_and_fallbacks():
     assert texture.wrap == "extend"
     assert not any("Extend" in w for w in data.warnings), data.warnings
 
-    # A missing file: the input's own colour and a warning.
+    # A missing file: magenta (1, 0, 1), as Cycles renders it, and a warning naming it.
     missing = node_material("Missing", PRINCIPLED, **{"Base Color": (0.1, 0.2, 0.3, 1)})
     tree = missing.node_tree
     texture = tree.nodes.new("ShaderNodeTexImage")
@@ -556,10 +557,12 @@ def test_image_texture_colour_spaces_and_fallbacks():
     tree.links.new(texture.outputs["Color"], principled.inputs["Base Color"])
     data = _single(missing)
     color, texture = _base_colour(data)
-    assert_close(color, (0.1, 0.2, 0.3), 1e-6, "fallback colour")
-    assert texture == -1 and not data.textures
-    assert data.uvs is None
-    assert any("missing" in w for w in data.warnings), data.warnings
+    assert_close(color, (1.0, 1.0, 1.0), 1e-6, "colour under the texture")
+    assert texture == 0 and len(data.textures) == 1
+    assert_close(data.textures[0].pixels, np.float32([[[1, 0, 1, 1]]]), 0.0, "magenta texel")
+    name = tree.nodes["Image Texture"].image.name
+    assert any(f"image '{name}' is missing" in w and "magenta" in w
+               for w in data.warnings), data.warnings
 
     # An image on an emission colour: the emission is the strength, times the image's
     # texel (emission_texture, the material's root), with no warning.
@@ -723,15 +726,44 @@ def test_camera_transform_ortho_and_depth_of_field():
     assert_close(data.camera.focus_distance, 4.0, 1e-5, "focus distance along the view axis")
 
 
+def test_object_without_material_exports_as_a_new_material():
+    """Cycles renders an object without a material as a new material of that Blender: a
+    diffuse 0.8 grey up to 4.x (whose new materials have no nodes), a default Principled BSDF
+    in 5.x (measured the same pixels in Cycles 5.2). The export of both is the same."""
+    _camera()
+    add_cube()
+    without = export()
+    assert len(without.materials) == 1 and not without.warnings, without.warnings
+    add_cube("Other", location=(3, 0, 0), material=bpy.data.materials.new("New"))
+    with_new = export()
+    assert not with_new.warnings, with_new.warnings
+    default, new = _material_of(without), _material_of(with_new, 12)
+    for field in dataclasses.fields(default):
+        a, b = getattr(default, field.name), getattr(new, field.name)
+        if isinstance(a, (float, tuple)) and a is not None and b is not None:
+            assert_close(a, b, 1e-6, field.name)  # float32 colours, an IOR through F0
+        else:
+            assert a == b, (field.name, default, new)
+    kind = "plastic" if helpers.BLENDER_5 else "diffuse"
+    assert _material_of(without).kind == kind, _material_of(without)
+
+
 def test_world_background():
     _camera()
     add_cube()
     set_world((0.5, 0.25, 1.0), 2.0)
     assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "background colour x strength")
     world = bpy.context.scene.world
-    world.use_nodes = False
     world.color = (0.1, 0.2, 0.3)
-    assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
+    if helpers.BLENDER_5:
+        # 5.x has no world without nodes (use_nodes is deprecated and always on): the
+        # viewport colour is never the background, and an unlinked World Output is black.
+        assert_close(export().environment, (1.0, 0.5, 2.0), 1e-6, "nodes, whatever the colour")
+        world.node_tree.links.clear()
+        assert_close(export().environment, (0, 0, 0), 0, "nothing linked to the World Output")
+    else:
+        world.use_nodes = False
+        assert_close(export().environment, (0.1, 0.2, 0.3), 1e-6, "world colour without nodes")
     bpy.context.scene.world = None
     data = export()
     assert_close(data.environment, (0, 0, 0), 0, "no world")
@@ -776,12 +808,12 @@ def test_world_environment_texture():
     mapping.vector_type = 'TEXTURE'  # the inverse transform
     assert_close(export().environment_to_world[:3, :3].T, lookup.T, 1e-6, "inverse lookup")
 
-    # A missing image: the Background node's own colour x strength, and a warning.
+    # A missing image: magenta x strength, as Cycles renders it, and a warning.
     environment_world(missing_image(), strength=2.0)
     data = export()
-    assert data.environment_texture == -1 and not data.textures
-    assert_close(data.environment, (0.4, 0.6, 0.8), 1e-6, "fallback colour x strength")
-    assert any("missing" in w for w in data.warnings), data.warnings
+    assert data.environment_texture == 0 and len(data.textures) == 1
+    assert_close(data.textures[0].pixels, np.float32([[[1, 0, 1, 1]]]), 0.0, "magenta texel")
+    assert any("missing" in w and "magenta" in w for w in data.warnings), data.warnings
 
 
 def test_presets_set_the_settings_they_name():
@@ -981,3 +1013,17 @@ def test_color_attribute_export():
     bare = data.positions[:, 0] > 1.5
     bare &= data.positions[:, 0] < 4.5
     assert bare.any() and np.all(data.colors[bare] == 0.0)
+
+
+def test_beckmann_glass_warns_only_where_it_differs_from_ggx():
+    """At roughness 0 every distribution is the same perfect refraction: Blender 3.x's Glass
+    BSDF (Beckmann by default) exports without a warning there, and warns once rough."""
+    for roughness, warned in ((0.0, False), (0.2, True)):
+        glass = node_material(f"Glass{roughness}", "ShaderNodeBsdfGlass", Roughness=roughness)
+        for node in glass.node_tree.nodes:
+            if node.type == 'BSDF_GLASS':
+                node.distribution = 'BECKMANN'
+        data = _single(glass)
+        expected = [f"material 'Glass{roughness}': Glass BSDF 'Glass BSDF': the Beckmann "
+                    "distribution is rendered as GGX"] if warned else []
+        assert data.warnings == expected, (roughness, data.warnings)

@@ -158,8 +158,7 @@ def test_infinite_or_nan_light_is_off_with_a_warning():
 # Light node trees
 
 def _emission_node(light):
-    light.use_nodes = True
-    tree = light.node_tree
+    tree = helpers.compat().use_nodes(light)
     return tree, next(node for node in tree.nodes if node.type == 'EMISSION')
 
 
@@ -258,8 +257,7 @@ def test_transparent_glass_alpha_matches_cycles():
 
 def _volume_material(name):
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    tree = material.node_tree
+    tree = helpers.compat().use_nodes(material)
     for node in list(tree.nodes):
         if node.type != 'OUTPUT_MATERIAL':
             tree.nodes.remove(node)
@@ -509,3 +507,167 @@ def test_multiview_cameras_match_cycles():
         print(f"  multi-view {eye}: pixel error {measured:.4f} (tolerance 0.05)")
         assert measured < 0.05, measured
     assert _pixel_error(reference["left"], reference["right"]) > 0.2
+
+
+# A surface that both emits and reflects (Principled BSDF's Emission)
+
+def _emissive_principled(name, strength):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    node = next(n for n in material.node_tree.nodes if n.type == 'BSDF_PRINCIPLED')
+    color = node.inputs["Emission Color" if "Emission Color" in node.inputs else "Emission"]
+    color.default_value = (1.0, 1.0, 1.0, 1.0)
+    node.inputs["Emission Strength"].default_value = strength
+    return material
+
+
+def test_emissive_principled_cube_is_its_emission_alone():
+    """A grey Principled cube emitting 2 W/m^2 sr, no lamp, a black world: a convex surface
+    sees nothing but the black world, so every pixel wholly on it is exactly 2 (closed form;
+    the emission seen is noiseless and nothing else may add to it: 0.1% on the mean, 1% on
+    any pixel). Its back faces light its closed inside, whose photons the gather took up near
+    the edges outside: measured before the fix 14.3x on the mean and 3,019 at worst (64
+    passes); after, 1.0000 and 1.0000."""
+    scene = helpers.reset_scene(size=(64, 64))
+    scene.glslppm.passes = 64
+    scene.glslppm.photons_per_pass = 16384
+    helpers.add_cube(material=_emissive_principled("Glow", 2.0))
+    location = (4, -5, 3)
+    add_camera(location, helpers.look_at_rotation(location, (0, 0, 0)), lens=35.0)
+    ours, error, engine = helpers.render_recorded("emissive_principled_cube")
+    assert error is None, error
+    value = ours[..., :3].mean(axis=2)
+    lit = value > 1.0
+    # Pixels wholly on the cube: lit, with their 8 neighbours lit.
+    inner = lit.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            inner &= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
+    print(f"  emissive Principled cube: {int(inner.sum())} pixels, mean "
+          f"{value[inner].mean():.5f} max {value.max():.4f} (expected 2)")
+    assert inner.sum() > 300, int(inner.sum())
+    assert abs(value[inner].mean() - 2.0) < 2e-3, value[inner].mean()
+    assert np.abs(value[inner] - 2.0).max() < 0.02, np.abs(value[inner] - 2.0).max()
+    assert value.max() < 2.02, value.max()
+
+
+def _emissive_text():
+    """The word "Text" (extruded 0.1: a mesh of 696 triangles) emitting 1 W/m^2 sr from
+    a grey Principled BSDF, seen from the front and above: its strokes light each other."""
+    scene = helpers.reset_scene(size=(96, 48))
+    scene.glslppm.passes = 128
+    scene.glslppm.photons_per_pass = 16384
+    bpy.ops.object.text_add(location=(-1.0, 0.0, -0.3), rotation=(math.pi / 2, 0.0, 0.0))
+    text = bpy.context.object
+    text.data.extrude = 0.1
+    text.data.materials.append(_emissive_principled("TextGlow", 1.0))
+    location = (0.2, -2.5, 1.2)
+    add_camera(location, helpers.look_at_rotation(location, (0.0, 0.0, 0.0)), lens=35.0)
+    return text
+
+
+def test_text_object_is_exported_once():
+    """A text object is listed by the depsgraph itself and then its evaluated mesh as an
+    instance of it; Cycles reads only the mesh. Exported: exactly the mesh's triangles, once
+    (before: 696 as world triangles and 696 again as an instance)."""
+    text = _emissive_text()
+    mesh = text.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+    mesh.calc_loop_triangles()
+    expected = len(mesh.loop_triangles)
+    text.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+    data = helpers.export()
+    exported = data.triangle_count + sum(len(m["indices"]) for m in data.instance_meshes)
+    print(f"  text: {data.triangle_count} triangles and {data.instance_count} instances of "
+          f"{len(data.instance_meshes)} meshes exported; its mesh has {expected}")
+    assert expected > 100, expected
+    assert exported == expected, (exported, expected)
+    assert data.instance_count <= 1, data.instance_count
+
+
+def test_emissive_principled_text_matches_cycles():
+    """The emissive text against Cycles (box filter, 64 samples), 128 passes. Measured
+    before (text drawn twice, photons from the letters' lit insides gathered outside, a
+    mix doubling photon flux): image mean 2.35x Cycles', one pixel 211 where Cycles has
+    at most 2.3. After: 1.365x, brightest 50.9 against 2.6. NOT YET RIGHT: the excess lies
+    in the crevices of 'e' and 'x' (concave corners between strokes). A gather that also
+    left out photons of perpendicular walls measured 1.007 here, but darkened every room's
+    corners (the Cornell box's worst region 24% off against 8.7%), so it is not used; the
+    cause in the crevices is open (not cracks: widening the triangle test changed nothing).
+    These bounds guard the gain (1.6x on the mean, 30x Cycles' brightest pixel) and cannot
+    catch a 1% bias; the cube test above holds the closed form to 0.1%."""
+    _emissive_text()
+    ours, error, engine = helpers.render_recorded("emissive_text")
+    assert error is None, error
+    reference = helpers.render_cycles_box_filter("emissive_text", REFERENCE_SAMPLES)
+    mean_ratio = float(ours[..., :3].mean() / reference[..., :3].mean())
+    worst = float(ours[..., :3].mean(axis=2).max())
+    brightest = float(reference[..., :3].mean(axis=2).max())
+    print(f"  emissive text: mean ratio {mean_ratio:.4f}; brightest pixel GLSLPPM {worst:.3f} "
+          f"Cycles {brightest:.3f}")
+    assert 0.96 < mean_ratio < 1.6, mean_ratio
+    assert worst < 30.0 * brightest, (worst, brightest)
+
+
+# What Cycles shows where something is wrong
+
+def test_missing_image_renders_magenta_as_in_cycles():
+    """An emissive panel whose colour is an Image Texture of a file that is gone: Cycles
+    shows magenta (1, 0, 1); so does GLSLPPM (before: the socket's own colour, white here),
+    with a warning naming the image. Emission seen directly: exact (1e-4)."""
+    scene = helpers.reset_scene(size=(16, 16))
+    scene.glslppm.passes = 2
+    scene.glslppm.photons_per_pass = 1024
+    glow = helpers.emission_material("Glow", (1, 1, 1), 1.0)
+    tree = glow.node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.new("Gone", 2, 2)
+    texture.image.source = 'FILE'
+    texture.image.filepath = "/nonexistent/gone.png"
+    node = next(n for n in tree.nodes if n.type == 'EMISSION')
+    tree.links.new(texture.outputs["Color"], node.inputs["Color"])
+    panel = add_mesh_object("Panel", [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0)],
+                            [(0, 1, 2, 3)], material=glow)
+    panel.data.uv_layers.new()
+    add_camera((0, 0, 3), (0, 0, 0), lens=50.0)
+    ours, error, engine = helpers.render_recorded("missing_image")
+    assert error is None, error
+    reference = helpers.render_cycles_box_filter("missing_image", 4)
+    seen = ours[..., :3].reshape(-1, 3).mean(axis=0)
+    cycles = reference[..., :3].reshape(-1, 3).mean(axis=0)
+    print(f"  missing image: GLSLPPM {seen.round(5).tolist()} Cycles {cycles.round(5).tolist()}")
+    helpers.assert_close(cycles, (1.0, 0.0, 1.0), 1e-4, "Cycles")
+    helpers.assert_close(seen, (1.0, 0.0, 1.0), 1e-4, "GLSLPPM")
+    assert any("image 'Gone' is missing" in w and "magenta" in w
+               for w in helpers.warnings_of(engine)), engine.reports
+
+
+def test_negative_light_is_off_with_a_warning():
+    """Cycles 3.4 subtracts a negative light's light (measured: a -50 W point light beside a
+    100 W one renders 0.5005x the 100 W one alone, and alone renders a negative image).
+    SPPM's photons carry no negative flux here, so the light is off and the warning names
+    it: the image is the one without it, exactly."""
+    _floor_under_point_light()
+    without, error, _ = helpers.render_recorded("negative_light_without")
+    assert error is None, error
+    add_light('POINT', -50.0, location=(0, 0, 3), shadow_soft_size=0.0).name = "Sink"
+    bpy.data.objects["Sink"].data.name = "Sink"
+    ours, error, engine = helpers.render_recorded("negative_light")
+    assert error is None, error
+    warning = "light 'Sink': negative power -50 is not supported (Cycles subtracts its " \
+              "light); the light is off"
+    assert warning in helpers.warnings_of(engine), engine.reports
+    print(f"  negative light: mean {ours[..., :3].mean():.5f} without it "
+          f"{without[..., :3].mean():.5f}")
+    assert np.array_equal(ours, without)
+
+
+def _floor_under_point_light():
+    scene = helpers.reset_scene(size=(32, 32))
+    scene.glslppm.passes = 4
+    scene.glslppm.photons_per_pass = 4096
+    white = diffuse_material("White", (0.8, 0.8, 0.8))
+    add_mesh_object("Floor", [(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)],
+                    [(0, 1, 2, 3)], material=white)
+    add_light('POINT', 100.0, location=(0, 0, 3), shadow_soft_size=0.0)
+    location = (0, -4, 2)
+    add_camera(location, helpers.look_at_rotation(location, (0, 0, 0)), lens=35.0)

@@ -13,9 +13,10 @@ import helpers
 from helpers import add_camera, add_light, add_quad, assert_close, export, load_native
 
 
-def scatter(count_x, count_y, size, radius, subdivisions):
-    """An object whose geometry nodes place an ico sphere on every point of a grid of
-    count_x x count_y points, size across, in the XY plane at z = radius."""
+def scatter(count_x, count_y, size, radius, subdivisions, material=None):
+    """An object whose geometry nodes place an ico sphere (of `material`, if given) on every
+    point of a grid of count_x x count_y points, size across, in the XY plane at z =
+    radius."""
     tree = bpy.data.node_groups.new("Scatter", 'GeometryNodeTree')
     if helpers.BLENDER_4:
         tree.interface.new_socket(name="Geometry", in_out='INPUT',
@@ -38,7 +39,13 @@ def scatter(count_x, count_y, size, radius, subdivisions):
     ball.inputs["Subdivisions"].default_value = subdivisions
     place = nodes.new('GeometryNodeInstanceOnPoints')
     links.new(grid.outputs["Mesh"], place.inputs["Points"])
-    links.new(ball.outputs["Mesh"], place.inputs["Instance"])
+    ball_mesh = ball.outputs["Mesh"]
+    if material is not None:
+        assign = nodes.new('GeometryNodeSetMaterial')
+        assign.inputs["Material"].default_value = material
+        links.new(ball_mesh, assign.inputs["Geometry"])
+        ball_mesh = assign.outputs["Geometry"]
+    links.new(ball_mesh, place.inputs["Instance"])
     links.new(place.outputs["Instances"], output.inputs[0])
     mesh = bpy.data.meshes.new("ScatterBase")
     obj = bpy.data.objects.new("Scatter", mesh)
@@ -125,13 +132,16 @@ def test_small_scatter_matches_cycles():
     through the two-level MTBVH (Instancing: Two-Level; the automatic rule would flatten
     so few triangles), against Cycles with a 1-pixel box filter: the worst of 3 x 3
     regions within 3% of the brightest and the image means within 1% (measured before
-    these bounds under 3.4: 0.98% and 0.04%)."""
+    these bounds under 3.4: 0.98% and 0.04%). Floor and spheres are a diffuse 0.8 grey, as
+    every Cycles renders it: left without a material they were Blender's default surface,
+    which 5.0 made a Principled BSDF (test_export's test of objects without a material)."""
     helpers.reset_scene(size=(48, 48))
     add_camera((0, -9, 7), (math.radians(52), 0, 0))
-    add_quad("Floor", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)])
+    grey = helpers.diffuse_material("Grey", (0.8, 0.8, 0.8))
+    add_quad("Floor", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], material=grey)
     add_light('SUN', 3.0, rotation=(0.4, 0.3, 0))
     helpers.set_world((0.2, 0.2, 0.2))
-    scatter(4, 4, 6.0, 0.7, 3)
+    scatter(4, 4, 6.0, 0.7, 3, material=grey)
     scene = bpy.context.scene
     scene.glslppm.instancing = 'TWO_LEVEL'
     scene.glslppm.passes = 64

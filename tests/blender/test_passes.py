@@ -50,8 +50,7 @@ def render_multilayer(name, engine='GLSLPPM'):
     scene = bpy.context.scene
     scene.render.engine = engine
     settings = scene.render.image_settings
-    settings.file_format = 'OPEN_EXR_MULTILAYER'
-    settings.color_depth = '32'
+    helpers.compat().set_exr_format(settings, multilayer=True)
     settings.exr_codec = 'ZIP'
     path = os.path.join(helpers.OUT, f"{name}.exr")
     scene.render.filepath = path
@@ -92,13 +91,10 @@ def test_passes_sum_to_combined_and_describe_the_plane():
 
 
 def compositor_tree(scene):
-    scene.use_nodes = True
-    scene.render.use_compositing = True
-    tree = scene.node_tree
-    for node in list(tree.nodes):
-        tree.nodes.remove(node)
+    """An empty compositor tree with a Render Layers node and the composite output (the
+    Composite node up to 4.x, the tree's Group Output in 5.x)."""
+    tree, composite = helpers.compat().compositor_tree(scene)
     layers = tree.nodes.new("CompositorNodeRLayers")
-    composite = tree.nodes.new("CompositorNodeComposite")
     return tree, layers, composite
 
 
@@ -117,14 +113,10 @@ def test_compositor_shows_the_passes_and_file_output_writes_them():
     assert "Caustics" not in sockets and "Depth" in sockets, sorted(sockets)
     scene.view_layers[0].glslppm.use_pass_light_split = True
 
-    output = tree.nodes.new("CompositorNodeOutputFile")
     directory = os.path.join(helpers.OUT, "file_output")
-    output.base_path = directory
-    output.format.file_format = 'OPEN_EXR'
-    output.format.color_depth = '32'
-    output.file_slots.clear()
-    for name in ["Caustics", "Depth", "Denoising Albedo"]:
-        output.file_slots.new(name)
+    names = ["Caustics", "Depth", "Denoising Albedo"]
+    output = helpers.compat().file_output_node(tree, directory, names)
+    for name in names:
         tree.links.new(layers.outputs[name], output.inputs[name])
     # The Denoise node fed Image, Denoising Normal and Denoising Albedo, into the Composite.
     denoise = tree.nodes.new("CompositorNodeDenoise")

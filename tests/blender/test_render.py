@@ -260,9 +260,10 @@ def test_exported_camera_matches_blender_framing():
     assert math.isfinite(float(luminance.max()))
 
 
-def test_missing_environment_image_renders_the_background_colour():
-    """A world Environment Texture whose file has gone: a warning naming it, and the
-    Background node's colour x strength (0.25, 0.5, 0.75) x 2 where the sky shows."""
+def test_missing_environment_image_renders_magenta_as_in_cycles():
+    """A world Environment Texture whose file has gone: a warning naming it, and magenta
+    (1, 0, 1) x strength 2 where the sky shows, as Cycles shows it (checked here; before,
+    the Background node's own colour x 2)."""
     scene = helpers.reset_scene(size=SIZE)
     scene.glslppm.passes = 2
     add_camera((0, -6, 1), (math.pi / 2, 0, 0))  # looking along +Y at the horizon
@@ -281,7 +282,10 @@ def test_missing_environment_image_renders_the_background_colour():
     assert error is None, error
     assert any("GoneSky" in m and "missing" in m for m in messages(engine, 'WARNING')), \
         engine.reports
-    helpers.assert_close(result[0, :, :3].mean(axis=0), (0.5, 1.0, 1.5), 1e-5, "sky row")
+    helpers.assert_close(result[0, :, :3].mean(axis=0), (2.0, 0.0, 2.0), 1e-5, "sky row")
+    reference = helpers.render_cycles_box_filter("missing_sky", 4)
+    helpers.assert_close(reference[0, :, :3].mean(axis=0), (2.0, 0.0, 2.0), 1e-4,
+                         "Cycles' sky row")
 
 
 def test_radius_scale_multiplies_the_automatic_radius():

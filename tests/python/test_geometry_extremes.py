@@ -94,7 +94,7 @@ def box(lo, hi, n):
 
 def stored_photons(renderer):
     photons = renderer.photons()
-    return photons[photons[:, 11] == 1.0]
+    return photons[photons[:, 11] > 0.0]
 
 
 @pytest.mark.parametrize("normals", ["geometric", "smooth"])
@@ -122,7 +122,7 @@ def test_closed_icosphere_keeps_every_photon_inside(glslppm, normals):
     for _ in range(6):
         r.run(1)
         photons = r.photons()
-        assert int((photons[:, 11] == 1.0).sum()) == count
+        assert int((photons[:, 11] > 0.0).sum()) == count
         radius = np.linalg.norm(photons[:, :3].astype(np.float64), axis=1)
         assert radius.max() <= 1.0 + 1e-5, radius.max()
         assert radius.min() >= inscribed * (1.0 - 1e-5), (radius.min(), inscribed)

@@ -106,7 +106,7 @@ def test_photon_classes_follow_the_glass(glslppm):
     for _ in range(8):
         r.run(1)
         ph = r.photons()
-        ph = ph[(ph[:, 11] == 1.0) & (np.abs(ph[:, 1]) < 1e-5)]
+        ph = ph[(ph[:, 11] > 0.0) & (np.abs(ph[:, 1]) < 1e-5)]
         # Beside the ball: straight down, outside its silhouette (the tessellated ball's lies
         # between 0.4985 and 0.5 from the axis). Light through the ball near its axis comes
         # out straight too, but lands near the axis. Left out: a band about the silhouette,
@@ -141,7 +141,7 @@ def test_caustic_pass_flux_equals_the_photons_through_glass(glslppm):
     for _ in range(40):
         r.run(1)
         ph = r.photons()
-        ph = ph[(ph[:, 11] == 1.0) & (np.abs(ph[:, 1]) < 1e-5) & (ph[:, 7] == 2.0)]
+        ph = ph[(ph[:, 11] > 0.0) & (np.abs(ph[:, 1]) < 1e-5) & (ph[:, 7] == 2.0)]
         ph = ph.astype(np.float64)
         pixel = pixel_of(ph[:, :3], to_world, fov_x, size)
         inside = pixel >= 0

@@ -75,7 +75,7 @@ def test_stored_photons_scale_with_the_scene(glslppm, unit_box_renders, scale):
     g = glslppm
     _, _, reference = unit_box_renders[0]
     _, _, photons = render(g, cornell_box(g, scale), SCALE_PASSES, seed=1, **SCALE_SETTINGS)
-    stored = reference[:, 11] == 1.0
+    stored = reference[:, 11] > 0.0
     assert stored.sum() > 1000
     same = photons[:, 11] == reference[:, 11]
     assert same.mean() >= 0.99

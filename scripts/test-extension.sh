@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# `make test-extension`: the extension zip (scripts/make-extension.sh) as a user gets it.
+#   1. Each module in it needs nothing of the machine beyond glibc, libstdc++, libgcc_s and
+#      the GL/EGL loaders: ldd, run where the module was built, resolves every other library
+#      into the zip's own libs/cpXY/ folder (readelf lists what it needs).
+#   2. The one zip installs with `blender --command extension install-file` into a fresh
+#      user folder of each extension Blender of the matrix (4.3, 5.2) and renders a sun on a
+#      white floor within 1% of its closed form (tests/blender/extension_render.py).
+# Prints PASS/FAIL lines and "RESULT extension: N passed, M failed"; exits 1 on a failure.
+set -uo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$repo"
+out=build/extension-test
+source scripts/blender-suites.sh
+name=test-extension
+passed=0 failed=0
+pass() { echo "PASS $1"; passed=$((passed + 1)); }
+fail() { echo "FAIL $1"; failed=$((failed + 1)); }
+
+rm -rf "$out"
+mkdir -p "$out/unzipped"
+if ! scripts/make-extension.sh | tee "$out/make.log"; then
+  echo "RESULT extension: 0 passed, 1 failed (make-extension.sh failed)"
+  exit 1
+fi
+zip=$(ls build/dist/glslppm-*-linux-x64.zip | head -1)
+unzip -q "$zip" -d "$out/unzipped"
+system_libs='^(linux-vdso|ld-linux-x86-64|libc|libm|libdl|libpthread|librt|libstdc\+\+|libgcc_s|libEGL|libGL|libOpenGL|libGLX|libGLdispatch)\.so'
+
+# 1. ldd of each module where it was built: every library outside the system list from the zip.
+for entry in 311:host 313:trixie 314:sid; do
+  abi=${entry%%:*} where=${entry#*:}
+  module=$(ls "$out"/unzipped/_glslppm.cpython-$abi-*.so 2>/dev/null | head -1)
+  [ -n "$module" ] || { fail "ldd cp$abi: no module for Python ${abi:0:1}.${abi:1} in $zip"; continue; }
+  root=$(repo_in "$entry")
+  blender_env_prefix "$entry"
+  lines=$("${prefix[@]}" ldd "$root/$module" 2>&1)
+  from_zip=() outside=()
+  while read -r soname arrow path _; do
+    [ "$arrow" = "=>" ] || continue
+    [[ "$soname" =~ $system_libs ]] && continue
+    if [[ "$path" == "$root/$out/unzipped/libs/cp$abi/"* ]]; then from_zip+=("$soname")
+    else outside+=("$soname => $path"); fi
+  done <<<"$lines"
+  needed=$(readelf -d "$module" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')
+  if [ ${#outside[@]} -eq 0 ] && [ ${#from_zip[@]} -gt 0 ] && ! grep -q "not found" <<<"$lines"; then
+    pass "ldd cp$abi ($where): needs $needed; from the zip: ${from_zip[*]}"
+  else
+    echo "$lines"
+    fail "ldd cp$abi ($where): outside the zip: ${outside[*]:-none} $(grep "not found" <<<"$lines" | tr -s ' \t' ' ')"
+  fi
+done
+
+# 2. Install the one zip into each extension Blender's fresh user folder and render.
+for entry in 4.3:trixie 5.2:sid; do
+  version=${entry%%:*}
+  user=$out/user-$version
+  mkdir -p "$user"
+  blender_env_prefix "$entry"
+  log=$out/install-$version.log
+  if ! "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$user" blender --command extension \
+      install-file -r user_default -e "/src/$zip" >"$log" 2>&1; then
+    cat "$log"; fail "install $zip into Blender $version"; continue
+  fi
+  pass "install $(basename "$zip") into Blender $version (extension install-file)"
+  log=$out/render-$version.log
+  "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$user" blender -b --factory-startup \
+    --python tests/blender/extension_render.py -- --out "/src/$out/$version" >"$log" 2>&1
+  grep -E "^(PASS|FAIL|  )" "$log"
+  result=$(grep -E "^RESULT extension" "$log" | tail -1)
+  if [ -z "$result" ]; then
+    tail -30 "$log"; fail "render in Blender $version: did not finish"
+  else
+    p=$(sed -n 's/.*: \([0-9]*\) passed, \([0-9]*\) failed.*/\1/p' <<<"$result")
+    f=$(sed -n 's/.*: \([0-9]*\) passed, \([0-9]*\) failed.*/\2/p' <<<"$result")
+    passed=$((passed + p)); failed=$((failed + f))
+    [ "$f" -eq 0 ] || grep -B30 "^FAIL" "$log" | grep -v "^PASS" | head -40
+  fi
+done
+
+echo "RESULT extension: $passed passed, $failed failed ($(du -k "$zip" | cut -f1) KiB zip)"
+[ "$failed" -eq 0 ]
