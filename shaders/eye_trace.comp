@@ -42,6 +42,10 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/absorption.glsl"
 #endif
 #include "common/pass_films.glsl"
+#if defined(PASS_DENOISING_ALBEDO) || defined(PASS_DENOISING_NORMAL)
+#define DENOISING_FEATURES
+#include "common/denoising_features.glsl"
+#endif
 
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
 // the light split as well: emission, the world, or light sampled at the visible point.
@@ -108,7 +112,9 @@ void main() {
     float first_depth = 1e10;
     vec3 first_normal = vec3(0.0);
     bool first_found = false;
-    vec3 point_albedo = vec3(0.0);  // the visible point's colour times the chain's throughput
+#endif
+#ifdef DENOISING_FEATURES
+    DenoisingFeatures features = start_denoising_features();
 #endif
 #ifdef FILM_TRANSPARENT
     // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
@@ -142,7 +148,11 @@ void main() {
             }
 #endif
 #endif
-            ADD_LIGHT(world, throughput * environment_radiance(ray.dir));
+            vec3 sky = environment_radiance(ray.dir);
+            ADD_LIGHT(world, throughput * sky);
+#ifdef DENOISING_FEATURES
+            add_feature_light(features, sky);
+#endif
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -162,7 +172,12 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden) ADD_LIGHT(emitted, throughput * material_emission(s.material));
+            if (front && !hidden) {
+                ADD_LIGHT(emitted, throughput * material_emission(s.material));
+#ifdef DENOISING_FEATURES
+                add_feature_light(features, material_emission(s.material));
+#endif
+            }
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -178,8 +193,18 @@ void main() {
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, s.vertex_color,
                                 wo, rng_next(rng));
-        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            ADD_LIGHT(emitted, throughput * material_emission_at(s.material, sh.material, s.uv));
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
+            vec3 emission = material_emission_at(s.material, sh.material, s.uv);
+            ADD_LIGHT(emitted, throughput * emission);
+#ifdef DENOISING_FEATURES
+            add_feature_light(features, emission);
+#endif
+        }
+#ifdef DENOISING_FEATURES
+        if (features.pending)
+            add_feature_surface(features, surface_features(s.material, sh.n, s.uv, s.vertex_color,
+                                                           wo, sh.entering), sh.n);
+#endif
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
         float p_smooth = bsdf_smooth_probability(sh, wo);
@@ -197,9 +222,6 @@ void main() {
             weight = throughput;
             point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
                           (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
-#ifdef PASS_STRIDE
-            point_albedo = throughput * sh.color;
-#endif
 #ifdef HAS_NORMAL_MAP
             point_flags |= pack_octahedral(sh.ng) << VISIBLE_POINT_NORMAL_SHIFT;
 #endif
@@ -223,17 +245,25 @@ void main() {
 #else
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
-        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            ADD_LIGHT(emitted, throughput * material_emission_at(s.material, s.material, s.uv));
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
+            vec3 emission = material_emission_at(s.material, s.material, s.uv);
+            ADD_LIGHT(emitted, throughput * emission);
+#ifdef DENOISING_FEATURES
+            add_feature_light(features, emission);
+#endif
+        }
         int kind = material_kind(s.material);
         vec3 color = surface_color(s);
+#ifdef DENOISING_FEATURES
+        if (features.pending)
+            add_feature_surface(features, surface_features_closed(s.material, color, -ray.dir,
+                                                                  s.normal, front),
+                                front ? s.normal : -s.normal);
+#endif
         if (kind == MATERIAL_DIFFUSE) {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
             weight = throughput * color / PI;
-#ifdef PASS_STRIDE
-            point_albedo = throughput * color;
-#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             // Direct light by one light sample; photons bring only the rest. The eye path
             // ends here, so no BSDF-sampled ray can also reach a light from this point and
@@ -291,11 +321,11 @@ void main() {
     pass_add(i, PASS_NORMAL, vec4(first_normal, 0.0));
 #endif
 #ifdef PASS_DENOISING_NORMAL
-    // The visible point's normal, facing the eye (none where the path found no such point).
-    pass_add(i, PASS_DENOISING_NORMAL, vec4(point.w >= 0.0 ? normal : vec3(0.0), 0.0));
+    // Cycles' camera space; 0 where the path met no surface with features.
+    pass_add(i, PASS_DENOISING_NORMAL, vec4(features.normal, 0.0));
 #endif
 #ifdef PASS_DENOISING_ALBEDO
-    pass_add(i, PASS_DENOISING_ALBEDO, vec4(point_albedo, 0.0));
+    pass_add(i, PASS_DENOISING_ALBEDO, vec4(features.albedo, 0.0));
 #endif
 #ifdef PASS_EMISSION
     pass_add(i, PASS_EMISSION, vec4(emitted, 0.0));

@@ -17,7 +17,8 @@ def native_scene(native, data):
     lights = [native.Light(**asdict(light)) for light in data.lights]
     camera = native.Camera(**asdict(data.camera))
     # Fields, not asdict(): asdict would deep-copy every texture's pixels.
-    textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name)
+    textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name,
+                               uv_map=texture.uv_map)
                 for texture in data.textures]
     return native.Scene(
         positions=data.positions, indices=data.indices, normals=data.normals,

@@ -1,5 +1,5 @@
-"""Image converter: Blender images -> TextureData for the renderer, one per image and
-wrap mode, shared by every material and the world that use it.
+"""Image converter: Blender images -> TextureData for the renderer, one per image, wrap
+mode and uv map, shared by every material and the world that use it.
 
 Pixels are read with ``foreach_get`` from ``image.pixels``, which is laid out as the
 renderer wants it (row 0 at the bottom). Blender keeps 8-bit images in their file's
@@ -24,33 +24,40 @@ from .scene_data import TextureData
 LINEAR_COLOR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Linear CIE-XYZ E",
                        "Linear CIE-XYZ D65", "Linear Rec.2020", "ACEScg", "ACES2065-1"}
 
-# Image Texture extension -> the renderer's wrap. EXTEND (edge texels outside [0, 1])
-# and MIRROR (4.x) have no equivalent; they render as clip and repeat with a warning,
-# which differs only where UVs leave the unit square.
-WRAP_OF_EXTENSION = {'REPEAT': "repeat", 'CLIP': "clip", 'EXTEND': "clip", 'MIRROR': "repeat"}
+# Image Texture extension -> the renderer's wrap (each as Cycles reads texels outside the
+# image: shaders/common/textures.glsl).
+WRAP_OF_EXTENSION = {'REPEAT': "repeat", 'CLIP': "clip", 'EXTEND': "extend", 'MIRROR': "mirror"}
+IDENTITY_UV_MAP = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 class TextureTable:
-    """The scene's textures: index() converts an image the first time it is seen."""
+    """The scene's textures, one per image, wrap and uv map (an image's pixels are read
+    once and shared; the renderer packs them once): index() converts an image the first
+    time it is seen."""
 
     def __init__(self, warn):
         self.textures = []
         self._index = {}
+        self._pixels = {}
         self._warn = warn
 
-    def index(self, image, extension='REPEAT', warn=None):
+    def index(self, image, extension='REPEAT', warn=None, uv_map=IDENTITY_UV_MAP):
         """Index of image in the table, or -1 (missing or unreadable: warned)."""
         warn = warn or self._warn
         if image is None:
             warn("image texture node has no image; using the input's own colour")
             return -1
         wrap = WRAP_OF_EXTENSION.get(extension, "repeat")
-        if extension not in ('REPEAT', 'CLIP'):
-            warn(f"image '{image.name}': extension {extension.title()} is rendered as "
-                 f"{wrap.title()}")
-        key = (image.name_full, wrap)
+        if extension not in WRAP_OF_EXTENSION:
+            warn(f"image '{image.name}': extension {extension.title()} is rendered as Repeat")
+        uv_map = tuple(tuple(float(x) for x in row) for row in uv_map)
+        key = (image.name_full, wrap, uv_map)
         if key not in self._index:
-            texture = image_texture(image, wrap, warn)
+            if image.name_full not in self._pixels:
+                self._pixels[image.name_full] = image_texture(image, wrap, warn)
+            texture = self._pixels[image.name_full]
+            if texture is not None:
+                texture = TextureData(texture.pixels, wrap, texture.name, uv_map)
             self._index[key] = -1 if texture is None else len(self.textures)
             if texture is not None:
                 self.textures.append(texture)

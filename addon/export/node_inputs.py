@@ -15,6 +15,7 @@ renderer interpolates per corner (vertex_color_input).
 import math
 
 from .image import image_mean_color
+from .texture_mapping import texture_uv_map
 
 
 def input_socket(node, *names):
@@ -47,15 +48,14 @@ def linked_output(socket):
 
 
 def image_texture_index(node, warn, textures):
-    """The TextureTable index of an Image Texture node's image (-1: none), warning about
-    what of the node is not followed."""
-    if node.inputs["Vector"].is_linked:
-        warn(f"the Vector input of image texture '{node.name}' is ignored; "
-             "using the mesh's render UV map")
+    """The TextureTable index of an Image Texture node's image under its extension and the
+    uv map of its Vector input (texture_mapping.py), -1 for none, warning about what of the
+    node is not followed."""
+    uv_map = texture_uv_map(node, warn)
     if node.projection != 'FLAT':
         warn(f"image texture '{node.name}': {node.projection.title()} projection is "
              "rendered as Flat (UV)")
-    return textures.index(node.image, node.extension, warn)
+    return textures.index(node.image, node.extension, warn, uv_map)
 
 
 def socket_color_texture(socket, warn, textures, clamp=True):

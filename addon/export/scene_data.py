@@ -57,8 +57,10 @@ class TextureData:
     """``_glslppm.Texture``: pixels (H, W, 4), row 0 the bottom row as in Blender's
     image.pixels; uint8 holds sRGB-encoded values, float32 linear ones."""
     pixels: np.ndarray
-    wrap: str = "repeat"             # "repeat" or "clip"
+    wrap: str = "repeat"             # "repeat", "clip", "extend" or "mirror"
     name: str = "image"
+    # Looked up at (a u + b v + c, d u + e v + f) for mesh uv (u, v): ((a, b, c), (d, e, f))
+    uv_map: tuple = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 @dataclass

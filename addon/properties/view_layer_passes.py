@@ -16,9 +16,9 @@ class GlslppmViewLayerSettings(bpy.types.PropertyGroup):
     __annotations__ = {
         "use_pass_denoising_data": bpy.props.BoolProperty(
             name="Denoising Data", default=False, update=_passes_changed,
-            description="Denoising Normal and Denoising Albedo of the first non-specular "
-                        "surface (seen through mirrors and glass), as Cycles writes them for "
-                        "the compositor's Denoise node"),
+            description="Denoising Normal (camera space) and Denoising Albedo of the first "
+                        "diffuse-like surface (seen through mirrors and glass), as Cycles "
+                        "writes them for the compositor's Denoise node"),
         "use_pass_light_split": bpy.props.BoolProperty(
             name="Light Split", default=False, update=_passes_changed,
             description="Direct, Indirect and Caustics: light from a light scattered once, "

@@ -26,6 +26,7 @@ constexpr std::size_t kMaxEmbeddedTexels = std::size_t(1) << 26;
 
 constexpr int kWrapRepeat = TINYGLTF_TEXTURE_WRAP_REPEAT;
 constexpr int kWrapClamp = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+constexpr int kWrapMirror = TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
 
 struct Converter {
     const tinygltf::Model& model;
@@ -175,7 +176,7 @@ bool Converter::image_texture(int index, const std::string& element, Texture& ou
     }
 }
 
-// One wrap mode for both axes: CLAMP_TO_EDGE becomes Clip, MIRRORED_REPEAT Repeat.
+// One wrap mode for both axes: CLAMP_TO_EDGE is Extend, MIRRORED_REPEAT Mirror.
 TextureWrap Converter::wrap_of(int sampler, const std::string& element) {
     if (sampler < 0) return TextureWrap::Repeat;
     if (std::size_t(sampler) >= model.samplers.size())
@@ -185,10 +186,8 @@ TextureWrap Converter::wrap_of(int sampler, const std::string& element) {
     if (s.wrapS != s.wrapT)
         warn(element,
              "samplers[" + std::to_string(sampler) + "] wraps s and t differently: both use wrapS");
-    if (s.wrapS == kWrapClamp) return TextureWrap::Clip;
-    if (s.wrapS != kWrapRepeat)
-        warn(element, "samplers[" + std::to_string(sampler) +
-                          "]: mirrored repeat is not supported: repeated instead");
+    if (s.wrapS == kWrapClamp) return TextureWrap::Extend;
+    if (s.wrapS == kWrapMirror) return TextureWrap::Mirror;
     return TextureWrap::Repeat;
 }
 

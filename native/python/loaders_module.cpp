@@ -80,7 +80,8 @@ py::dict texture_dict(const Texture& t) {
     d["name"] = t.name;
     d["width"] = t.width;
     d["height"] = t.height;
-    d["wrap"] = t.wrap == TextureWrap::Repeat ? "repeat" : "clip";
+    constexpr const char* kWrapNames[] = {"repeat", "clip", "extend", "mirror"};
+    d["wrap"] = kWrapNames[static_cast<std::uint32_t>(t.wrap) & 3u];
     d["encoding"] = t.srgb8.empty() ? "linear" : "srgb8";
     const std::vector<py::ssize_t> shape{t.height, t.width, 4};
     if (!t.srgb8.empty()) {

@@ -237,8 +237,11 @@ glm::mat4 mat4_of(const py::array_t<float, py::array::c_style | py::array::force
 
 // An image from a (height, width, 4) uint8 (sRGB) or float32 (linear) array, row 0 at the
 // bottom as in Blender's pixels.
-Texture make_texture(const py::array& pixels, const std::string& wrap, const std::string& name) {
+Texture make_texture(const py::array& pixels, const std::string& wrap, const std::string& name,
+                     std::array<std::array<float, 3>, 2> uv_map) {
     Texture t;
+    t.uv_map_u = {uv_map[0][0], uv_map[0][1], uv_map[0][2]};
+    t.uv_map_v = {uv_map[1][0], uv_map[1][1], uv_map[1][2]};
     t.name = name;
     if (pixels.ndim() != 3 || pixels.shape(2) != 4)
         throw py::value_error("Texture '" + name + "' pixels: expected shape (height, width, 4), "
@@ -257,7 +260,9 @@ Texture make_texture(const py::array& pixels, const std::string& wrap, const std
     }
     if (wrap == "repeat") t.wrap = TextureWrap::Repeat;
     else if (wrap == "clip") t.wrap = TextureWrap::Clip;
-    else throw py::value_error("Texture wrap: '" + wrap + "' is not repeat or clip");
+    else if (wrap == "extend") t.wrap = TextureWrap::Extend;
+    else if (wrap == "mirror") t.wrap = TextureWrap::Mirror;
+    else throw py::value_error("Texture wrap: '" + wrap + "' is not repeat, clip, extend or mirror");
     return t;
 }
 
@@ -596,7 +601,11 @@ PYBIND11_MODULE(_glslppm, m) {
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
-             py::arg("name") = "image")
+             py::arg("name") = "image",
+             py::arg("uv_map") = std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f},
+                                                                       {0.0f, 1.0f, 0.0f}}},
+             "An image; uv_map ((a, b, c), (d, e, f)) looks it up at (a u + b v + c, "
+             "d u + e v + f) for mesh uv (u, v) (Blender's Mapping node on the UVs).")
         .def_readonly("width", &Texture::width)
         .def_readonly("height", &Texture::height);
 

@@ -17,13 +17,36 @@ float srgb_to_linear(std::uint8_t v) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-// A texel's linear rgb, nearest (the mean below needs no filtering).
-glm::vec3 texel_at(const Texture& t, glm::vec2 uv) {
-    if (t.wrap == TextureWrap::Clip && (uv.x < 0.0f || uv.y < 0.0f || uv.x > 1.0f || uv.y > 1.0f))
-        return glm::vec3(0.0f);
-    uv -= glm::floor(uv);
-    const int x = std::min(t.width - 1, static_cast<int>(uv.x * static_cast<float>(t.width)));
-    const int y = std::min(t.height - 1, static_cast<int>(uv.y * static_cast<float>(t.height)));
+// A texel index along one axis of n texels under the texture's extension (Cycles'
+// wrap_periodic, wrap_clamp, wrap_mirror); -1 for Clip outside the image.
+int wrapped_texel(int i, int n, TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Clip: return i < 0 || i >= n ? -1 : i;
+        case TextureWrap::Extend: return std::clamp(i, 0, n - 1);
+        case TextureWrap::Mirror: {
+            const int m = std::abs(i + (i < 0 ? 1 : 0)) % (2 * n);
+            return m >= n ? 2 * n - m - 1 : m;
+        }
+        default: return ((i % n) + n) % n;
+    }
+}
+
+// A texel's linear rgb at mesh uv, nearest (the mean below needs no filtering).
+glm::vec3 texel_at(const Texture& t, glm::vec2 mesh_uv) {
+    const glm::vec3 h(mesh_uv, 1.0f);
+    const glm::vec2 uv(glm::dot(t.uv_map_u, h), glm::dot(t.uv_map_v, h));
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return glm::vec3(0.0f);
+    const auto index = [&](float c, int n) {
+        // Repeat and Mirror are periodic over 2: reduce there first, so that the index stays
+        // small; Clip and Extend read the same texel anywhere past the edges.
+        c = t.wrap == TextureWrap::Repeat || t.wrap == TextureWrap::Mirror
+                ? c - 2.0f * std::floor(0.5f * c)
+                : std::clamp(c, -1.0f, 2.0f);
+        const float f = std::floor(c * static_cast<float>(n));
+        return wrapped_texel(static_cast<int>(f), n, t.wrap);
+    };
+    const int x = index(uv.x, t.width), y = index(uv.y, t.height);
+    if (x < 0 || y < 0) return glm::vec3(0.0f);
     const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(t.width) +
                                static_cast<std::size_t>(x));
     if (!t.srgb8.empty())

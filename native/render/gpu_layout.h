@@ -119,6 +119,16 @@ inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool vertex_co
     return microfacet ? (vertex_colors ? 5 : 4) : 3;
 }
 
+// `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.
+struct GpuTexture {
+    glm::ivec4 rect;     // (x, y, width, height) of the image in its atlas layer
+    glm::ivec4 info;     // (layer, float 0/1, TextureWrap, 0)
+    glm::vec4 uv_map_u;  // Texture::uv_map_u, w unused
+    glm::vec4 uv_map_v;
+};
+static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
+              offsetof(GpuTexture, uv_map_u) == 32 && offsetof(GpuTexture, uv_map_v) == 48);
+
 // Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
 inline constexpr unsigned kRadiusStatsThreads = 256;
 

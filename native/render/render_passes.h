@@ -1,6 +1,6 @@
 // Render passes beside Combined, for Blender's compositor (docs/passes.md): data of the
 // surfaces the eye stage finds (Depth, Normal, the Denoising Normal and Albedo of the first
-// non-specular surface) and Combined's light split by path (Emission, Environment, Direct,
+// diffuse-like surface, as Cycles writes them) and Combined's light split by path (Emission, Environment, Direct,
 // Indirect, Caustics), which sums to Combined. Each enabled pass is one compensated sum per
 // pixel in the pass films buffer (shaders/common/pass_films.glsl), at the slot its #define
 // names; a pass that is not enabled is not compiled.
@@ -19,8 +19,8 @@ namespace glslppm {
 enum class RenderPass {
     Depth,            // camera z-depth of the first surface seen; 1e10 where none (Cycles)
     Normal,           // world normal of the first surface seen, facing the camera
-    DenoisingNormal,  // world normal of the first non-specular surface (the visible point)
-    DenoisingAlbedo,  // its base colour times the specular chain's throughput
+    DenoisingNormal,  // Cycles' denoising normal (camera space; denoising_features.glsl)
+    DenoisingAlbedo,  // Cycles' denoising albedo: the mean albedo of the diffuse-like lobes
     Emission,         // emission of surfaces seen directly or through specular chains
     Environment,      // the world seen directly or through specular chains
     Direct,           // light from a light, scattered once (sampled, or first-hit photons)

@@ -139,7 +139,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
                 const TextureAtlas atlas = pack_textures(scene.textures, use.used, max_size,
                                                          max_layers);
                 for (const std::string& w : atlas.warnings) g.warnings.push_back(w);
-                const std::vector<glm::ivec4> records = atlas.records();
+                const std::vector<GpuTexture> records = atlas.records();
                 g.make_buffer(BINDING_TEXTURE_INFO, bytes(records), records.data(), "texture records");
                 g.upload_atlas(atlas);
             }

@@ -23,6 +23,15 @@ void check(const Texture& t, std::size_t k) {
                          " values, width * height * 4 = " + std::to_string(want));
     for (float v : t.linear)
         if (!std::isfinite(v)) throw SceneError(name + ": holds NaN or Inf");
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(t.uv_map_u[c]) || !std::isfinite(t.uv_map_v[c]))
+            throw SceneError(name + ": its uv map holds NaN or Inf");
+}
+
+// Whether two images hold the same pixels (so one rectangle serves both).
+bool same_pixels(const Texture& a, const Texture& b) {
+    return a.width == b.width && a.height == b.height && a.srgb8 == b.srgb8 &&
+           a.linear == b.linear;
 }
 
 // Halves an image with a 2x2 box filter (in linear light for sRGB images).
@@ -67,13 +76,14 @@ Texture halve(const Texture& t) {
 
 }  // namespace
 
-std::vector<glm::ivec4> TextureAtlas::records() const {
-    std::vector<glm::ivec4> r;
-    for (const AtlasPlacement& p : placements) {
-        r.emplace_back(p.x, p.y, p.width, p.height);
-        r.emplace_back(p.layer, p.is_float ? 1 : 0, static_cast<int>(p.wrap), 0);
-    }
-    if (r.empty()) r.emplace_back(0);
+std::vector<GpuTexture> TextureAtlas::records() const {
+    std::vector<GpuTexture> r;
+    for (const AtlasPlacement& p : placements)
+        r.push_back({{p.x, p.y, p.width, p.height},
+                     {p.layer, p.is_float ? 1 : 0, static_cast<int>(p.wrap), 0},
+                     glm::vec4(p.uv_map_u, 0.0f),
+                     glm::vec4(p.uv_map_v, 0.0f)});
+    if (r.empty()) r.push_back({});
     return r;
 }
 
@@ -83,9 +93,20 @@ TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vect
     atlas.placements.resize(textures.size());
     std::vector<Texture> scaled(textures.size());
     std::vector<const Texture*> images(textures.size(), nullptr);
+    // shared[k]: the texture whose rectangle k uses (itself unless an earlier one has the
+    // same pixels).
+    std::vector<std::size_t> shared(textures.size());
     for (std::size_t k = 0; k < textures.size(); ++k) {
+        shared[k] = k;
         if (!used[k]) continue;
         check(textures[k], k);
+        for (std::size_t j = 0; j < k; ++j) {
+            if (images[j] && shared[j] == j && same_pixels(textures[j], textures[k])) {
+                shared[k] = j;
+                break;
+            }
+        }
+        if (shared[k] != k) continue;
         images[k] = &textures[k];
         if (textures[k].width > max_texture_size || textures[k].height > max_texture_size) {
             scaled[k] = halve(textures[k]);
@@ -128,7 +149,7 @@ TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vect
                 ++layer;
                 x = y = shelf = 0;
             }
-            atlas.placements[k] = {layer, x, y, t.width, t.height, encoding == 1, t.wrap};
+            atlas.placements[k] = {layer, x, y, t.width, t.height, encoding == 1};
             x += t.width;
             shelf = std::max(shelf, t.height);
         }
@@ -138,6 +159,15 @@ TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vect
                              " layers of " + std::to_string(size.x) + "x" +
                              std::to_string(size.y) + " texels, more than this GPU's " +
                              std::to_string(max_layers) + ": use fewer or smaller images");
+    }
+    // Each texture's own wrap and uv map; a shared image's rectangle.
+    for (std::size_t k = 0; k < textures.size(); ++k) {
+        if (!used[k]) continue;
+        AtlasPlacement& p = atlas.placements[k];
+        if (shared[k] != k) p = atlas.placements[shared[k]];
+        p.wrap = textures[k].wrap;
+        p.uv_map_u = textures[k].uv_map_u;
+        p.uv_map_v = textures[k].uv_map_v;
     }
     // Copy the pixels into their layers.
     auto layer_texels = [&](int e) {

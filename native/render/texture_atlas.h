@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "render/gpu_layout.h"
 #include "scene/scene.h"
 
 namespace glslppm {
@@ -18,6 +19,7 @@ struct AtlasPlacement {
     int layer = 0, x = 0, y = 0, width = 0, height = 0;
     bool is_float = false;
     TextureWrap wrap = TextureWrap::Repeat;
+    glm::vec3 uv_map_u{1.0f, 0.0f, 0.0f}, uv_map_v{0.0f, 1.0f, 0.0f};
 };
 
 struct TextureAtlas {
@@ -30,13 +32,13 @@ struct TextureAtlas {
     std::vector<float> linear;
     std::vector<std::string> warnings;  // images downscaled to fit the GPU
 
-    // The GPU record (shaders/common/textures.glsl): 2 ivec4 per texture:
-    // (x, y, width, height), (layer, float 0/1, wrap, 0).
-    std::vector<glm::ivec4> records() const;
+    // The GPU records (GpuTexture, render/gpu_layout.h), one per texture.
+    std::vector<GpuTexture> records() const;
 };
 
 // Throws SceneError naming the texture when an image is malformed. `used[k]` says whether
-// texture k is referenced; unused images are not packed. Images larger than
+// texture k is referenced; unused images are not packed. Textures with the same pixels (one
+// image under several wraps or uv maps) share one rectangle. Images larger than
 // max_texture_size are halved (2x2 box filter) until they fit, with a warning.
 TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vector<bool>& used,
                            int max_texture_size, int max_layers);

@@ -114,7 +114,9 @@ struct Material {
     glm::vec3 absorption{0.0f};
 };
 
-enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1 };
+// Blender's Image Texture extensions, as Cycles reads texels outside the image: Repeat wraps,
+// Clip reads transparent black, Extend the nearest edge texel, Mirror reflects at each edge.
+enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1, Extend = 2, Mirror = 3 };
 
 // An RGBA image. Texel (x, y) covers uv ([x, x+1] / width, [y, y+1] / height): row 0 is the
 // bottom row (v = 0), as in Blender's pixel arrays. Exactly one of `srgb8` (8-bit, sRGB
@@ -127,6 +129,13 @@ struct Texture {
     std::vector<std::uint8_t> srgb8;
     std::vector<float> linear;
     TextureWrap wrap = TextureWrap::Repeat;
+    // Where the image is looked up for a surface point of mesh uv (u, v): at
+    // (dot(uv_map_u, (u, v, 1)), dot(uv_map_v, (u, v, 1))), a 2-D affine map (Blender's
+    // Mapping and Vector Math nodes between the UV output and the Image Texture's Vector;
+    // export/texture_mapping.py). Textures that differ only here share one copy of the pixels
+    // on the GPU.
+    glm::vec3 uv_map_u{1.0f, 0.0f, 0.0f};
+    glm::vec3 uv_map_v{0.0f, 1.0f, 0.0f};
 };
 
 // Lights use Blender's units, so that the add-on hands them over unchanged:

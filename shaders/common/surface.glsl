@@ -91,12 +91,18 @@ vec3 bump_mapped(int material, vec3 n, vec2 uv, vec3 p0, vec3 p1, vec3 p2, vec2 
 #ifdef HAS_TEXTURES
     if ((word & NORMAL_MAP_BUMP) != 0u) {
         int k = int(word & 0x7FFFu) - 1;
-        vec2 texel = 0.5 / vec2(texture_info[2 * k].zw);
+        // The differences in the image's own uv st, then through its uv map's linear part
+        // to the mesh's uv (chain rule: dh/du = dh/ds ds/du + dh/dt dt/du).
+        vec2 texel = 0.5 / vec2(texture_size(k));
+        vec2 st = texture_uv(k, uv);
         const vec3 gray = vec3(0.2126, 0.7152, 0.0722);  // Blender's colour to float
-        float dhdu = dot(sample_texture(k, uv + vec2(texel.x, 0.0)).rgb -
-                         sample_texture(k, uv - vec2(texel.x, 0.0)).rgb, gray) / (2.0 * texel.x);
-        float dhdv = dot(sample_texture(k, uv + vec2(0.0, texel.y)).rgb -
-                         sample_texture(k, uv - vec2(0.0, texel.y)).rgb, gray) / (2.0 * texel.y);
+        float dhds = dot(sample_texture_st(k, st + vec2(texel.x, 0.0)).rgb -
+                         sample_texture_st(k, st - vec2(texel.x, 0.0)).rgb, gray) / (2.0 * texel.x);
+        float dhdt = dot(sample_texture_st(k, st + vec2(0.0, texel.y)).rgb -
+                         sample_texture_st(k, st - vec2(0.0, texel.y)).rgb, gray) / (2.0 * texel.y);
+        vec3 map_s = texture_records[k].uv_map_u.xyz, map_t = texture_records[k].uv_map_v.xyz;
+        float dhdu = dhds * map_s.x + dhdt * map_t.x;
+        float dhdv = dhds * map_s.y + dhdt * map_t.y;
         // dp/du and dp/dv from p - p0 = e1 a + e2 b, uv - w0 = d1 a + d2 b.
         vec3 e1 = p1 - p0, e2 = p2 - p0;
         vec2 d1 = w1 - w0, d2 = w2 - w0;

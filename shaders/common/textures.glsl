@@ -1,7 +1,7 @@
 // Image textures: every image sits in its own rectangle of one of two array textures (8-bit
 // sRGB, decoded to linear by the sampler; float), laid out by native/render/texture_atlas.h.
-// Bilinear filtering is done here with texelFetch so that repeat and clip wrap inside the
-// image's rectangle and never bleed into a neighbour.
+// Bilinear filtering is done here with texelFetch so that every extension wraps inside the
+// image's rectangle and never bleeds into a neighbour.
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
 #include "common/bindings.glsl"
@@ -9,41 +9,79 @@
 // are never placed inside #ifdef; the guard is here.)
 #if defined(HAS_TEXTURES) || defined(HAS_ENVIRONMENT_MAP)
 
-// 2 per texture: (x, y, width, height) in its layer, (layer, float 0/1, wrap, 0).
-layout(std430, binding = BINDING_TEXTURE_INFO) readonly buffer TextureInfo { ivec4 texture_info[]; };
+// One record per texture (GpuTexture in native/render/gpu_layout.h): its rectangle in its
+// layer, (layer, float 0/1, wrap, 0), and the affine map from the mesh's uv to the image's
+// (Blender's Mapping node on the UVs).
+struct TextureRecord {
+    ivec4 rect;
+    ivec4 info;
+    vec4 uv_map_u;
+    vec4 uv_map_v;
+};
+layout(std430, binding = BINDING_TEXTURE_INFO) readonly buffer TextureInfo { TextureRecord texture_records[]; };
 layout(binding = TEXTURE_UNIT_SRGB_ATLAS) uniform sampler2DArray srgb_atlas;
 layout(binding = TEXTURE_UNIT_FLOAT_ATLAS) uniform sampler2DArray float_atlas;
 
+// TextureWrap (native/scene/scene.h), Blender's Image Texture extensions.
 const int WRAP_REPEAT = 0;
 const int WRAP_CLIP = 1;
+const int WRAP_EXTEND = 2;
+const int WRAP_MIRROR = 3;
+
+ivec2 texture_size(int k) { return texture_records[k].rect.zw; }
+
+// Where texture k is looked up for mesh uv.
+vec2 texture_uv(int k, vec2 uv) {
+    vec3 h = vec3(uv, 1.0);
+    return vec2(dot(texture_records[k].uv_map_u.xyz, h), dot(texture_records[k].uv_map_v.xyz, h));
+}
+
+// A texel index along an axis of n texels under the extension, as Cycles' wrap_periodic,
+// wrap_clamp and wrap_mirror; Clip gives -1 outside the image (read as transparent black).
+// (GLSL leaves % of a negative operand undefined: llvmpipe's (-1 % 5 + 5) % 5 gave 0, not 4,
+// so negative indices are folded by hand.)
+int wrap_index(int i, int n, int wrap) {
+    if (wrap == WRAP_REPEAT) return i >= 0 ? i % n : n - 1 - (-1 - i) % n;
+    if (wrap == WRAP_EXTEND) return clamp(i, 0, n - 1);
+    if (wrap == WRAP_MIRROR) {
+        int m = abs(i + (i < 0 ? 1 : 0)) % (2 * n);
+        return m >= n ? 2 * n - m - 1 : m;
+    }
+    return i < 0 || i >= n ? -1 : i;
+}
+
+ivec2 wrap_texel(ivec2 p, ivec2 n, int wrap) {
+    return ivec2(wrap_index(p.x, n.x, wrap), wrap_index(p.y, n.y, wrap));
+}
 
 vec4 fetch_texel(ivec4 rect, ivec4 info, ivec2 p) {
+    if (p.x < 0 || p.y < 0) return vec4(0.0);  // clipped
     ivec3 at = ivec3(rect.xy + p, info.x);
     return info.y == 0 ? texelFetch(srgb_atlas, at, 0) : texelFetch(float_atlas, at, 0);
 }
 
-// Texel (x, y) covers uv [x, x+1] / width: bilinear between the four nearest texel centres.
-vec4 sample_texture(int k, vec2 uv) {
-    ivec4 rect = texture_info[2 * k];
-    ivec4 info = texture_info[2 * k + 1];
-    if (info.z == WRAP_CLIP && (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))))
-        return vec4(0.0);
-    if (info.z == WRAP_REPEAT) uv -= floor(uv);  // keeps the texel arithmetic small
-    vec2 xy = uv * vec2(rect.zw) - 0.5;
+// Bilinear at the image's own uv st (texel (x, y) covers [x, x+1] / width), between the four
+// nearest texel centres, each wrapped by the extension (Cycles' interp_linear).
+vec4 sample_texture_st(int k, vec2 st) {
+    ivec4 rect = texture_records[k].rect;
+    ivec4 info = texture_records[k].info;
+    // Reduced to one period (Repeat 1, Mirror 2), which keeps the texel arithmetic small;
+    // Clip and Extend read the same texels anywhere past the edges.
+    if (info.z == WRAP_REPEAT) st -= floor(st);
+    else if (info.z == WRAP_MIRROR) st -= 2.0 * floor(0.5 * st);
+    else st = clamp(st, vec2(-1.0), vec2(2.0));
+    vec2 xy = st * vec2(rect.zw) - 0.5;
     vec2 base = floor(xy);
     vec2 f = xy - base;
     ivec2 p0 = ivec2(base), p1 = p0 + 1;
-    if (info.z == WRAP_REPEAT) {
-        p0 = (p0 % rect.zw + rect.zw) % rect.zw;
-        p1 = (p1 % rect.zw + rect.zw) % rect.zw;
-    } else {
-        p0 = clamp(p0, ivec2(0), rect.zw - 1);
-        p1 = clamp(p1, ivec2(0), rect.zw - 1);
-    }
-    vec4 a = mix(fetch_texel(rect, info, p0), fetch_texel(rect, info, ivec2(p1.x, p0.y)), f.x);
-    vec4 b = mix(fetch_texel(rect, info, ivec2(p0.x, p1.y)), fetch_texel(rect, info, p1), f.x);
+    ivec2 q0 = wrap_texel(p0, rect.zw, info.z), q1 = wrap_texel(p1, rect.zw, info.z);
+    vec4 a = mix(fetch_texel(rect, info, q0), fetch_texel(rect, info, ivec2(q1.x, q0.y)), f.x);
+    vec4 b = mix(fetch_texel(rect, info, ivec2(q0.x, q1.y)), fetch_texel(rect, info, q1), f.x);
     return mix(a, b, f.y);
 }
+
+// Texture k at a surface point of mesh uv.
+vec4 sample_texture(int k, vec2 uv) { return sample_texture_st(k, texture_uv(k, uv)); }
 
 #endif
 #endif

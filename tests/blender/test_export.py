@@ -431,6 +431,66 @@ def image_material(name, image, shader=PRINCIPLED, extension='REPEAT'):
     return material
 
 
+def _mapped_image_material(name, image, vector_type, location, rotation, scale,
+                           coordinate="UV", between=None):
+    """Texture Coordinate (coordinate output) -> [between node] -> Mapping -> Image Texture."""
+    material = image_material(name, image)
+    tree = material.node_tree
+    texture = next(node for node in tree.nodes if node.type == 'TEX_IMAGE')
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.vector_type = vector_type
+    for socket, value in (("Location", location), ("Rotation", rotation), ("Scale", scale)):
+        if socket in mapping.inputs:
+            mapping.inputs[socket].default_value = value
+    source = coordinates.outputs[coordinate]
+    if between is not None:
+        node = tree.nodes.new("ShaderNodeVectorMath")
+        node.operation = between
+        node.name = "Odd Vector Math"
+        tree.links.new(source, node.inputs[0])
+        source = node.outputs["Vector"]
+    tree.links.new(source, mapping.inputs["Vector"])
+    tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    return material
+
+
+def test_mapping_node_on_uvs_becomes_the_textures_uv_map():
+    """Texture Coordinate UV -> Mapping -> Image Texture: the texture's uv map is the
+    Mapping of (u, v, 0), checked at three uvs against Blender's own Euler matrix
+    (mathutils) for the Point, Texture and Vector types, within 1e-6; no warning. A chain
+    that is not affine in the UVs (Generated, a Normalize) keeps the mesh's UVs and a warning
+    naming the node."""
+    from mathutils import Euler, Vector
+    pixels = np.full((2, 2, 4), 0.5, dtype=np.float32)
+    image = save_image("Mapped", pixels, False, 'PNG', "png")
+    location, rotation, scale = (0.25, -0.5, 0.75), (0.3, -0.2, 0.6), (2.0, 3.0, 0.5)
+    matrix = Euler(rotation, 'XYZ').to_matrix()
+    loc, size = Vector(location), Vector(scale)
+    closed_forms = {
+        'POINT': lambda p: matrix @ (p * size) + loc,
+        'TEXTURE': lambda p: Vector(x / s for x, s in zip(matrix.transposed() @ (p - loc),
+                                                          size)),
+        'VECTOR': lambda p: matrix @ (p * size),
+    }
+    for kind, closed_form in closed_forms.items():
+        data = _single(_mapped_image_material(f"Mapped {kind}", image, kind, location,
+                                              rotation, scale))
+        (a, b, c), (d, e, f) = data.textures[0].uv_map
+        for u, v in ((0.0, 0.0), (1.0, 0.0), (0.3, 0.8)):
+            want = closed_form(Vector((u, v, 0.0)))
+            got = (a * u + b * v + c, d * u + e * v + f)
+            assert_close(got, tuple(want)[:2], 1e-6, f"{kind} mapping of uv ({u}, {v})")
+        assert not [w for w in data.warnings if "Mapped" in w or "image texture" in w], \
+            data.warnings
+    for coordinate, between, named in (("Generated", None, "Texture Coordinate"),
+                                       ("UV", 'NORMALIZE', "Odd Vector Math")):
+        data = _single(_mapped_image_material(f"Odd {coordinate}", image, 'POINT', location,
+                                              rotation, scale, coordinate, between))
+        assert data.textures[0].uv_map == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+        assert any(named in w and "render UV map" in w for w in data.warnings), data.warnings
+
+
 def test_image_texture_becomes_a_texture():
     """An sRGB 8-bit PNG crosses as its exact bytes (uint8), a float EXR as float32
     linear; one Texture per image however many materials use it; UVs are exported."""
@@ -484,8 +544,9 @@ def test_image_texture_colour_spaces_and_fallbacks():
     texture = data.textures[0]
     assert texture.pixels.dtype == np.float32, texture.pixels.dtype
     assert_close(texture.pixels[..., :3], np.full((2, 2, 3), 128 / 255), 1e-6, "raw values")
-    assert texture.wrap == "clip"
-    assert any("Extend" in w for w in data.warnings), data.warnings
+    # Extend is rendered as Cycles renders it (edge texels outside the image), unwarned.
+    assert texture.wrap == "extend"
+    assert not any("Extend" in w for w in data.warnings), data.warnings
 
     # A missing file: magenta (1, 0, 1), as Cycles renders it, and a warning naming it.
     missing = node_material("Missing", PRINCIPLED, **{"Base Color": (0.1, 0.2, 0.3, 1)})

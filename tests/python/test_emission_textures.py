@@ -28,7 +28,7 @@ def ramp_pixels():
 
 
 def bilinear(pixels, u, v):
-    """The renderer's lookup (common/textures.glsl) with clip wrap: texel centres at
+    """The renderer's lookup (common/textures.glsl) with extend wrap: texel centres at
     (i + 0.5) / n, clamped at the edges."""
     h, w = pixels.shape[:2]
     x, y = u * w - 0.5, v * h - 0.5
@@ -51,7 +51,7 @@ def scene(g, camera):
                  g.Material("diffuse", color=(0, 0, 0), emission=(E, E, E), emission_texture=0)]
     return g.Scene(p, t, uvs=uv, material_ids=np.array([0, 0, 1, 1], np.uint32),
                    materials=materials, camera=camera,
-                   textures=[g.Texture(ramp_pixels(), wrap="clip", name="ramp")])
+                   textures=[g.Texture(ramp_pixels(), wrap="extend", name="ramp")])
 
 
 def floor_radiance(points, n=256):

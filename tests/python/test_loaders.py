@@ -501,7 +501,7 @@ def test_gltf_embedded_texture_with_flipped_uvs_and_clamp_sampler(glslppm, tmp_p
     _, c, warnings = load(glslppm, g.write(tmp_path / "tex.gltf"))
     assert len(c["textures"]) == 1
     t = c["textures"][0]
-    assert (t["width"], t["height"], t["wrap"], t["encoding"]) == (2, 2, "clip", "srgb8")
+    assert (t["width"], t["height"], t["wrap"], t["encoding"]) == (2, 2, "extend", "srgb8")  # CLAMP_TO_EDGE
     # Rows are stored bottom-first: row 0 is the image's bottom row (blue, white).
     np.testing.assert_array_equal(t["pixels"], pixels[::-1])
     assert c["materials"][0]["color_texture"] == 0

@@ -194,10 +194,12 @@ def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
     assert depth.shape == (48, 48, 1)
     # Float rounding of the hit point (a few ulps of 3) and of the mean over 4 passes.
     assert np.allclose(depth, 3.0, rtol=0, atol=2e-5), np.abs(depth - 3.0).max()
+    # Normal in world space; Denoising Normal in Cycles' camera space (x right, y up, z along
+    # the view), where a plane facing the camera is (0, 0, -1).
     facing = -forward / np.linalg.norm(forward)
-    for name in ["normal", "denoising_normal"]:
+    for name, want in [("normal", facing), ("denoising_normal", (0.0, 0.0, -1.0))]:
         n = r.render_pass(name)
-        assert np.allclose(n, facing, rtol=0, atol=1e-5), (name, np.abs(n - facing).max())
+        assert np.allclose(n, want, rtol=0, atol=1e-5), (name, np.abs(n - want).max())
     albedo = r.render_pass("denoising_albedo")
     assert np.allclose(albedo, (0.8, 0.4, 0.2), rtol=0, atol=1e-6)
 
@@ -205,7 +207,8 @@ def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
 def test_depth_of_background_and_textured_albedo(glslppm):
     """The textured plane's Denoising Albedo is the texel's colour (float stripes 0.2 and 0.9,
     compared in each stripe's central half, away from the bilinear blend); where the camera
-    sees no surface, Depth is Cycles' 1e10 and the albedo and normals 0."""
+    sees no surface, Depth is Cycles' 1e10, the normals 0 and the albedo the world's
+    radiance (1 here), as Cycles writes the background into Denoising Albedo."""
     g = glslppm
     scene, _ = plane_scene(g, textured=True)
     r = render(g, scene, ["depth", "normal", "denoising_albedo"])
@@ -221,12 +224,13 @@ def test_depth_of_background_and_textured_albedo(glslppm):
                     materials=[g.Material("diffuse", color=(0.5, 0.5, 0.5))],
                     camera=g.Camera(np.eye(4, dtype=np.float32), fov_x=0.5),
                     environment=(1.0, 1.0, 1.0))
-    r = render(g, empty, ["depth", "normal", "denoising_albedo"])
+    r = render(g, empty, ["depth", "normal", "denoising_normal", "denoising_albedo"])
     r.run(2)
     depth = r.render_pass("depth")[..., 0]
     assert depth[24, 4] == 1e10 and abs(depth[24, 40] - 5.0) < 1e-5
     assert np.all(r.render_pass("normal")[24, 4] == 0.0)
-    assert np.all(r.render_pass("denoising_albedo")[24, 4] == 0.0)
+    assert np.all(r.render_pass("denoising_normal")[24, 4] == 0.0)
+    assert np.all(r.render_pass("denoising_albedo")[24, 4] == 1.0)
 
 
 def test_pass_names_and_errors(glslppm):
@@ -371,3 +375,36 @@ def test_two_pppm_workers_merge_their_passes_as_their_films(glslppm):
     assert np.allclose(two.render_pass("depth"), one.render_pass("depth"), rtol=1e-6, atol=0)
     assert np.allclose(two.render_pass("caustics"), one.render_pass("caustics"), rtol=1e-5,
                        atol=1e-6)
+
+
+@pytest.mark.parametrize("wall", ["diffuse", "rough_conductor"])
+def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall):
+    """Cycles' rule (kernel/film/denoising_passes.h): a specular surface multiplies the
+    feature throughput by its albedo and the features come from the next surface. A mirror
+    of colour (0.9, 0.8, 0.7) at 45 degrees fills an orthographic view and shows a wall of
+    colour (0.8, 0.4, 0.2): Denoising Albedo is their product in every pixel, noiselessly
+    (bound 1e-5: a 1% error is 3e-3), and Denoising Normal the wall's normal (-1, 0, 0) in
+    camera space (x right, y up, z along the view; the mirror's own would be (0.71, 0,
+    -0.71)). The wall is a Lambert (closed model) or a GGX conductor of roughness 0.5 (the
+    lobes), which Cycles counts as diffuse-like (alpha 0.25 > 0.075)."""
+    g = glslppm
+    p = np.array([(-1, -1, 1), (1, -1, -1), (1, 1, -1), (-1, 1, 1),
+                  (3, -5, -5), (3, 5, -5), (3, 5, 5), (3, -5, 5)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]], dtype=np.uint32)
+    colour = (0.8, 0.4, 0.2)
+    materials = [g.Material("conductor", color=(0.9, 0.8, 0.7)),
+                 g.Material("diffuse", color=colour) if wall == "diffuse" else
+                 g.Material("conductor", color=colour, roughness=0.5)]
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    scene = g.Scene(p, t, material_ids=np.array([0, 0, 1, 1], dtype=np.uint32),
+                    materials=materials, environment=(1.0, 1.0, 1.0),
+                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=1.9))
+    r = render(g, scene, ["denoising_normal", "denoising_albedo"])
+    r.run(4)
+    assert ("microfacet" in r.stats()["variant"]) == (wall != "diffuse")
+    albedo = r.render_pass("denoising_albedo")
+    want = np.array([0.9 * 0.8, 0.8 * 0.4, 0.7 * 0.2])
+    assert np.abs(albedo - want).max() < 1e-5, np.abs(albedo - want).max()
+    normal = r.render_pass("denoising_normal")
+    assert np.abs(normal - (-1.0, 0.0, 0.0)).max() < 1e-5, np.abs(normal - (-1, 0, 0)).max()

@@ -66,10 +66,10 @@ def test_srgb_texture_decoded_exactly_at_0_half_and_1(glslppm):
 
 
 def test_float_texture_and_bilinear_blend_between_texels(glslppm):
-    """Two float texels 0.2 and 1.0 with clip wrapping: flat halves, and between the texel
+    """Two float texels 0.2 and 1.0 with extend wrapping: flat halves, and between the texel
     centres a linear ramp (bilinear filtering) from one value to the other."""
     g = glslppm
-    texture = g.Texture(stripes([0.2, 1.0], texels_each=1, dtype=np.float32), wrap="clip")
+    texture = g.Texture(stripes([0.2, 1.0], texels_each=1, dtype=np.float32), wrap="extend")
     film, _ = textured_quad(g, texture)
     profile = film[4:-4].mean(axis=0) / L
     x = (np.arange(SIZE) + 0.5) / SIZE  # u of each pixel column
@@ -80,9 +80,10 @@ def test_float_texture_and_bilinear_blend_between_texels(glslppm):
 
 def test_repeat_and_clip_wrapping(glslppm):
     """uv from -0.5 to 1.5: repeat shows the two-stripe image twice over, clip shows it once
-    in the middle and black around it."""
+    in the middle and black around it. (16 rows: Clip blends with black within half a texel
+    of every edge, as Cycles does, which for a one-row image is its whole height.)"""
     g = glslppm
-    image = stripes([0, 255], texels_each=8)
+    image = np.repeat(stripes([0, 255], texels_each=8), 16, axis=0)
     repeat, _ = textured_quad(g, g.Texture(image, wrap="repeat"), uv_scale=2.0, uv_offset=-0.5)
     clip, _ = textured_quad(g, g.Texture(image, wrap="clip"), uv_scale=2.0, uv_offset=-0.5)
     quarters_repeat = stripe_means(repeat, 8)   # u: -0.5..1.5 in quarter-units of 0.25
@@ -169,3 +170,104 @@ def test_nan_in_a_float_texture_is_rejected(glslppm):
                     textures=[g.Texture(pixels, name="bad.exr")])
     with pytest.raises(ValueError, match=r"textures\[0\] 'bad\.exr': holds NaN or Inf"):
         g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=1024))
+
+
+# ---- uv maps (Blender's Mapping node on the UVs) and the four extensions, against a numpy
+# copy of Cycles' bilinear lookup (kernel/device/cpu/image.h, interp_linear).
+
+def _wrap_index(i, n, wrap):
+    """Cycles' wrap_periodic / wrap_clamp / wrap_mirror; -1 for clip outside."""
+    if wrap == "repeat":
+        return np.mod(i, n)
+    if wrap == "extend":
+        return np.clip(i, 0, n - 1)
+    if wrap == "mirror":
+        m = np.abs(i + (i < 0)) % (2 * n)
+        return np.where(m >= n, 2 * n - m - 1, m)
+    return np.where((i < 0) | (i >= n), -1, i)
+
+
+def cycles_linear(image, s, t, wrap):
+    """Bilinear lookup of image (H, W) (row 0 at v = 0) at image uv (s, t), as Cycles."""
+    h, w = image.shape
+    x, y = s * w - 0.5, t * h - 0.5
+    ix, iy = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
+    fx, fy = x - ix, y - iy
+
+    def texel(px, py):
+        qx, qy = _wrap_index(px, w, wrap), _wrap_index(py, h, wrap)
+        inside = (qx >= 0) & (qy >= 0)
+        return np.where(inside, image[np.maximum(qy, 0), np.maximum(qx, 0)], 0.0)
+
+    a = (1 - fx) * texel(ix, iy) + fx * texel(ix + 1, iy)
+    b = (1 - fx) * texel(ix, iy + 1) + fx * texel(ix + 1, iy + 1)
+    return (1 - fy) * a + fy * b
+
+
+def mapping_point(scale, rotation_z, location):
+    """Blender's Mapping node (Point): R (v S) + L, as the add-on's uv map rows."""
+    c, s = math.cos(rotation_z), math.sin(rotation_z)
+    return ((c * scale[0], -s * scale[1], location[0]), (s * scale[0], c * scale[1], location[1]))
+
+
+def albedo_of_mapped_quad(g, image, wrap, uv_map, passes=128):
+    """Denoising Albedo of the unit-uv quad filling an orthographic view (texel x 1: exact,
+    no light noise), and the reference: Cycles' lookup averaged over 8 x 8 points a pixel."""
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    pixels = np.ones(image.shape + (4,), dtype=np.float32)
+    pixels[..., :3] = image[..., None]
+    scene = g.Scene(p, t, uvs=uv, camera=g.Camera(to_world, projection="orthographic",
+                                                  ortho_scale=2.0),
+                    materials=[g.Material("diffuse", color=(1, 1, 1), color_texture=0)],
+                    environment=(1.0, 1.0, 1.0),
+                    textures=[g.Texture(pixels, wrap=wrap, uv_map=uv_map)])
+    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=4,
+                                     passes=["denoising_albedo"]))
+    r.run(passes)
+    got = r.render_pass("denoising_albedo")[..., 0]
+    sub = (np.arange(8) + 0.5) / 8
+    u = ((np.arange(SIZE)[:, None] + sub[None, :]) / SIZE).ravel()       # columns
+    v = 1.0 - ((np.arange(SIZE)[:, None] + sub[None, :]) / SIZE).ravel()  # rows, top first
+    uu, vv = np.meshgrid(u, v)
+    (a, b, c), (d, e, f) = uv_map
+    want = cycles_linear(image, a * uu + b * vv + c, d * uu + e * vv + f, wrap)
+    want = want.reshape(SIZE, 8, SIZE, 8).mean(axis=(1, 3))
+    return got, want
+
+
+SMOOTH = np.random.default_rng(7).uniform(0.1, 0.9, size=(5, 4)).astype(np.float32)
+
+
+@pytest.mark.parametrize("wrap", ["repeat", "extend", "clip", "mirror"])
+def test_uv_map_and_extension_match_cycles_lookup(glslppm, wrap):
+    """A 4x5 image looked up through a Mapping (scale 1.7 x 2.3, turned 30 degrees, moved by
+    (-0.4, -0.6)), so that uvs leave [0, 1] on every side, under each extension. Denoising
+    Albedo per pixel against Cycles' lookup averaged over the pixel: the only difference is
+    the 128 jittered samples' spread over the pixel (measured rms 1.4-1.8e-3, mean below
+    6e-5). Bounds: rms 3e-3 and mean difference 5e-4 (a 1% brighter texture is 5e-3 off in
+    the mean; a uv map 1% larger is 2.1e-2 rms off, test below). Before the fix of negative
+    texel indices, Repeat read the wrong row of this 5-row image at v = 0 seams: rms 1.7e-2."""
+    g = glslppm
+    uv_map = mapping_point((1.7, 2.3), math.radians(30.0), (-0.4, -0.6))
+    got, want = albedo_of_mapped_quad(g, SMOOTH, wrap, uv_map)
+    rms = float(np.sqrt(np.mean((got - want) ** 2)))
+    mean = float(np.mean(got - want))
+    print(f"  {wrap}: rms {rms:.5f} mean {mean:+.6f}")
+    assert rms < 3e-3 and abs(mean) < 5e-4, (rms, mean)
+
+
+def test_uv_map_off_by_one_percent_is_caught(glslppm):
+    """The bound above separates a uv map 1% off in scale from the right one."""
+    g = glslppm
+    uv_map = mapping_point((1.7, 2.3), math.radians(30.0), (-0.4, -0.6))
+    wrong = mapping_point((1.7 * 1.01, 2.3 * 1.01), math.radians(30.0), (-0.4, -0.6))
+    got, _ = albedo_of_mapped_quad(g, SMOOTH, "repeat", wrong)
+    _, want = albedo_of_mapped_quad(g, SMOOTH, "repeat", uv_map, passes=1)
+    rms = float(np.sqrt(np.mean((got - want) ** 2)))
+    print(f"  1% larger uv map: rms {rms:.5f}")
+    assert rms > 3e-3, rms
+
