@@ -45,7 +45,7 @@ bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
     float slack = PHOTON_WALL_TOLERANCE * r * max(c, 0.0);
     return c > -PHOTON_SIDE_MIN_COS &&
            ((a >= -slack && b >= -slack) ||
-            (c > PHOTON_SIDE_MIN_COS && abs(a - b) <= slack));
+            (c > PHOTON_SIDE_MIN_COS && (abs(a - b) <= slack || c > PHOTON_SIDE_SAME_COS)));
 }
 
 #ifdef PASS_PHOTON_SPLIT
