@@ -17,6 +17,9 @@ class PassSchedule:
         self.batch_seconds = batch_seconds
         self.done = 0
         self.seconds_per_pass = None
+        # After the first (compiling) batch: passes and their wall time, for projections.
+        self.steady_passes = 0
+        self.steady_seconds = 0.0
 
     def next_batch(self, elapsed):
         """Passes for the next run() call; 0 when the render is finished."""
@@ -39,6 +42,8 @@ class PassSchedule:
         if self.seconds_per_pass is None:
             self.seconds_per_pass = per_pass
         else:
+            self.steady_passes += batch
+            self.steady_seconds += seconds
             self.seconds_per_pass = 0.5 * (self.seconds_per_pass + per_pass)
 
     def progress(self, elapsed):
@@ -63,14 +68,16 @@ LONG_RENDER_SECONDS = 600.0
 
 def long_render_warning(schedule, elapsed, device):
     """The warning for a render that will run long, or None: once the pass time is known
-    (two passes after the compiling one), when no time limit caps it."""
-    if schedule.time_limit > 0.0 or schedule.seconds_per_pass is None or schedule.done < 2:
+    (two passes after the compiling one, whose time it leaves out), when no time limit caps
+    it. The projection is the wall time a pass has taken, the add-on's own work included."""
+    if schedule.time_limit > 0.0 or schedule.steady_passes < 2:
         return None
-    total = elapsed + schedule.remaining_seconds(elapsed)
+    per_pass = schedule.steady_seconds / schedule.steady_passes
+    total = elapsed + (schedule.passes - schedule.done) * per_pass
     if total < LONG_RENDER_SECONDS:
         return None
     return (f"this render will take about {format_duration(total)} ({schedule.passes:,} "
-            f"passes at {schedule.seconds_per_pass:.3g} s each on {device}); press Esc and "
+            f"passes at {per_pass:.3g} s each on {device}); press Esc and "
             "set Sampling > Time Limit, fewer passes or the Preview preset to finish sooner")
 
 
