@@ -2,6 +2,8 @@
 # The Debian chroots that run the newer Blenders beside the host's Debian 12 Blender 3.4:
 #   trixie (Debian 13): Blender 4.3 (Python 3.13)   the default
 #   sid (unstable):     Blender 5.2 (Python 3.14)   sid floats: whatever 5.2.x sid has today
+#   minimal:            Debian 13 with Blender alone, nothing the project builds with (no
+#                       -dev packages): where the extension zip must install and render
 #
 #   scripts/blender-chroot.sh [RELEASE] create          debootstrap it once (a stamp file makes this idempotent)
 #   scripts/blender-chroot.sh [RELEASE] build           build _glslppm for its Python into build-RELEASE/
@@ -22,11 +24,13 @@ set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$repo/scripts/apt-wait.sh"
 release=${GLSLPPM_CHROOT_RELEASE:-trixie}
-case "${1:-}" in trixie|sid) release=$1; shift ;; esac
+case "${1:-}" in trixie|sid|minimal) release=$1; shift ;; esac
+suite=$release
 case "$release" in
   trixie) root=${GLSLPPM_CHROOT_TRIXIE:-${GLSLPPM_CHROOT:-$repo/build/trixie}} ;;
   sid) root=${GLSLPPM_CHROOT_SID:-$repo/build/sid} ;;
-  *) echo "blender-chroot: unknown release '$release' (trixie or sid)" >&2; exit 2 ;;
+  minimal) root=${GLSLPPM_CHROOT_MINIMAL:-$repo/build/minimal}; suite=trixie ;;
+  *) echo "blender-chroot: unknown release '$release' (trixie, sid or minimal)" >&2; exit 2 ;;
 esac
 stamp=$root/.glslppm-ready
 mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
@@ -37,6 +41,9 @@ packages=(blender g++ cmake ninja-build pkg-config python3-dev python3-numpy pyb
 # sid's Blender starts its extension manager, which imports these (Debian does not pull
 # them in; without them every start prints a traceback).
 [ "$release" = sid ] && packages+=(python3-cattr python3-requests)
+# A user's machine: Blender, the numpy official builds ship (Debian only recommends it),
+# the EGL loader and Mesa's EGL for the renderer, unzip.
+[ "$release" = minimal ] && packages=(blender python3-numpy libegl1 libegl-mesa0 libgl1-mesa-dri unzip)
 # sid's Release file may be past its Valid-Until on a mirror snapshot.
 apt_release_options="-o Acquire::Check-Valid-Until=false"
 
@@ -83,8 +90,8 @@ create() {
     }
     rm -rf "$root"
     mkdir -p "$(dirname "$root")"
-    echo "chroot: debootstrap $release into $root"
-    debootstrap --variant=minbase "$release" "$root" "$mirror" >"$root.debootstrap.log" 2>&1 || {
+    echo "chroot: debootstrap $suite into $root"
+    debootstrap --variant=minbase "$suite" "$root" "$mirror" >"$root.debootstrap.log" 2>&1 || {
       tail -20 "$root.debootstrap.log"
       echo "chroot: debootstrap failed (log: $root.debootstrap.log)" >&2
       exit 1
@@ -119,5 +126,5 @@ case "$cmd" in
   run) [ -f "$stamp" ] || create; in_chroot "$@" ;;
   shell) [ -f "$stamp" ] || create; in_chroot /bin/bash ;;
   root) echo "$root" ;;
-  *) echo "usage: $0 [trixie|sid] create|build|run CMD...|shell" >&2; exit 2 ;;
+  *) echo "usage: $0 [trixie|sid|minimal] create|build|run CMD...|shell" >&2; exit 2 ;;
 esac

@@ -6,6 +6,9 @@
 #   2. The one zip installs with `blender --command extension install-file` into a fresh
 #      user folder of each extension Blender of the matrix (4.3, 5.2) and renders a sun on a
 #      white floor within 1% of its closed form (tests/blender/extension_render.py).
+#   3. The same on a machine with Blender and nothing the project builds with: the minimal
+#      chroot (scripts/blender-chroot.sh minimal: Debian 13, Blender and Mesa's EGL, no -dev
+#      package), where ldd must find every library but the system's in the zip too.
 # Prints PASS/FAIL lines and "RESULT extension: N passed, M failed"; exits 1 on a failure.
 set -uo pipefail
 
@@ -29,7 +32,16 @@ unzip -q "$zip" -d "$out/unzipped"
 system_libs='^(linux-vdso|ld-linux-x86-64|libc|libm|libdl|libpthread|librt|libstdc\+\+|libgcc_s|libEGL|libGL|libOpenGL|libGLX|libGLdispatch)\.so'
 
 # 1. ldd of each module where it was built: every library outside the system list from the zip.
-for entry in 311:host 313:trixie 314:sid; do
+scripts/blender-chroot.sh minimal create >"$out/minimal-chroot.log" 2>&1 ||
+  { tail -20 "$out/minimal-chroot.log"; fail "the minimal chroot could not be made"; }
+# None of what the module builds with (scripts/install-deps.sh's build list); numpy's own
+# python3-numpy-dev, which Debian 13's python3-numpy depends on, is Blender's numpy.
+devs=$(scripts/blender-chroot.sh minimal run bash -c \
+  "dpkg-query -W -f='\${Package}\n' | grep -xE 'g\\+\\+|cmake|pkg-config|python3-dev|pybind11-dev|lib(epoxy|openexr|glm|egl|tinygltf|tinyobjloader|stb)-dev|nlohmann-json3-dev' | tr '\n' ' '" 2>&1)
+if [ -z "$devs" ]; then pass "minimal chroot: Blender without the project's build packages"
+else fail "minimal chroot has the project's build packages: $devs"; fi
+
+for entry in 311:host 313:trixie 314:sid 313:minimal; do
   abi=${entry%%:*} where=${entry#*:}
   module=$(ls "$out"/unzipped/_glslppm.cpython-$abi-*.so 2>/dev/null | head -1)
   [ -n "$module" ] || { fail "ldd cp$abi: no module for Python ${abi:0:1}.${abi:1} in $zip"; continue; }
@@ -53,7 +65,7 @@ for entry in 311:host 313:trixie 314:sid; do
 done
 
 # 2. Install the one zip into each extension Blender's fresh user folder and render.
-for entry in 4.3:trixie 5.2:sid; do
+for entry in 4.3:trixie 5.2:sid 4.3-minimal:minimal; do
   version=${entry%%:*}
   user=$out/user-$version
   mkdir -p "$user"

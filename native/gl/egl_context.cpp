@@ -41,11 +41,7 @@ bool has_extension(const char* list, const char* name) {
 // libepoxy aborts the process when libEGL cannot be loaded; check first so the user gets a
 // GlError with a fix instead of a crash.
 void require_libegl() {
-    static const bool loaded = [] {
-        void* handle = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL);
-        return handle != nullptr;  // kept loaded for the process lifetime
-    }();
-    if (!loaded) {
+    if (!libegl_loaded()) {
         throw GlError(
             "libEGL.so.1 could not be loaded: install Debian's libegl1 (and a GPU driver, or "
             "libegl-mesa0 and libgl1-mesa-dri for software rendering)");
@@ -418,5 +414,13 @@ void EglContext::release() noexcept {
 }
 
 EglContext::~EglContext() { release(); }
+
+bool libegl_loaded() {
+    static const bool loaded = [] {
+        void* handle = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL);
+        return handle != nullptr;  // kept loaded for the process lifetime
+    }();
+    return loaded;
+}
 
 }  // namespace glslppm::gl

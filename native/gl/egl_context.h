@@ -32,6 +32,9 @@ struct DeviceInfo {
 
 // Lists the EGL devices; empty when EGL cannot enumerate devices (no extension, no driver).
 std::vector<DeviceInfo> list_devices();
+// Whether libEGL.so.1 could be loaded. Without it every EGL call through libepoxy aborts the
+// process (Blender with it), so EGL calls outside a context's creation ask this first.
+bool libegl_loaded();
 
 // Whether the device an EglContext(device_index) would run on is a software rasterizer, known
 // before any context exists: -1 resolves as the constructor does (GLSLPPM_DEVICE, else the

@@ -35,7 +35,8 @@ void GlThread::run(int device_index, std::promise<void>& started) {
     try {
         context_ = std::make_unique<EglContext>(device_index);
     } catch (...) {
-        eglReleaseThread();
+        // Without libEGL (the error just caught says so) any EGL call would abort.
+        if (libegl_loaded()) eglReleaseThread();
         started.set_exception(std::current_exception());
         return;
     }
