@@ -85,6 +85,25 @@ def compositor_tree(scene):
     return tree, tree.nodes.new("CompositorNodeComposite")
 
 
+def color_mix_node(tree, blend_type):
+    """(node, a, b, result): a compositor node that mixes colour a with b by blend_type
+    ('ADD', 'SUBTRACT', 'MULTIPLY', ...) at factor 1. 3.x/4.x: a MixRGB node; 5.x removed
+    it from the compositor for the shared Mix node, whose colour sockets are its 'A' and 'B'
+    of type RGBA (its Factor defaults to 0.5)."""
+    if BLENDER_5:
+        node = tree.nodes.new("ShaderNodeMix")
+        node.data_type = 'RGBA'
+        node.blend_type = blend_type
+        node.inputs["Factor"].default_value = 1.0
+        a, b = (next(s for s in node.inputs if s.name == name and s.type == 'RGBA')
+                for name in ("A", "B"))
+        result = next(s for s in node.outputs if s.type == 'RGBA')
+        return node, a, b, result
+    node = tree.nodes.new("CompositorNodeMixRGB")
+    node.blend_type = blend_type
+    return node, node.inputs[1], node.inputs[2], node.outputs[0]
+
+
 def file_output_node(tree, directory, names):
     """A File Output node that writes one single-layer 32-bit EXR per name into directory,
     each file's name starting with its input's name; its inputs are named as `names`.

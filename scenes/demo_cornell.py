@@ -33,7 +33,8 @@ def shader_material(name, node_type, **inputs):
     """A material whose Surface is one shader node with these inputs (Blender's names);
     scripts/passes_compositor_image.py builds its materials with it too."""
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
+    if bpy.app.version < (5, 0, 0):  # 5.x gives every material a tree, use_nodes deprecated
+        material.use_nodes = True
     tree = material.node_tree
     for node in list(tree.nodes):
         if node.type != 'OUTPUT_MATERIAL':

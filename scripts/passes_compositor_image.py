@@ -2,11 +2,14 @@
 Caustics pass, without rendering again (docs/passes.md). Run from the repository root:
 
     GLSLPPM_MODULE_DIR=$PWD/build blender -b --factory-startup \
-        --python scripts/passes_compositor_image.py
+        --python scripts/passes_compositor_image.py [-- --out PNG --passes N]
+
+It runs in every Blender of the test matrix (the compositor through the add-on's compat).
 
 Left: Combined as rendered. Right: the composite (Combined - Caustics) + Caustics x tint.
 """
 
+import argparse
 import os
 import sys
 import tempfile
@@ -18,6 +21,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(REPO, "scenes"))
 from demo_cornell import shader_material  # noqa: E402 - found through the path above
 TINT = (1.0, 0.35, 0.08, 1.0)
+compat = None  # the add-on's version differences, once enable_addon() has imported it
 SIZE = (320, 240)
 
 
@@ -27,6 +31,8 @@ def enable_addon():
     sys.path.insert(0, link_dir)
     import glslppm
     glslppm.register()
+    global compat
+    from glslppm import compat
 
 
 def build_scene():
@@ -60,8 +66,7 @@ def build_scene():
     scene.collection.objects.link(camera)
     scene.camera = camera
     world = bpy.data.worlds.new("World")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.025, 1)
+    compat.use_nodes(world).nodes["Background"].inputs["Color"].default_value = (0.02, 0.02, 0.025, 1)
     scene.world = world
     scene.view_layers[0].glslppm.use_pass_light_split = True
     scene.view_layers[0].use_pass_emit = True
@@ -70,26 +75,19 @@ def build_scene():
 
 
 def tint_caustics(scene):
-    """Render Layers -> (Image - Caustics) + Caustics x TINT -> Composite."""
-    scene.use_nodes = True
-    tree = scene.node_tree
-    for node in list(tree.nodes):
-        tree.nodes.remove(node)
+    """Render Layers -> (Image - Caustics) + Caustics x TINT -> the composite."""
+    tree, composite = compat.compositor_tree(scene)
     layers = tree.nodes.new("CompositorNodeRLayers")
-    rest = tree.nodes.new("CompositorNodeMixRGB")
-    rest.blend_type = 'SUBTRACT'
-    tree.links.new(layers.outputs["Image"], rest.inputs[1])
-    tree.links.new(layers.outputs["Caustics"], rest.inputs[2])
-    tinted = tree.nodes.new("CompositorNodeMixRGB")
-    tinted.blend_type = 'MULTIPLY'
-    tree.links.new(layers.outputs["Caustics"], tinted.inputs[1])
-    tinted.inputs[2].default_value = TINT
-    total = tree.nodes.new("CompositorNodeMixRGB")
-    total.blend_type = 'ADD'
-    tree.links.new(rest.outputs[0], total.inputs[1])
-    tree.links.new(tinted.outputs[0], total.inputs[2])
-    composite = tree.nodes.new("CompositorNodeComposite")
-    tree.links.new(total.outputs[0], composite.inputs["Image"])
+    _, image, caustics, rest = compat.color_mix_node(tree, 'SUBTRACT')
+    tree.links.new(layers.outputs["Image"], image)
+    tree.links.new(layers.outputs["Caustics"], caustics)
+    _, caustics, tint, tinted = compat.color_mix_node(tree, 'MULTIPLY')
+    tree.links.new(layers.outputs["Caustics"], caustics)
+    tint.default_value = TINT
+    _, first, second, total = compat.color_mix_node(tree, 'ADD')
+    tree.links.new(rest, first)
+    tree.links.new(tinted, second)
+    tree.links.new(total, composite.inputs["Image"])
 
 
 def render_png(scene, path):
@@ -105,8 +103,14 @@ def render_png(scene, path):
 
 
 def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(prog="passes_compositor_image.py")
+    parser.add_argument("--out", default=os.path.join(REPO, "docs", "passes-compositor.png"))
+    parser.add_argument("--passes", type=int, default=96)
+    args = parser.parse_args(argv)
     enable_addon()
     scene = build_scene()
+    scene.glslppm.passes = args.passes
     work = tempfile.mkdtemp(prefix="glslppm-passes-doc-")
     scene.render.use_compositing = False
     plain = render_png(scene, os.path.join(work, "combined.png"))
@@ -117,7 +121,7 @@ def main():
     joined = np.concatenate([plain, gap, tinted], axis=1)
     out = bpy.data.images.new("passes-compositor", joined.shape[1], joined.shape[0])
     out.pixels.foreach_set(joined.ravel())
-    out.filepath_raw = os.path.join(REPO, "docs", "passes-compositor.png")
+    out.filepath_raw = os.path.abspath(args.out)
     out.file_format = 'PNG'
     out.save()
     print("wrote", out.filepath_raw)

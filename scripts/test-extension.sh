@@ -9,6 +9,8 @@
 #   3. The same on a machine with Blender and nothing the project builds with: the minimal
 #      chroot (scripts/blender-chroot.sh minimal: Debian 13, Blender and Mesa's EGL, no -dev
 #      package), where ldd must find every library but the system's in the zip too.
+#   4. The demo (scenes/demo_cornell.py), small, rendered from the zip in each of them:
+#      pixel for pixel (to float rounding) the image of the module the other suites tested.
 # Prints PASS/FAIL lines and "RESULT extension: N passed, M failed"; exits 1 on a failure.
 set -uo pipefail
 
@@ -88,6 +90,38 @@ for entry in 4.3:trixie 5.2:sid 4.3-minimal:minimal; do
     f=$(sed -n 's/.*: \([0-9]*\) passed, \([0-9]*\) failed.*/\2/p' <<<"$result")
     passed=$((passed + p)); failed=$((failed + f))
     [ "$f" -eq 0 ] || grep -B30 "^FAIL" "$log" | grep -v "^PASS" | head -40
+  fi
+done
+
+# 4. The demo (scenes/demo_cornell.py, what `make demo` renders) from the zip, small: in
+#    each Blender it must equal, pixel for pixel to float rounding, the same render by the
+#    module the other suites tested (that Blender's build tree, through GLSLPPM_MODULE_DIR),
+#    so the zip's module and the libraries it bundles render what was tested; the minimal
+#    chroot's must equal Debian 13's (the same Blender 4.3 and Mesa). A render is fixed by
+#    its seed and pass count up to the order of atomic float sums
+#    (tests/blender/extension_demo_compare.py states the bound).
+demo_args=(--size 48 --passes 8 --photons 16384)
+for entry in 4.3:trixie:build-trixie 5.2:sid:build-sid 4.3-minimal:minimal:; do
+  IFS=: read -r version where build <<<"$entry"
+  [ -d "$out/user-$version" ] || continue
+  blender_env_prefix "$version:$where"
+  log=$out/demo-$version.log
+  "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$out/user-$version" blender -b \
+    --factory-startup --python scenes/demo_cornell.py -- --out "/src/$out/$version/demo-zip" \
+    "${demo_args[@]}" >"$log" 2>&1
+  reference=$out/4.3/demo-zip.exr
+  if [ -n "$build" ]; then
+    "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$out/user-$version" \
+      GLSLPPM_MODULE_DIR="/src/$build" blender -b --factory-startup \
+      --python scenes/demo_cornell.py -- --out "/src/$out/$version/demo-build" \
+      "${demo_args[@]}" >>"$log" 2>&1
+    reference=$out/$version/demo-build.exr
+  fi
+  if verdict=$(PYTHONPATH=build /usr/bin/python3 tests/blender/extension_demo_compare.py \
+      "$out/$version/demo-zip.exr" "$reference" 2>&1); then
+    pass "demo from the zip in Blender $version: $verdict"
+  else
+    tail -20 "$log"; fail "demo from the zip in Blender $version: $verdict"
   fi
 done
 

@@ -1,0 +1,51 @@
+"""Run by scripts/test-extension.sh with the host's Python and the build's module:
+
+    PYTHONPATH=build python3 tests/blender/extension_demo_compare.py ZIP.exr REFERENCE.exr
+
+ZIP.exr is the demo rendered by the add-on installed from the extension zip, REFERENCE.exr
+the same render by the module the other suites tested (or, for the minimal chroot, the
+zip's render in Debian 13's own chroot). A render is fixed by its seed and pass count up to
+the order in which llvmpipe's threads add floats atomically (measured: largest difference
+2.4e-7 on pixels near 0.6), so each pixel must agree within 1e-5 of its value plus 1e-6:
+a different library or a wrong module changes the image by far more. The demo must also be
+finite and not black.
+Prints one line saying what was compared; exits 1 with the reason otherwise.
+"""
+
+import os
+import sys
+
+import numpy as np
+
+import _glslppm
+
+RELATIVE, ABSOLUTE = 1e-5, 1e-6
+
+
+def main():
+    zip_path, reference_path = sys.argv[1:3]
+    zip_image, reference = (np.asarray(_glslppm.read_exr(path)[0])[..., :3]
+                            for path in (zip_path, reference_path))
+    problems = []
+    if zip_image.shape != reference.shape:
+        problems.append(f"sizes differ: {zip_image.shape} against {reference.shape}")
+    elif not np.isfinite(zip_image).all():
+        problems.append("inf or NaN in the demo")
+    else:
+        mean = float(zip_image.mean())
+        excess = np.abs(zip_image - reference) - (RELATIVE * np.abs(reference) + ABSOLUTE)
+        difference = float(np.abs(zip_image - reference).max())
+        if mean < 0.05:
+            problems.append(f"the demo is black (mean {mean:.6f})")
+        if excess.max() > 0.0:
+            problems.append(f"{int((excess > 0).sum())} pixels differ beyond the bound, largest "
+                            f"difference {difference:.3g} (mean {mean:.6f})")
+    reference_name = os.path.join(*reference_path.split(os.sep)[-2:])
+    if problems:
+        print("; ".join(problems) + f", against {reference_name}")
+        sys.exit(1)
+    print(f"mean {mean:.6f}, every pixel within 1e-5 of {reference_name} "
+          f"(largest difference {difference:.2g})")
+
+
+main()
