@@ -58,6 +58,11 @@ for entry in 311:host 313:trixie 314:sid 313:minimal; do
     else outside+=("$soname => $path"); fi
   done <<<"$lines"
   needed=$(readelf -d "$module" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')
+  # The oldest system it loads on: the newest glibc and libstdc++ symbol versions that the
+  # module and its bundled libraries ask for.
+  newest() { objdump -T "$module" "$out"/unzipped/libs/cp$abi/*.so* 2>/dev/null |
+      grep -o "$1_[0-9.]*" | sort -uV | tail -1; }
+  needed="$needed(oldest system: $(newest GLIBC), $(newest GLIBCXX))"
   if [ ${#outside[@]} -eq 0 ] && [ ${#from_zip[@]} -gt 0 ] && ! grep -q "not found" <<<"$lines"; then
     pass "ldd cp$abi ($where): needs $needed; from the zip: ${from_zip[*]}"
   else
