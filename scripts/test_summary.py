@@ -1,5 +1,7 @@
 """The summary `make test` ends with: what each suite ran, on which Blender versions, how
-many tests were skipped and why. Reads the logs scripts/test-all.sh wrote.
+many tests were skipped and why, and each suite's 20 slowest tests (a test over 30 s
+carries a slow mark that says why; the list names any that does not). Reads the logs
+scripts/test-all.sh wrote.
 
     python3 scripts/test_summary.py LOG_DIR SUITE...
 
@@ -96,6 +98,44 @@ def fuzz(text):
                      f"{failed} crashed")
 
 
+SLOWEST_SHOWN = 20
+SLOW_SECONDS = 30.0
+
+
+def durations(text):
+    """[(seconds, name, note)] of one suite's log, slowest first: the DURATION lines of the
+    pytest and Blender runners (tests/python/conftest.py, tests/blender/run.py), else
+    ctest's "Test #N: name .... Passed 1.23 sec", the bench's "name: 1.2 s (command)" and
+    the UI suites' "PASS name (1.2 s)" (their label in brackets). Slow marks are the pytest
+    and Blender tests' (their runners flag a test over 30 s without one); a UI suite's step
+    is one stage of a session in Blender's window, a GoogleTest is timed by ctest alone."""
+    found = [(float(s), name, note.strip()) for s, name, note in
+             re.findall(r"^DURATION ([\d.]+) (\S+(?: \[Blender [\d.]+\])?)(.*)$", text, re.M)]
+    if not found:
+        found = [(float(s), name, "") for name, s in
+                 re.findall(r"^\s*\d+/\d+ Test\s+#\d+: (\S+) \.+\s*\**\w+\s+([\d.]+) sec",
+                            text, re.M)]
+        found += [(float(s), f"{name} ({command})", "") for name, s, command in
+                  re.findall(r"^(\S+): ([\d.]+) s\s+\((.*)\)$", text, re.M)]
+        found += [(float(s), f"{name} {label or ''}".strip(), "") for label, name, s in
+                  re.findall(r"^(\[[^\]]+\] )?(?:PASS|FAIL) (\S+) \(([\d.]+) s\)", text, re.M)]
+    return sorted(found, key=lambda item: -item[0])
+
+
+def print_slowest(log_dir, suites):
+    unmarked = 0
+    for suite in suites:
+        found = durations(read(os.path.join(log_dir, f"{suite}.log")) or "")
+        unmarked += sum("NOT MARKED SLOW" in note for _, _, note in found)
+        if not found:
+            continue
+        print(f"-- {suite}: the {min(len(found), SLOWEST_SHOWN)} slowest of {len(found)} --")
+        for seconds, name, note in found[:SLOWEST_SHOWN]:
+            print(f"  {seconds:7.1f} s  {name} {note}".rstrip())
+    if unmarked:
+        print(f"{unmarked} tests took over {SLOW_SECONDS:.0f} s without a slow mark saying why")
+
+
 PARSERS = {"native": ctest, "python": pytest, "bench": bench, "blender": blender,
            "viewport": blender, "user-path": blender, "extension": extension, "sanitize": ctest,
            "fuzz-replay": fuzz}
@@ -107,6 +147,8 @@ def main():
     total = 0
     skipped = []
     versions = []
+    print("== slowest tests ==")
+    print_slowest(log_dir, suites)
     print("== test summary ==")
     for suite in suites:
         text = read(os.path.join(log_dir, f"{suite}.log"))

@@ -23,6 +23,16 @@ def compat():
     return ADDON.compat
 
 
+def slow(reason):
+    """Marks a test that takes over 30 s on this project's 2-core machine, saying why it
+    needs that long; tests/blender/run.py lists the slowest tests with their reasons and
+    names any over 30 s without one."""
+    def mark(test):
+        test.slow_reason = reason
+        return test
+    return mark
+
+
 class Skip(Exception):
     """Raised by a test that cannot run here (the message says why)."""
 

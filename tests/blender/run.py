@@ -87,6 +87,7 @@ def main():
                     continue
                 run_test(full, test, passed, failed, skipped)
     seconds = time.perf_counter() - started
+    print_slowest()
     print(f"RESULT Blender {version}: {len(passed)} passed, {len(failed)} failed, "
           f"{len(skipped)} skipped in {seconds:.0f} s", flush=True)
     for name in failed:
@@ -94,10 +95,39 @@ def main():
     sys.exit(1 if failed else 0)
 
 
+# Each test's seconds and its slow mark's reason (helpers.slow), for print_slowest.
+DURATIONS = {}
+SLOW_SECONDS = 30.0
+
+
+def print_slowest(count=20):
+    """The slowest tests as DURATION lines (scripts/test_summary.py lists them): over 30 s a
+    test carries helpers.slow("why"), and a line names any that does not."""
+    import bpy
+    version = ".".join(map(str, bpy.app.version))
+    print(f"{count} slowest tests in Blender {version} (over {SLOW_SECONDS:.0f} s they carry "
+          "helpers.slow, which says why):")
+    for name, (seconds, reason) in sorted(DURATIONS.items(), key=lambda item: -item[1][0])[:count]:
+        line = f"DURATION {seconds:.1f} {name} [Blender {version}]"
+        if reason is not None:
+            line += f" (slow: {reason})"
+        elif seconds > SLOW_SECONDS:
+            line += f" (over {SLOW_SECONDS:.0f} s, NOT MARKED SLOW)"
+        print(line)
+
+
 def run_test(full, test, passed, failed, skipped):
     import helpers
     helpers.reset_scene()
     began = time.perf_counter()
+    try:
+        _run_test(full, test, passed, failed, skipped, began)
+    finally:
+        DURATIONS[full] = (time.perf_counter() - began, getattr(test, "slow_reason", None))
+
+
+def _run_test(full, test, passed, failed, skipped, began):
+    import helpers
     try:
         test()
     except helpers.Skip as reason:

@@ -74,3 +74,46 @@ def look_at(eye, target, up=(0.0, 1.0, 0.0)):
     m = np.eye(4)
     m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = right, true_up, back, eye
     return m.astype(np.float32)
+
+
+# Test durations. `make test` lists each suite's 20 slowest tests (scripts/test_summary.py
+# reads the DURATION lines printed below); a test over SLOW_SECONDS on this project's
+# 2-core machine carries @pytest.mark.slow("why it needs that long"), and the list names
+# any that does not.
+SLOW_SECONDS = 30.0
+SLOWEST_SHOWN = 20
+_durations = {}
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow(reason): a test that takes over 30 s here, and why")
+
+
+def pytest_runtest_logreport(report):
+    _durations[report.nodeid] = _durations.get(report.nodeid, 0.0) + report.duration
+
+
+def pytest_collection_modifyitems(items):
+    for item in items:
+        mark = item.get_closest_marker("slow")
+        if mark is not None:
+            _slow_reasons[item.nodeid] = mark.args[0] if mark.args else ""
+
+
+_slow_reasons = {}
+
+
+def pytest_terminal_summary(terminalreporter):
+    slowest = sorted(_durations.items(), key=lambda item: -item[1])[:SLOWEST_SHOWN]
+    terminalreporter.write_line(f"{SLOWEST_SHOWN} slowest tests (over {SLOW_SECONDS:.0f} s "
+                                "they carry a slow mark that says why):")
+    for name, seconds in slowest:
+        terminalreporter.write_line(duration_line(name, seconds, _slow_reasons.get(name)))
+
+
+def duration_line(name, seconds, reason):
+    """DURATION SECONDS NAME [(slow: REASON) | (over 30 s, NOT MARKED SLOW)]"""
+    line = f"DURATION {seconds:.1f} {name}"
+    if reason is not None:
+        return f"{line} (slow: {reason})"
+    return f"{line} (over {SLOW_SECONDS:.0f} s, NOT MARKED SLOW)" if seconds > SLOW_SECONDS else line

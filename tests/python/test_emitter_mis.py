@@ -140,6 +140,8 @@ def test_white_lobe_under_half_an_emitter_and_half_the_world(glslppm, kind):
 # A 1 x 1 emitter of radiance 4 at height 1 beside the camera's view, its highlight on the
 # plane in the middle of the image: three estimators of the same light, each the mean of the
 # image over six seeds of 256 passes.
+@pytest.mark.slow("three estimators over six seeds of 256 passes each, so that their "
+                  "means agree within 1%")
 @pytest.mark.parametrize("kind,roughness,light,textured", [
     ("conductor", 0.3, "quad", False),
     ("conductor", 0.3, "area", False),

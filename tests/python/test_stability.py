@@ -146,6 +146,7 @@ def test_radii_shrink_to_a_floor_relative_to_the_scene(glslppm, scale):
     assert np.isfinite(r.film()).all()
 
 
+@pytest.mark.slow("50,000 passes: the convergence slope over the last two decades")
 def test_long_run_counts_exactly_and_keeps_converging(glslppm):
     """50,000 passes of the box furnace (8x8 pixels, 64 photons; 8-25 s on llvmpipe):
     at every checkpoint the film is finite, the pass and photon counts are exact, the mean

@@ -131,6 +131,7 @@ def test_a_tile_callback_that_returns_false_stops_the_render(glslppm):
         g.render_tiled(g.cornell_box(sphere_rings=8), capped(g), 2, cancel=flag)
 
 
+@pytest.mark.slow("a 3840 x 2160 render, the size that needs tiles on llvmpipe")
 def test_4k_renders_in_tiles_where_one_buffer_cannot_hold_it(glslppm, tmp_path):
     """3840 x 2160: 8.3 Mpixels of 48-byte visible points (380 MiB) are refused as one
     renderer on llvmpipe (128 MiB per buffer) and render as bands of rows instead."""
