@@ -87,7 +87,8 @@ def inward_box(lo, hi):
             quad((x1, y0, z0), (x1, y0, z1), (x1, y1, z1), (x1, y1, z0))]
 
 
-@pytest.mark.slow("10.5 million photons read back pass by pass to hold the Fresnel flux to its bound")
+@pytest.mark.slow("10.5 million photons read back pass by pass to hold the Fresnel flux "
+                  "to its bound")
 def test_glass_ball_photon_flux_matches_fresnel_closed_form(glslppm):
     """A parallel beam of radius 0.7 falls straight down onto a glass ball of radius 0.5
     (centre 1 above the floor) inside a black box. Every photon is stored where it first lands;
