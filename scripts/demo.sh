@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `make demo`: installs the add-on, builds the demo Cornell box (glass sphere, mirror
-# sphere, ceiling area light; scenes/demo_cornell.py) and renders it with `blender -b`
+# sphere, ceiling area light; demo/cornell_box.py) and renders it with `blender -b`
 # and the GLSLPPM engine into out/demo.png and out/demo.exr, printing progress.
 #
 # Environment: DEMO_BLENDER=3.4|4.3|5.2 (default 3.4; 4.3 runs in the Debian 13 chroot,
@@ -25,9 +25,9 @@ case "$blender_version" in
   5.2) chroot=(scripts/blender-chroot.sh sid run) ;;
 esac
 if [ ${#chroot[@]} -gt 0 ]; then
-  "${chroot[@]}" blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
+  "${chroot[@]}" blender -b --factory-startup --python demo/cornell_box.py -- "${args[@]}"
 else
-  blender -b --factory-startup --python scenes/demo_cornell.py -- "${args[@]}"
+  blender -b --factory-startup --python demo/cornell_box.py -- "${args[@]}"
 fi 2>&1 | grep --line-buffered -vE "^$|^Blender quit"
 [ -s out/demo.png ] && [ -s out/demo.exr ] || { echo "demo: no image was written" >&2; exit 1; }
 echo "demo: out/demo.png and out/demo.exr in $((SECONDS - started)) s (scene: out/demo.blend)"

@@ -18,8 +18,8 @@ import bpy
 import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO, "scenes"))
-from demo_cornell import shader_material  # noqa: E402 - found through the path above
+sys.path.insert(0, os.path.join(REPO, "demo"))
+from cornell_box import shader_material  # noqa: E402 - found through the path above
 TINT = (1.0, 0.35, 0.08, 1.0)
 compat = None  # the add-on's version differences, once enable_addon() has imported it
 SIZE = (320, 240)

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_scene.h"
-#include "scenes/bumpy_sphere_mesh.h"
+#include "procedural/bumpy_sphere_mesh.h"
 #include "bvh/traverse_cpu.h"
 
 namespace {

@@ -7,11 +7,11 @@
 #include <stdexcept>
 
 #include "gl/device_list.h"
-#include "scenes/caustic_scene.h"
-#include "scenes/cornell_box.h"
-#include "scenes/instances_scene.h"
-#include "scenes/million_scene.h"
-#include "scenes/shapes.h"
+#include "procedural/caustic_scene.h"
+#include "procedural/cornell_box.h"
+#include "procedural/instances_scene.h"
+#include "procedural/million_scene.h"
+#include "procedural/shapes.h"
 #if __has_include("loaders/scene_file.h")
 #include "loaders/scene_file.h"
 #define GLSLPPM_HAS_SCENE_FILE 1

@@ -20,7 +20,7 @@
 #include "render/farm_merge.h"
 #include "render/renderer.h"
 #include "render/tiled_render.h"
-#include "scenes/cornell_box.h"
+#include "procedural/cornell_box.h"
 
 using namespace glslppm;
 

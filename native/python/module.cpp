@@ -28,8 +28,8 @@
 #include "render/tiled_render.h"
 #include "scene/scene.h"
 #include "scene/scene_hash.h"
-#include "scenes/caustic_scene.h"
-#include "scenes/cornell_box.h"
+#include "procedural/caustic_scene.h"
+#include "procedural/cornell_box.h"
 
 namespace py = pybind11;
 using namespace glslppm;

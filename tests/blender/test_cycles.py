@@ -19,12 +19,12 @@ import helpers
 REFERENCE_SAMPLES = 128
 
 
-def _scenes_module():
-    scenes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenes")
-    if scenes not in sys.path:
-        sys.path.insert(0, os.path.abspath(scenes))
-    import demo_cornell
-    return demo_cornell
+def _demo_module():
+    demo = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "demo")
+    if demo not in sys.path:
+        sys.path.insert(0, os.path.abspath(demo))
+    import cornell_box
+    return cornell_box
 
 
 def _render_both(name, passes, photons, samples=REFERENCE_SAMPLES):
@@ -52,7 +52,7 @@ def test_diffuse_cornell_box_matches_cycles():
     is hidden from the camera here: seen edge-on it is a sliver one pixel tall, whose
     40 W/m^2 sr Cycles' pixel filter spreads over its neighbours."""
     helpers.reset_scene(size=(64, 64))
-    _scenes_module().build_cornell_box(glass=False, mirror=False)
+    _demo_module().build_cornell_box(glass=False, mirror=False)
     bpy.data.objects["CeilingLight"].visible_camera = False
     ours, reference = _render_both("cornell", passes=128, photons=32768)
     errors, a, b = _relative_errors(ours, reference, 4)
@@ -74,7 +74,7 @@ def test_demo_cornell_box_with_glass_and_mirror_spheres_matches_cycles():
     bias in the glass alone; tests/python/test_specular_closed_forms.py does. Measured under
     3.4: mean 1.3%, worst 5.8%, image mean ratio 0.9955."""
     helpers.reset_scene(size=(64, 64))
-    _scenes_module().build_cornell_box(glass=True, mirror=True)
+    _demo_module().build_cornell_box(glass=True, mirror=True)
     bpy.data.objects["CeilingLight"].visible_camera = False
     ours, reference = _render_both("cornell_spheres", passes=192, photons=32768,
                                    samples=1024)
@@ -107,7 +107,7 @@ def test_cornell_box_with_boxes_matches_cycles_in_both_direct_light_modes():
     too loose for a 1% bias, which the closed-form module tests catch; here the shadows'
     placement is what is tested, and that light sampling is the closer of the two."""
     helpers.reset_scene(size=(64, 64))
-    _scenes_module().build_cornell_box(glass=False, mirror=False)
+    _demo_module().build_cornell_box(glass=False, mirror=False)
     bpy.data.objects["CeilingLight"].visible_camera = False
     white = bpy.data.materials["White"]
     _box("ShortBox", (-0.65, -0.55, 0.0), (-0.05, 0.05, 0.6), white)

@@ -26,7 +26,7 @@ from mathutils import Vector
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(HERE, "..", "..", "scenes"))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "demo"))
 
 import helpers  # noqa: E402
 from run import enable_addon  # noqa: E402
@@ -175,9 +175,9 @@ def srgb(linear):
 
 
 def cornell(glass=False):
-    import demo_cornell
+    import cornell_box
     scene = helpers.reset_scene(size=SIZE)
-    demo_cornell.build_cornell_box(glass=glass, mirror=False)
+    cornell_box.build_cornell_box(glass=glass, mirror=False)
     scene.render.dither_intensity = 0.0
     settings = scene.glslppm
     settings.viewport_passes = PASSES
@@ -562,9 +562,9 @@ class Driver:
 def capture_for_docs(path, passes):
     """Not a test: the Cornell box with glass and mirror spheres in the rendered viewport,
     header text shown, saved after `passes` passes (docs/viewport.md's image)."""
-    import demo_cornell
+    import cornell_box
     scene = helpers.reset_scene(size=SIZE)
-    demo_cornell.build_cornell_box(glass=True, mirror=True)
+    cornell_box.build_cornell_box(glass=True, mirror=True)
     scene.glslppm.viewport_passes = 1024
     _, _, space, _ = view3d()
     space.overlay.show_overlays = True

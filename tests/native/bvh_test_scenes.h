@@ -12,7 +12,7 @@
 
 #include "bvh/aabb.h"
 #include "bvh/intersect.h"
-#include "scenes/bumpy_sphere_mesh.h"
+#include "procedural/bumpy_sphere_mesh.h"
 
 namespace glslppm::bvh_test {
 

@@ -9,7 +9,7 @@
 
 #include "gl/object_counts.h"
 #include "render/scene_preparation.h"
-#include "scenes/cornell_box.h"
+#include "procedural/cornell_box.h"
 
 namespace glslppm {
 namespace {

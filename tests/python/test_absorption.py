@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, quad
-from scenes import placement, unit_cube
+from scene_builders import placement, unit_cube
 
 SIGMA = np.array([0.2, 0.7, 1.6])  # per unit length, one per channel
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, quad, sphere
-from scenes import glass_ball_beam
+from scene_builders import glass_ball_beam
 
 IOR = 1.5
 

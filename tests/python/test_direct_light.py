@@ -412,7 +412,7 @@ def test_one_bright_texel_casts_a_sharp_shadow_sampled(glslppm):
     texel's radiance times its solid angle times cos, within the noise of picking the texel
     among the bilinear footprint's neighbours."""
     g = glslppm
-    from scenes import direction_of_texel
+    from scene_builders import direction_of_texel
     w, hgt = 64, 32
     x_texel, y_texel = 16, 24
     d = direction_of_texel(x_texel, y_texel, w, hgt)
@@ -487,7 +487,7 @@ def test_caustic_photons_are_kept_and_first_hits_dropped(glslppm):
     reflections (black walls end every other path), all above the mirror."""
     g = glslppm
     from conftest import merge, quad
-    from scenes import axis_box
+    from scene_builders import axis_box
     room = axis_box((-2, -2, -2), (2, 2, 2))
     room = (room[0], room[1][:, ::-1].copy())   # inward-facing
     slab_top = quad((-0.5, 0.5, -0.5), (-0.5, 0.5, 0.5), (0.5, 0.5, 0.5), (0.5, 0.5, -0.5))

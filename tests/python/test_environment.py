@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import sphere
-from scenes import direction_of_texel
+from scene_builders import direction_of_texel
 
 
 def ortho_camera(g, position, rotation=None, scale=2.4):

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, sphere
-from scenes import inward_box
+from scene_builders import inward_box
 
 
 def equilibrium_scene(g, glass, inner):

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at
-from scenes import inward_box
+from scene_builders import inward_box
 
 
 def sky_cube(g, material, angle):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at
-from scenes import instanced_scene, placement
+from scene_builders import instanced_scene, placement
 
 
 def flatten(kw):

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import BUILD
-from scenes import glass_ball_beam
+from scene_builders import glass_ball_beam
 
 RENDER = os.path.join(BUILD, "glslppm-render")
 MERGE = os.path.join(BUILD, "glslppm-merge")

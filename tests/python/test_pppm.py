@@ -204,7 +204,7 @@ def test_two_workers_trace_instances_through_the_two_levels(glslppm):
     """Every worker gets the two-level MTBVH and its instance records: two workers on one
     device give the one worker's image of an instanced scene (mirrors, glass, 8 instances)
     within the merge bound, and the scene hash follows the instance table."""
-    from scenes import instanced_scene
+    from scene_builders import instanced_scene
     g = glslppm
     kw = instanced_scene(g)
     scene = g.Scene(**kw)

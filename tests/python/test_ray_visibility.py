@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, native, quad
-from scenes import render
+from scene_builders import render
 
 FLOOR = quad((-2, 0, -2), (-2, 0, 2), (2, 0, 2), (2, 0, -2))
 OCCLUDER = quad((-0.4, 1, -0.4), (-0.4, 1, 0.4), (0.4, 1, 0.4), (0.4, 1, -0.4))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, quad
-from scenes import glass_ball_beam
+from scene_builders import glass_ball_beam
 from test_caustic_flux import floor_footprints, grow, pixel_of, sphere
 from test_textures import stripes
 

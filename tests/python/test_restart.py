@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from conftest import look_at
-from scenes import shape_quad
+from scene_builders import shape_quad
 
 PASSES = 4
 

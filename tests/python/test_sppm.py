@@ -13,7 +13,7 @@ import pytest
 
 from closed_forms import furnace_scene
 from conftest import look_at, merge, quad, sphere
-from scenes import axis_box
+from scene_builders import axis_box
 
 
 @pytest.mark.parametrize("albedo,hash_mode,inward", [

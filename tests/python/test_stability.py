@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import native
-from scenes import block_means, box_furnace, cornell_box, lamp_over_floor, render
+from scene_builders import block_means, box_furnace, cornell_box, lamp_over_floor, render
 
 
 # --- 1. scale -----------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 
-from scenes import box_furnace, cornell_box, lamp_over_floor, render
+from scene_builders import box_furnace, cornell_box, lamp_over_floor, render
 
 
 def test_radius_below_the_floor_never_grows(glslppm):

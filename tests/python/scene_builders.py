@@ -1,5 +1,5 @@
 """Scenes several test files share, built from numpy arrays as the built-in ones are in C++
-(native/scenes/): the Cornell box replica, a closed box furnace, a lamp over a floor, a
+(native/procedural/): the Cornell box replica, a closed box furnace, a lamp over a floor, a
 glass ball focusing a beam onto a floor, an axis-aligned box, an instanced scene (mirrored
 and scaled instances of a ball and a cube), Blender's equirectangular texel directions, and
 a render helper that returns film, stats and photons. Test files import from here, never
@@ -13,7 +13,7 @@ from conftest import look_at, merge, quad, sphere
 
 
 def shape_quad(a, b, c, d):
-    """native/scenes/shapes.cpp make_quad: four corners, the face normal at each."""
+    """native/procedural/shapes.cpp make_quad: four corners, the face normal at each."""
     a, b, c, d = (np.array(v, np.float32) for v in (a, b, c, d))
     n = np.cross(b - a, c - a)
     n = (n / np.linalg.norm(n)).astype(np.float32)
@@ -22,7 +22,7 @@ def shape_quad(a, b, c, d):
 
 
 def shape_sphere(center, radius, rings, segments):
-    """native/scenes/shapes.cpp make_sphere, in float32 as the C++ computes it."""
+    """native/procedural/shapes.cpp make_sphere, in float32 as the C++ computes it."""
     pi = np.float32(3.14159265358979)
     positions, normals = [], []
     for i in range(rings + 1):
@@ -48,7 +48,7 @@ def shape_sphere(center, radius, rings, segments):
 
 
 def cornell_box(g, scale=1.0, light=17.0, rings=16):
-    """native/scenes/cornell_box.cpp rebuilt from arrays, so that its positions and camera
+    """native/procedural/cornell_box.cpp rebuilt from arrays, so that its positions and camera
     can be scaled and its light changed (test_replica_is_the_builtin_cornell_box)."""
     parts = [
         (shape_quad((-1, 0, -1), (-1, 0, 1), (1, 0, 1), (1, 0, -1)), 0),  # floor

@@ -1,9 +1,9 @@
-#include "scenes/sphere_field_room.h"
+#include "procedural/sphere_field_room.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "scenes/shapes.h"
+#include "procedural/shapes.h"
 
 namespace glslppm {
 

@@ -1,8 +1,8 @@
-#include "scenes/cornell_box.h"
+#include "procedural/cornell_box.h"
 
 #include <cmath>
 
-#include "scenes/shapes.h"
+#include "procedural/shapes.h"
 
 namespace glslppm {
 

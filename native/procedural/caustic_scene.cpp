@@ -1,8 +1,8 @@
-#include "scenes/caustic_scene.h"
+#include "procedural/caustic_scene.h"
 
 #include <cmath>
 
-#include "scenes/shapes.h"
+#include "procedural/shapes.h"
 
 namespace glslppm {
 namespace {

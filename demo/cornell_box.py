@@ -4,7 +4,7 @@ area light, built from scratch with bpy. The Blender tests import
 
 Render it (what `make demo` does):
 
-    blender -b --factory-startup --python scenes/demo_cornell.py -- \
+    blender -b --factory-startup --python demo/cornell_box.py -- \
         --out out/demo --size 512 --passes 256 [--save out/demo.blend]
 
 writes out/demo.png (display-referred, through Blender's colour management) and
@@ -115,7 +115,7 @@ def _clear():
 
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    parser = argparse.ArgumentParser(prog="demo_cornell.py")
+    parser = argparse.ArgumentParser(prog="cornell_box.py")
     parser.add_argument("--out", default="out/demo")
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--passes", type=int, default=256)

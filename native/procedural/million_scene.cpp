@@ -1,10 +1,10 @@
-#include "scenes/million_scene.h"
+#include "procedural/million_scene.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "scenes/shapes.h"
-#include "scenes/sphere_field_room.h"
+#include "procedural/shapes.h"
+#include "procedural/sphere_field_room.h"
 
 namespace glslppm {
 

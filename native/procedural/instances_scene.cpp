@@ -1,11 +1,11 @@
-#include "scenes/instances_scene.h"
+#include "procedural/instances_scene.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 
-#include "scenes/shapes.h"
-#include "scenes/sphere_field_room.h"
+#include "procedural/shapes.h"
+#include "procedural/sphere_field_room.h"
 
 namespace glslppm {
 namespace {

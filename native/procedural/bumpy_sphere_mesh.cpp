@@ -1,4 +1,4 @@
-#include "scenes/bumpy_sphere_mesh.h"
+#include "procedural/bumpy_sphere_mesh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "scenes/shapes.h"
+#include "procedural/shapes.h"
 
 #include <cmath>
 
