@@ -11,7 +11,7 @@ once per pass, so each preset aims a pass at a target time set from that fixed c
     photons per pass    = photon bounces/s x (target - pixels / eye rays/s)
 
 clamped to the preset's [lowest, highest] and rounded to a power of two, with both rates
-measured on the render device (engine/device_speed.py, once per session). photon_to_eye is
+measured on the render device (device_speed.py, once per session). photon_to_eye is
 what the measured optima spend on photons against the rest of a pass: 1.0 on the H200 at
 512x512 (262,144 photons, the best count at equal time, take 0.46 ms of photon trace and
 hashing of a 0.93 ms pass; docs/performance.md, "NVIDIA H200"), 0.5 or less on llvmpipe,
@@ -22,7 +22,7 @@ import bpy
 from bpy.props import EnumProperty
 
 from .. import native_module
-from ..engine import device_speed
+from .. import device_speed
 from . import preferences
 
 # key -> label, description, how photons per pass are sized, and the settings it writes

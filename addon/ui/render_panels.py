@@ -2,7 +2,8 @@
 
 import bpy
 
-from ..engine import device_speed, progressive
+from .. import device_speed
+from ..engine import progressive
 from ..properties import preferences
 
 

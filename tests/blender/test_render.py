@@ -330,7 +330,7 @@ def test_presets_size_photons_from_the_measured_device_speed():
     add_light('POINT', 200.0, location=(0, 0, 2))
     add_camera((0, -2.8, 0), (math.radians(90), 0, 0), lens=18.0)
     presets = helpers.ADDON.properties.presets
-    device_speed = importlib.import_module(helpers.ADDON.__name__ + ".engine.device_speed")
+    device_speed = importlib.import_module(helpers.ADDON.__name__ + ".device_speed")
     native_scene = importlib.import_module(helpers.ADDON.__name__ + ".engine.native_scene")
     native = helpers.load_native()
     settings = bpy.context.scene.glslppm

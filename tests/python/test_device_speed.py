@@ -1,13 +1,12 @@
 """The device-speed measurement the add-on's presets size photons per pass from
-(addon/engine/device_speed.py: plain Python on the module, loaded here from its file)."""
+(addon/device_speed.py: plain Python on the module, loaded here from its file)."""
 import importlib.util
 import math
 import os
 
 import pytest
 
-SOURCE = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "engine",
-                      "device_speed.py")
+SOURCE = os.path.join(os.path.dirname(__file__), "..", "..", "addon", "device_speed.py")
 spec = importlib.util.spec_from_file_location("device_speed", SOURCE)
 device_speed = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(device_speed)
