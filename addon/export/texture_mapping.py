@@ -46,8 +46,7 @@ class ObjectSpaces:
     """The object a material is converted for: world -> object space and world ->
     Generated (texture space), as 4x4 arrays."""
 
-    def __init__(self, name, matrix_world, texspace_location, texspace_size):
-        self.name = name
+    def __init__(self, matrix_world, texspace_location, texspace_size):
         self.world_to_object = np.linalg.inv(np.asarray(matrix_world, dtype=np.float64))
         size = np.asarray(texspace_size, dtype=np.float64)
         scale = np.array([0.0 if s == 0.0 else 0.5 / s for s in size])
@@ -62,7 +61,7 @@ def object_spaces(obj, matrix_world):
     data = obj.data
     location = tuple(getattr(data, "texspace_location", (0.0, 0.0, 0.0)))
     size = tuple(getattr(data, "texspace_size", (1.0, 1.0, 1.0)))
-    return ObjectSpaces(obj.name, matrix_world, location, size)
+    return ObjectSpaces(matrix_world, location, size)
 
 
 def reads_object_coordinates(material):
@@ -88,15 +87,6 @@ class _Affine:
         if self.source and other.source and self.source != other.source:
             raise NotAffine("its vector mixes UV with Generated or Object coordinates")
         return _Affine(self.source or other.source, matrix)
-
-
-def texture_uv_map(image_node, warn, render_uv_map=None):
-    """((a, b, c), (d, e, f)): the Image Texture node is looked up at (a u + b v + c,
-    d u + e v + f) for mesh uv (u, v). IDENTITY when its Vector is unlinked or the chain
-    cannot be followed (warned, naming the node). Generated and Object are not followed
-    here (texture_map follows them)."""
-    source, rows = texture_map(image_node, warn, render_uv_map)
-    return rows if source == "uv" else IDENTITY
 
 
 def texture_map(image_node, warn, render_uv_map=None, spaces=None):

@@ -609,8 +609,8 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
              py::arg("name") = "image",
-             py::arg("uv_map") = std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f},
-                                                                       {0.0f, 1.0f, 0.0f}}},
+             py::arg("uv_map") =
+                 std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}},
              py::arg("position_map") = py::none(),
              "An image; uv_map ((a, b, c), (d, e, f)) looks it up at (a u + b v + c, "
              "d u + e v + f) for mesh uv (u, v) (Blender's Mapping node on the UVs). "
