@@ -191,10 +191,10 @@ void main() {
 #ifdef HAS_MICROFACET
         // The material as this ray sees it (mixes resolved to one leaf).
         vec3 wo = -ray.dir;
-        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv, s.vertex_color,
-                                wo, rng_next(rng));
+        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                                s.vertex_color, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
-            vec3 emission = material_emission_at(s.material, sh.material, s.uv);
+            vec3 emission = material_emission_at(s.material, sh.material, texture_point(s));
             ADD_LIGHT(emitted, throughput * emission);
 #ifdef DENOISING_FEATURES
             add_feature_light(features, emission);
@@ -202,8 +202,9 @@ void main() {
         }
 #ifdef DENOISING_FEATURES
         if (features.pending)
-            add_feature_surface(features, surface_features(s.material, sh.n, s.uv, s.vertex_color,
-                                                           wo, sh.entering), sh.n);
+            add_feature_surface(features, surface_features(s.material, sh.n, texture_point(s),
+                                                           s.vertex_color, wo, sh.entering),
+                                sh.n);
 #endif
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
@@ -246,7 +247,7 @@ void main() {
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
-            vec3 emission = material_emission_at(s.material, s.material, s.uv);
+            vec3 emission = material_emission_at(s.material, s.material, texture_point(s));
             ADD_LIGHT(emitted, throughput * emission);
 #ifdef DENOISING_FEATURES
             add_feature_light(features, emission);

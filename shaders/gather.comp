@@ -97,7 +97,8 @@ void main() {
 #else
             vec3 vertex_color = vec3(1.0);
 #endif
-            Shading sh = shading_of_leaf(int(point.w), n_u.xyz, vec2(n_u.w, wo_v.w), vertex_color,
+            Shading sh = shading_of_leaf(int(point.w), n_u.xyz,
+                                         TexturePoint(vec2(n_u.w, wo_v.w), point.xyz), vertex_color,
                                          (point_flags & VISIBLE_POINT_ENTERING) != 0u);
             bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
 #ifdef HAS_NORMAL_MAP

@@ -107,7 +107,7 @@ void main() {
             // Stored wherever a visible point can gather it (a lobe rougher than the
             // threshold), then on by sampling the whole material, Russian roulette on the
             // sample's weight.
-            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, s.uv,
+            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
             bool store = material_kind(s.material) == MATERIAL_MIX
                              ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
@@ -141,7 +141,7 @@ void main() {
             // draw; the leaf above decided only whether it is stored).
             float mix_weight = 1.0;
             if (material_kind(s.material) == MATERIAL_MIX)
-                sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, s.uv,
+                sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, texture_point(s),
                                            s.vertex_color, -dir, rng_next(rng), mix_weight);
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.

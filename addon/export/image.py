@@ -31,17 +31,26 @@ IDENTITY_UV_MAP = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 class TextureTable:
-    """The scene's textures, one per image, wrap and uv map (an image's pixels are read
-    once and shared; the renderer packs them once): index() converts an image the first
-    time it is seen."""
+    """The scene's textures, one per image, wrap and uv or position map (an image's pixels
+    are read once and shared; the renderer packs them once): index() converts an image the
+    first time it is seen. `spaces` (texture_mapping.ObjectSpaces) is the object materials
+    are being converted for (for_object), None where there is none (instanced meshes)."""
 
-    def __init__(self, warn):
-        self.textures = []
-        self._index = {}
-        self._pixels = {}
+    def __init__(self, warn, spaces=None, shared=None):
+        self.spaces = spaces
+        if shared is not None:  # a view of another table for one object
+            self.textures, self._index, self._pixels = shared
+        else:
+            self.textures, self._index, self._pixels = [], {}, {}
         self._warn = warn
 
-    def index(self, image, extension='REPEAT', warn=None, uv_map=IDENTITY_UV_MAP):
+    def for_object(self, spaces):
+        """This table, converting for the object of spaces (its Generated and Object
+        coordinates)."""
+        return TextureTable(self._warn, spaces, (self.textures, self._index, self._pixels))
+
+    def index(self, image, extension='REPEAT', warn=None, uv_map=IDENTITY_UV_MAP,
+              position_map=None):
         """Index of image in the table, or -1 (missing or unreadable: warned)."""
         warn = warn or self._warn
         if image is None:
@@ -51,13 +60,15 @@ class TextureTable:
         if extension not in WRAP_OF_EXTENSION:
             warn(f"image '{image.name}': extension {extension.title()} is rendered as Repeat")
         uv_map = tuple(tuple(float(x) for x in row) for row in uv_map)
-        key = (image.name_full, wrap, uv_map)
+        if position_map is not None:
+            position_map = tuple(tuple(float(x) for x in row) for row in position_map)
+        key = (image.name_full, wrap, uv_map, position_map)
         if key not in self._index:
             if image.name_full not in self._pixels:
                 self._pixels[image.name_full] = image_texture(image, wrap, warn)
             texture = self._pixels[image.name_full]
             if texture is not None:
-                texture = TextureData(texture.pixels, wrap, texture.name, uv_map)
+                texture = TextureData(texture.pixels, wrap, texture.name, uv_map, position_map)
             self._index[key] = -1 if texture is None else len(self.textures)
             if texture is not None:
                 self.textures.append(texture)

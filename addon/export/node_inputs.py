@@ -15,7 +15,7 @@ renderer interpolates per corner (vertex_color_input).
 import math
 
 from .image import image_mean_color
-from .texture_mapping import texture_uv_map
+from .texture_mapping import IDENTITY, texture_map
 
 
 def input_socket(node, *names):
@@ -47,15 +47,22 @@ def linked_output(socket):
     return None, None
 
 
-def image_texture_index(node, warn, textures):
+def image_texture_index(node, warn, textures, uv_only=False):
     """The TextureTable index of an Image Texture node's image under its extension and the
-    uv map of its Vector input (texture_mapping.py), -1 for none, warning about what of the
-    node is not followed."""
-    uv_map = texture_uv_map(node, warn)
+    uv or position map of its Vector input (texture_mapping.py), -1 for none, warning about
+    what of the node is not followed. uv_only: normal and bump maps, whose tangent frame the
+    renderer takes from the uvs, are looked up at the uvs."""
+    source, rows = texture_map(node, warn, spaces=getattr(textures, "spaces", None))
+    if source == "position" and uv_only:
+        warn(f"image texture '{node.name}': a normal or bump map on Generated or Object "
+             "coordinates is not followed; using the mesh's render UV map")
+        source, rows = "uv", IDENTITY
     if node.projection != 'FLAT':
         warn(f"image texture '{node.name}': {node.projection.title()} projection is "
-             "rendered as Flat (UV)")
-    return textures.index(node.image, node.extension, warn, uv_map)
+             "rendered as Flat")
+    if source == "position":
+        return textures.index(node.image, node.extension, warn, position_map=rows)
+    return textures.index(node.image, node.extension, warn, rows)
 
 
 def socket_color_texture(socket, warn, textures, clamp=True):

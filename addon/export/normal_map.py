@@ -74,7 +74,7 @@ def _tangent_normal_map(node, bsdf, warn, textures):
     if linked_node(node.inputs["Strength"]) is not None:
         warn(f"Normal Map '{node.name}': a linked Strength is read as its default value")
     strength = max(0.0, socket_value(node.inputs["Strength"], warn))
-    index = image_texture_index(image_node, warn, textures)
+    index = image_texture_index(image_node, warn, textures, uv_only=True)
     if index < 0:
         return None
     return {"normal_texture": index, "normal_strength": strength}
@@ -93,7 +93,7 @@ def _bump(node, warn, textures):
     for name in ("Strength", "Distance"):
         if linked_node(node.inputs[name]) is not None:
             warn(f"Bump '{node.name}': a linked {name} is read as its default value")
-    index = image_texture_index(image_node, warn, textures)
+    index = image_texture_index(image_node, warn, textures, uv_only=True)
     if index < 0:
         return None
     distance = socket_value(node.inputs["Distance"], warn)

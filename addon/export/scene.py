@@ -22,6 +22,7 @@ from .light import convert_light
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .scene_data import SceneData
+from .texture_mapping import object_spaces, reads_object_coordinates
 from .visibility import object_visibility
 from .world import convert_world
 
@@ -117,6 +118,14 @@ class SceneBuilder:
         """True when the material rooted at index (or one of its mixed parts) reads a
         texture."""
         return any(m.textured() for m in self.material_entries(index))
+
+    def material_reads_uvs(self, index):
+        """True when the material rooted at index (or one of its mixed parts) has a texture
+        looked up at the mesh's uvs (not at Generated or Object coordinates)."""
+        return any(k >= 0 and self.textures.textures[k].position_map is None
+                   for m in self.material_entries(index)
+                   for k in (m.color_texture, m.roughness_texture, m.mix_texture,
+                             m.normal_texture, m.bump_texture, m.emission_texture))
 
     def material_normal_mapped(self, index):
         """True when the material rooted at index has a normal map (its mesh needs
@@ -338,6 +347,8 @@ def export_tables(depsgraph, previous):
     builder = SceneBuilder()
     materials = {m.name_full: m for m in depsgraph.ids if isinstance(m, _material_type())}
     for key, index in previous.material_keys:
+        if len(key) > 2:  # converted for one object (Generated or Object coordinates)
+            return None
         name, visibility = key
         material = None
         if name is not None:
@@ -401,7 +412,7 @@ def _export_object_instance(obj, matrix, builder, geometry_cache):
     key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
     cached = geometry_cache.get(key)
     if cached is None:
-        cached = geometry_cache[key] = _read_object(obj, builder)
+        cached = geometry_cache[key] = _read_object(obj, builder, matrix)
     geometry, slot_materials = cached
     if geometry is None:
         return
@@ -479,15 +490,26 @@ def _add_strands(obj, builder, parts):
         builder.check_cancel()
 
 
-def _slot_materials(obj, builder):
+def _slot_materials(obj, builder, matrix=None):
     """The material table index of each of obj's slots (one default when it has none).
     An object hidden from camera rays or casting no shadow gets its own copies of its
-    materials, flagged so."""
+    materials, flagged so; so does an object placed at matrix (not instanced) whose
+    material reads Generated or Object coordinates (its textures' maps are its own)."""
     visibility = object_visibility(obj, builder.warn)
+    textures = builder.textures
+    if matrix is not None and any(reads_object_coordinates(slot.material)
+                                  for slot in obj.material_slots):
+        textures = builder.textures.for_object(object_spaces(obj, matrix))
+
+    def key(material):
+        if textures.spaces is not None and reads_object_coordinates(material):
+            return (_material_key(material), visibility, obj.name_full)
+        return (_material_key(material), visibility)
+
     slot_materials = np.array(
-        [builder.material_id((_material_key(slot.material), visibility),
+        [builder.material_id(key(slot.material),
                              lambda slot=slot: _flagged(convert_material(
-                                 slot.material, builder.warn, builder.textures), visibility))
+                                 slot.material, builder.warn, textures), visibility))
          for slot in obj.material_slots] or
         [builder.material_id((None, visibility),
                              lambda: _flagged([DEFAULT_MATERIAL], visibility))],
@@ -501,10 +523,11 @@ def _flagged(entries, visibility):
                     casts_shadow=visibility.shadow) for material in entries]
 
 
-def _read_object(obj, builder):
+def _read_object(obj, builder, matrix=None):
     """(object-space MeshGeometry or None, material table index per slot). UVs are read
-    only when one of the object's materials has a texture."""
-    slot_materials = _slot_materials(obj, builder)
+    only when one of the object's materials has a texture. matrix: where an object placed as
+    itself is (None for an instanced mesh)."""
+    slot_materials = _slot_materials(obj, builder, matrix)
     need_uvs = any(builder.material_textured(int(i)) for i in slot_materials)
     need_tangents = any(builder.material_normal_mapped(int(i)) for i in slot_materials)
     color_names = sorted(set().union(*(builder.material_vertex_colors(int(i))
@@ -544,8 +567,12 @@ def _read_object(obj, builder):
                      "that its material reads; rendering it black, as Cycles does")
         geometry = replace(geometry, colors=np.zeros_like(geometry.positions))
     if need_uvs and geometry is not None and geometry.uvs is None:
-        builder.warn(f"object '{obj.name}' has a textured material but no UV map; "
-                     "its texture is sampled at UV (0, 0)")
+        # Cycles reads UV (0, 0) on a mesh without a UV map; textures on Generated or Object
+        # coordinates need no UVs (the renderer still takes its uvs, all zero).
+        if any(builder.material_reads_uvs(int(i)) for i in slot_materials):
+            builder.warn(f"object '{obj.name}' has a textured material but no UV map; "
+                         "its texture is sampled at UV (0, 0)")
+        geometry = replace(geometry, uvs=np.zeros((len(geometry.positions), 2), np.float32))
     return geometry, slot_materials
 
 

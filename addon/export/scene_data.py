@@ -61,6 +61,9 @@ class TextureData:
     name: str = "image"
     # Looked up at (a u + b v + c, d u + e v + f) for mesh uv (u, v): ((a, b, c), (d, e, f))
     uv_map: tuple = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+    # Or, where given, at (a x + b y + c z + d, e x + f y + g z + h) for the world position
+    # (Generated and Object coordinates): ((a, b, c, d), (e, f, g, h)); uv_map unused.
+    position_map: tuple = None
 
 
 @dataclass

@@ -238,10 +238,17 @@ glm::mat4 mat4_of(const py::array_t<float, py::array::c_style | py::array::force
 // An image from a (height, width, 4) uint8 (sRGB) or float32 (linear) array, row 0 at the
 // bottom as in Blender's pixels.
 Texture make_texture(const py::array& pixels, const std::string& wrap, const std::string& name,
-                     std::array<std::array<float, 3>, 2> uv_map) {
+                     std::array<std::array<float, 3>, 2> uv_map,
+                     std::optional<std::array<std::array<float, 4>, 2>> position_map) {
     Texture t;
     t.uv_map_u = {uv_map[0][0], uv_map[0][1], uv_map[0][2]};
     t.uv_map_v = {uv_map[1][0], uv_map[1][1], uv_map[1][2]};
+    if (position_map) {
+        const auto& m = *position_map;
+        t.from_position = true;
+        t.position_map_u = {m[0][0], m[0][1], m[0][2], m[0][3]};
+        t.position_map_v = {m[1][0], m[1][1], m[1][2], m[1][3]};
+    }
     t.name = name;
     if (pixels.ndim() != 3 || pixels.shape(2) != 4)
         throw py::value_error("Texture '" + name + "' pixels: expected shape (height, width, 4), "
@@ -602,10 +609,14 @@ PYBIND11_MODULE(_glslppm, m) {
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",
              py::arg("name") = "image",
-             py::arg("uv_map") = std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f},
-                                                                       {0.0f, 1.0f, 0.0f}}},
+             py::arg("uv_map") =
+                 std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}},
+             py::arg("position_map") = py::none(),
              "An image; uv_map ((a, b, c), (d, e, f)) looks it up at (a u + b v + c, "
-             "d u + e v + f) for mesh uv (u, v) (Blender's Mapping node on the UVs).")
+             "d u + e v + f) for mesh uv (u, v) (Blender's Mapping node on the UVs). "
+             "position_map ((a, b, c, d), (e, f, g, h)), where given, looks it up at "
+             "(a x + b y + c z + d, e x + f y + g z + h) for the surface point's world "
+             "position (x, y, z) instead (Generated and Object coordinates).")
         .def_readonly("width", &Texture::width)
         .def_readonly("height", &Texture::height);
 

@@ -31,10 +31,14 @@ int wrapped_texel(int i, int n, TextureWrap wrap) {
     }
 }
 
-// A texel's linear rgb at mesh uv, nearest (the mean below needs no filtering).
-glm::vec3 texel_at(const Texture& t, glm::vec2 mesh_uv) {
+// A texel's linear rgb at mesh uv and world position p, nearest (the mean below needs no
+// filtering).
+glm::vec3 texel_at(const Texture& t, glm::vec2 mesh_uv, glm::vec3 p) {
     const glm::vec3 h(mesh_uv, 1.0f);
-    const glm::vec2 uv(glm::dot(t.uv_map_u, h), glm::dot(t.uv_map_v, h));
+    const glm::vec4 q(p, 1.0f);
+    const glm::vec2 uv =
+        t.from_position ? glm::vec2(glm::dot(t.position_map_u, q), glm::dot(t.position_map_v, q))
+                        : glm::vec2(glm::dot(t.uv_map_u, h), glm::dot(t.uv_map_v, h));
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return glm::vec3(0.0f);
     const auto index = [&](float c, int n) {
         // Repeat and Mirror are periodic over 2: reduce there first, so that the index stays
@@ -60,7 +64,8 @@ glm::vec3 texel_at(const Texture& t, glm::vec2 mesh_uv) {
 // own texel over that probability), so an inexact mean costs noise, never bias; it is
 // floored at 1e-3 of the brightest channel's untextured weight, so that a triangle whose
 // bright texels fall between the points is still picked.
-glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2) {
+glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2, glm::vec3 p0,
+                     glm::vec3 p1, glm::vec3 p2) {
     constexpr int n = 16;
     glm::vec3 sum(0.0f);
     for (int i = 0; i < n; ++i) {
@@ -70,7 +75,8 @@ glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2)
                 a = 1.0f - a;
                 b = 1.0f - b;
             }
-            sum += texel_at(t, w0 + a * (w1 - w0) + b * (w2 - w0));
+            sum +=
+                texel_at(t, w0 + a * (w1 - w0) + b * (w2 - w0), p0 + a * (p1 - p0) + b * (p2 - p0));
         }
     }
     return sum / static_cast<float>(n * n);
@@ -131,9 +137,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         const int texture = materials[static_cast<std::size_t>(material)].emission_texture;
         if (texture >= 0 && !bvh.uvs.empty() && 2.0 * t + 2.0 < 16777216.0) {
             const glm::vec4 uv01 = bvh.uvs[2 * t], uv2 = bvh.uvs[2 * t + 1];
-            const glm::vec3 mean = mean_texel(scene.textures[static_cast<std::size_t>(texture)],
-                                              glm::vec2(uv01), glm::vec2(uv01.z, uv01.w),
-                                              glm::vec2(uv2));
+            const glm::vec3 mean =
+                mean_texel(scene.textures[static_cast<std::size_t>(texture)], glm::vec2(uv01),
+                           glm::vec2(uv01.z, uv01.w), glm::vec2(uv2), v0, v1, v2);
             const float floor = 1e-3f * std::max(power.x, std::max(power.y, power.z));
             const float code = -(1.0f + 2.0f * static_cast<float>(t) + (two_sided ? 1.0f : 0.0f));
             table.triangle_records[t] = add(EmitterKind::Triangle, v0, glm::vec4(v1, code), v2,

@@ -122,10 +122,14 @@ inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool vertex_co
 // `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.
 struct GpuTexture {
     glm::ivec4 rect;     // (x, y, width, height) of the image in its atlas layer
-    glm::ivec4 info;     // (layer, float 0/1, TextureWrap, 0)
-    glm::vec4 uv_map_u;  // Texture::uv_map_u, w unused
+    glm::ivec4 info;     // (layer, float 0/1, TextureWrap, kTextureFrom*)
+    // kTextureFromUv: Texture::uv_map_u, w unused; kTextureFromPosition:
+    // Texture::position_map_u, over (p, 1).
+    glm::vec4 uv_map_u;
     glm::vec4 uv_map_v;
 };
+inline constexpr int kTextureFromUv = 0;        // TEXTURE_FROM_UV in textures.glsl
+inline constexpr int kTextureFromPosition = 1;  // TEXTURE_FROM_POSITION
 static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
               offsetof(GpuTexture, uv_map_u) == 32 && offsetof(GpuTexture, uv_map_v) == 48);
 

@@ -341,6 +341,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
         features.push_back("sphere-lights");
     }
     feature(use.materials, "HAS_TEXTURES", "textures");
+    // Textures looked up at the surface's position (Generated and Object coordinates) need
+    // its world position beside its uv (TexturePoint in common/textures.glsl).
+    bool position_textures = false;
+    for (std::size_t k = 0; k < scene.textures.size(); ++k)
+        position_textures |= use.materials && use.used[k] && scene.textures[k].from_position;
+    feature(position_textures, "HAS_POSITION_TEXTURES", "position-textures");
     feature(p.vertex_colors, "HAS_VERTEX_COLORS", "vertex-colors");
     // Materials read colours only where meshes have them; the full variant's programs (and
     // visible points) are laid out for them all the same.

@@ -26,6 +26,9 @@ void check(const Texture& t, std::size_t k) {
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(t.uv_map_u[c]) || !std::isfinite(t.uv_map_v[c]))
             throw SceneError(name + ": its uv map holds NaN or Inf");
+    for (int c = 0; c < 4; ++c)
+        if (!std::isfinite(t.position_map_u[c]) || !std::isfinite(t.position_map_v[c]))
+            throw SceneError(name + ": its position map holds NaN or Inf");
 }
 
 // Whether two images hold the same pixels (so one rectangle serves both).
@@ -80,9 +83,10 @@ std::vector<GpuTexture> TextureAtlas::records() const {
     std::vector<GpuTexture> r;
     for (const AtlasPlacement& p : placements)
         r.push_back({{p.x, p.y, p.width, p.height},
-                     {p.layer, p.is_float ? 1 : 0, static_cast<int>(p.wrap), 0},
-                     glm::vec4(p.uv_map_u, 0.0f),
-                     glm::vec4(p.uv_map_v, 0.0f)});
+                     {p.layer, p.is_float ? 1 : 0, static_cast<int>(p.wrap),
+                      p.from_position ? kTextureFromPosition : kTextureFromUv},
+                     p.from_position ? p.position_map_u : glm::vec4(p.uv_map_u, 0.0f),
+                     p.from_position ? p.position_map_v : glm::vec4(p.uv_map_v, 0.0f)});
     if (r.empty()) r.push_back({});
     return r;
 }
@@ -168,6 +172,9 @@ TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vect
         p.wrap = textures[k].wrap;
         p.uv_map_u = textures[k].uv_map_u;
         p.uv_map_v = textures[k].uv_map_v;
+        p.from_position = textures[k].from_position;
+        p.position_map_u = textures[k].position_map_u;
+        p.position_map_v = textures[k].position_map_v;
     }
     // Copy the pixels into their layers.
     auto layer_texels = [&](int e) {

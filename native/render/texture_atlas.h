@@ -20,6 +20,8 @@ struct AtlasPlacement {
     bool is_float = false;
     TextureWrap wrap = TextureWrap::Repeat;
     glm::vec3 uv_map_u{1.0f, 0.0f, 0.0f}, uv_map_v{0.0f, 1.0f, 0.0f};
+    bool from_position = false;
+    glm::vec4 position_map_u{0.0f}, position_map_v{0.0f};
 };
 
 struct TextureAtlas {

@@ -136,6 +136,13 @@ struct Texture {
     // on the GPU.
     glm::vec3 uv_map_u{1.0f, 0.0f, 0.0f};
     glm::vec3 uv_map_v{0.0f, 1.0f, 0.0f};
+    // Or, with from_position, at (dot(position_map_u, (p, 1)), dot(position_map_v, (p, 1)))
+    // for the surface point's world position p, uv_map unused: Blender's Generated and
+    // Object coordinates, the object's inverse transform and texture space folded in by the
+    // add-on (export/texture_mapping.py; docs/texture_coordinates.md).
+    bool from_position = false;
+    glm::vec4 position_map_u{0.0f};
+    glm::vec4 position_map_v{0.0f};
 };
 
 // Lights use Blender's units, so that the add-on hands them over unchanged:

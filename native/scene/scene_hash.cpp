@@ -142,6 +142,9 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(t.wrap);
         h.value(t.uv_map_u);
         h.value(t.uv_map_v);
+        h.value(static_cast<std::uint32_t>(t.from_position));
+        h.value(t.position_map_u);
+        h.value(t.position_map_v);
         h.array(std::span<const std::uint8_t>(t.srgb8));
         h.array(std::span<const float>(t.linear));
     }

@@ -17,11 +17,11 @@ int material_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * 
 int material_flags(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].y); }
 
 // The emission seen at a surface of material `root` (the triangle's own) whose leaf `m` is
-// hit at uv: the leaf's radiance times the root's emission texture (HAS_EMISSION_TEXTURE).
-vec3 material_emission_at(int root, int m, vec2 uv) {
+// hit at point `at`: the leaf's radiance times the root's emission texture (HAS_EMISSION_TEXTURE).
+vec3 material_emission_at(int root, int m, TexturePoint at) {
 #if defined(HAS_EMISSION_TEXTURE) && defined(HAS_TEXTURES)
     int k = floatBitsToInt(materials[MATERIAL_STRIDE * root + 5].x);
-    if (k >= 0) return material_emission(m) * sample_texture(k, uv).rgb;
+    if (k >= 0) return material_emission(m) * sample_texture(k, at).rgb;
 #endif
     return material_emission(m);
 }
@@ -37,14 +37,14 @@ const int MATERIAL_MAY_BE_TRANSPARENT = 16;
 const int MATERIAL_HIDDEN_FROM_REFLECTIONS = 32;
 const int MATERIAL_VERTEX_COLOR = 64;
 
-// A material's colour at a surface point: its own, times its base-colour texture at uv, times
+// A material's colour at a surface point: its own, times its base-colour texture at `at`, times
 // the interpolated vertex colour where the material asks for it (Blender's Color Attribute
 // node, glTF's COLOR_0: base colour = factor x texture x COLOR_0).
-vec3 material_color_at(int m, vec2 uv, vec3 vertex_color) {
+vec3 material_color_at(int m, TexturePoint at, vec3 vertex_color) {
     vec3 c = material_color(m);
 #ifdef HAS_TEXTURES
     int k = material_texture(m);
-    if (k >= 0) c *= sample_texture(k, uv).rgb;
+    if (k >= 0) c *= sample_texture(k, at).rgb;
 #endif
 #ifdef HAS_VERTEX_COLORS
     if ((material_flags(m) & MATERIAL_VERTEX_COLOR) != 0) c *= vertex_color;
@@ -53,7 +53,7 @@ vec3 material_color_at(int m, vec2 uv, vec3 vertex_color) {
 }
 
 // The surface's colour: its material's at the hit.
-vec3 surface_color(Surface s) { return material_color_at(s.material, s.uv, s.vertex_color); }
+vec3 surface_color(Surface s) { return material_color_at(s.material, texture_point(s), s.vertex_color); }
 
 // f(wo, wi) of the material's non-delta lobes at a surface point, without the cosine:
 // what light sampling weighs a light's radiance by. `n` is the shading normal on the side

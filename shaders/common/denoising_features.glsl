@@ -74,7 +74,8 @@ void add_leaf_features(inout SurfaceFeatures f, Shading sh, vec3 wo_world, float
 
 // The features of material (a triangle's own, mixes and all) seen from wo; n is the
 // shading normal on wo's side (Shading's n).
-SurfaceFeatures surface_features(int material, vec3 n, vec2 uv, vec3 vertex_color, vec3 wo,
+SurfaceFeatures surface_features(int material, vec3 n, TexturePoint at, vec3 vertex_color,
+                                 vec3 wo,
                                  bool entering) {
     SurfaceFeatures f = SurfaceFeatures(vec3(0.0), vec3(0.0), 0.0, 0.0);
     float c = clamp(dot(wo, n), 0.0, 1.0);
@@ -93,7 +94,7 @@ SurfaceFeatures surface_features(int material, vec3 n, vec2 uv, vec3 vertex_colo
         float w = stack_w[top];
         int depth = depth_of[top];
         if (material_kind(m) == MATERIAL_MIX && depth < MAX_MIX_DEPTH && top + 2 <= STACK) {
-            float k = mix_factor(m, uv, c, entering);
+            float k = mix_factor(m, at, c, entering);
             ivec2 ab = material_mix(m);
             stack_m[top] = ab.x;
             stack_w[top] = w * (1.0 - k);
@@ -103,7 +104,7 @@ SurfaceFeatures surface_features(int material, vec3 n, vec2 uv, vec3 vertex_colo
             depth_of[top + 1] = depth + 1;
             top += 2;
         } else if (w > 0.0 && material_kind(m) != MATERIAL_MIX) {
-            add_leaf_features(f, shading_of_leaf(m, n, uv, vertex_color, entering), wo, w);
+            add_leaf_features(f, shading_of_leaf(m, n, at, vertex_color, entering), wo, w);
         }
     }
     return f;

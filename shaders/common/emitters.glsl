@@ -49,7 +49,11 @@ vec3 triangle_emitter_texel(float bw, vec2 bc) {
         int k = floatBitsToInt(materials[MATERIAL_STRIDE * floatBitsToInt(triangles[3 * t].w) + 5].x);
         vec4 uv01 = vertex_uvs[2 * t + 0];
         vec2 uv2 = vertex_uvs[2 * t + 1].xy;
-        if (k >= 0) return sample_texture(k, uv01.xy + bc.x * (uv01.zw - uv01.xy) + bc.y * (uv2 - uv01.xy)).rgb;
+        vec3 p0 = triangles[3 * t].xyz;
+        vec3 position = p0 + bc.x * (triangles[3 * t + 1].xyz - p0) +
+                        bc.y * (triangles[3 * t + 2].xyz - p0);
+        vec2 uv = uv01.xy + bc.x * (uv01.zw - uv01.xy) + bc.y * (uv2 - uv01.xy);
+        if (k >= 0) return sample_texture(k, TexturePoint(uv, position)).rgb;
     }
 #endif
     return vec3(1.0);

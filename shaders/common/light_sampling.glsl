@@ -35,10 +35,16 @@ bool shadow_passes(int m, int triangle, float u, float v) {
         vec2 uv2 = vertex_uvs[2 * triangle + 1].xy;
         uv = (1.0 - u - v) * uv01.xy + u * uv01.zw + v * uv2;
 #endif
+        vec3 position = vec3(0.0);
+#ifdef HAS_POSITION_TEXTURES
+        vec3 p0 = triangles[3 * triangle].xyz;
+        position = p0 + u * (triangles[3 * triangle + 1].xyz - p0) +
+                   v * (triangles[3 * triangle + 2].xyz - p0);
+#endif
         uint h = (shadow_ray_seed ^ uint(triangle) * 0x9E3779B9u) * 747796405u + 2891336453u;
         h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
         float r = float(((h >> 22u) ^ h) >> 8) * (1.0 / 16777216.0);
-        return material_kind(resolve_mix(m, uv, 1.0, true, r)) == MATERIAL_TRANSPARENT;
+        return material_kind(resolve_mix(m, TexturePoint(uv, position), 1.0, true, r)) == MATERIAL_TRANSPARENT;
     }
 #endif
     return false;

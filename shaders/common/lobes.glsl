@@ -71,9 +71,9 @@ float texture_channel(vec4 texel, uint channel) {
 }
 
 // A scalar input: its value times its texture's channel where it has one.
-float material_scalar(float value, int texture, uint channel, vec2 uv) {
+float material_scalar(float value, int texture, uint channel, TexturePoint at) {
 #ifdef HAS_TEXTURES
-    if (texture >= 0) return value * texture_channel(sample_texture(texture, uv), channel);
+    if (texture >= 0) return value * texture_channel(sample_texture(texture, at), channel);
 #endif
     return value;
 }
@@ -81,13 +81,13 @@ float material_scalar(float value, int texture, uint channel, vec2 uv) {
 // A Mix material's factor: the probability of its second material. `c` is the cosine between
 // the view direction and the shading normal on its side, `front` whether the view is on the
 // geometric front (Blender's Fresnel and Layer Weight nodes read both).
-float mix_factor(int m, vec2 uv, float c, bool front) {
+float mix_factor(int m, TexturePoint at, float c, bool front) {
     uint options = material_options(m);
     uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
     float f;
     if (mode == 0u) {
         f = material_scalar(material_mix_factor(m), material_mix_texture(m),
-                            (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, uv);
+                            (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, at);
     } else if (mode == 1u) {
         float ior = material_mix_ior(m), cos_t;
         f = fresnel_dielectric(c, front ? 1.0 / ior : ior, cos_t);
@@ -102,9 +102,9 @@ float mix_factor(int m, vec2 uv, float c, bool front) {
 
 // Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
 // second material with probability equal to its factor (mix_factor), reusing the rest of `u`.
-int resolve_mix(int m, vec2 uv, float c, bool front, float u) {
+int resolve_mix(int m, TexturePoint at, float c, bool front, float u) {
     for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
-        float f = mix_factor(m, uv, c, front);
+        float f = mix_factor(m, at, c, front);
         ivec2 ab = material_mix(m);
         if (u < f) {
             m = ab.y;
@@ -132,9 +132,9 @@ float leaf_scatter_estimate(int m) {
     return kind == MATERIAL_MIX ? 1.0 : max(c, 0.0);
 }
 
-float scatter_estimate(int m, vec2 uv, float c, bool front) {
+float scatter_estimate(int m, TexturePoint at, float c, bool front) {
     if (material_kind(m) != MATERIAL_MIX) return leaf_scatter_estimate(m);
-    float f = mix_factor(m, uv, c, front);
+    float f = mix_factor(m, at, c, front);
     ivec2 ab = material_mix(m);
     return (1.0 - f) * leaf_scatter_estimate(ab.x) + f * leaf_scatter_estimate(ab.y);
 }
@@ -145,13 +145,14 @@ float scatter_estimate(int m, vec2 uv, float c, bool front) {
 // doubled (Add Shader, Principled v1's specular over black) no longer doubles a photon's flux
 // half of the time: its flux stays near the albedo's, where heavy tails made fireflies that
 // never averaged out (a closed emissive Principled mesh, whose light bounces inside).
-int resolve_mix_by_scatter(int m, vec2 uv, float c, bool front, float u, out float weight) {
+int resolve_mix_by_scatter(int m, TexturePoint at, float c, bool front, float u,
+                           out float weight) {
     weight = 1.0;
     for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
-        float f = mix_factor(m, uv, c, front);
+        float f = mix_factor(m, at, c, front);
         ivec2 ab = material_mix(m);
-        float ea = (1.0 - f) * scatter_estimate(ab.x, uv, c, front);
-        float eb = f * scatter_estimate(ab.y, uv, c, front);
+        float ea = (1.0 - f) * scatter_estimate(ab.x, at, c, front);
+        float eb = f * scatter_estimate(ab.y, at, c, front);
         float pb = ea + eb > 0.0 ? eb / (ea + eb) : f;
         // A part with a non-zero factor keeps its factor's chance where the other's estimate
         // takes all: Principled v1's Fresnel mix of black and a doubled specular then picks
@@ -194,7 +195,7 @@ struct Shading {
 };
 
 // A leaf material with its frame: n is the shading normal on wo's side.
-Shading shading_of_leaf(int m, vec3 n, vec2 uv, vec3 vertex_color, bool entering) {
+Shading shading_of_leaf(int m, vec3 n, TexturePoint at, vec3 vertex_color, bool entering) {
     Shading sh;
     sh.entering = entering;
     sh.n = n;
@@ -205,9 +206,9 @@ Shading shading_of_leaf(int m, vec3 n, vec2 uv, vec3 vertex_color, bool entering
     sh.material = m;
     sh.kind = material_kind(m);
     sh.options = material_options(m);
-    sh.color = material_color_at(m, uv, vertex_color);
+    sh.color = material_color_at(m, at, vertex_color);
     sh.roughness = clamp(material_scalar(material_roughness(m), material_roughness_texture(m),
-                                         sh.options & OPTION_ROUGHNESS_CHANNEL, uv), 0.0, 1.0);
+                                         sh.options & OPTION_ROUGHNESS_CHANNEL, at), 0.0, 1.0);
     sh.alpha = ggx_alpha(sh.roughness);
     sh.ior = material_ior(m);
     sh.table = material_table(m);
@@ -260,14 +261,15 @@ float shading_cosine_ratio(vec3 w, vec3 ns, vec3 ng) {
 #endif
 
 // The material at a surface seen from wo; `u` picks between mixes.
-Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, vec3 wo, float u) {
+Shading shading_at(int material, vec3 n, vec3 ng, TexturePoint at, vec3 vertex_color, vec3 wo,
+                   float u) {
     bool entering = dot(wo, ng) >= 0.0;
     vec3 n_wo = entering ? n : -n;
 #ifdef HAS_NORMAL_MAP
     n_wo = valid_shading_normal(n_wo, entering ? ng : -ng, wo);
 #endif
-    int leaf = resolve_mix(material, uv, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u);
-    Shading sh = shading_of_leaf(leaf, n_wo, uv, vertex_color, entering);
+    int leaf = resolve_mix(material, at, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u);
+    Shading sh = shading_of_leaf(leaf, n_wo, at, vertex_color, entering);
 #ifdef HAS_NORMAL_MAP
     sh.ng = entering ? ng : -ng;
 #endif
@@ -276,16 +278,16 @@ Shading shading_at(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, ve
 
 // shading_at for a photon's scattering: the leaf chosen by resolve_mix_by_scatter, whose
 // `weight` multiplies the sample's.
-Shading shading_at_by_scatter(int material, vec3 n, vec3 ng, vec2 uv, vec3 vertex_color, vec3 wo,
+Shading shading_at_by_scatter(int material, vec3 n, vec3 ng, TexturePoint at, vec3 vertex_color, vec3 wo,
                               float u, out float weight) {
     bool entering = dot(wo, ng) >= 0.0;
     vec3 n_wo = entering ? n : -n;
 #ifdef HAS_NORMAL_MAP
     n_wo = valid_shading_normal(n_wo, entering ? ng : -ng, wo);
 #endif
-    int leaf = resolve_mix_by_scatter(material, uv, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u,
+    int leaf = resolve_mix_by_scatter(material, at, clamp(dot(wo, n_wo), 0.0, 1.0), entering, u,
                                       weight);
-    Shading sh = shading_of_leaf(leaf, n_wo, uv, vertex_color, entering);
+    Shading sh = shading_of_leaf(leaf, n_wo, at, vertex_color, entering);
 #ifdef HAS_NORMAL_MAP
     sh.ng = entering ? ng : -ng;
 #endif

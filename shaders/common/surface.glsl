@@ -138,6 +138,9 @@ struct Surface {
     vec3 vertex_color;      // linear, interpolated (HAS_VERTEX_COLORS only; else white)
 };
 
+// Where textures are looked up at a surface point: its uv and world position.
+TexturePoint texture_point(Surface s) { return TexturePoint(s.uv, s.position); }
+
 #ifdef GLSLPPM_INSTANCES
 // A surface found in an instance's space, moved to world space: the position by A x + T
 // (interpolated in the instance, where its coordinates are small, and moved once), normals

@@ -7,11 +7,21 @@
 #include "common/bindings.glsl"
 // (The include resolver splices each file once, wherever it is first named, so includes
 // are never placed inside #ifdef; the guard is here.)
+
+// Where on a surface textures are looked up: its mesh uv, and its world position, which
+// textures on Blender's Generated and Object coordinates read (HAS_POSITION_TEXTURES).
+struct TexturePoint {
+    vec2 uv;
+    vec3 position;
+};
+
 #if defined(HAS_TEXTURES) || defined(HAS_ENVIRONMENT_MAP)
 
 // One record per texture (GpuTexture in native/render/gpu_layout.h): its rectangle in its
-// layer, (layer, float 0/1, wrap, 0), and the affine map from the mesh's uv to the image's
-// (Blender's Mapping node on the UVs).
+// layer, (layer, float 0/1, wrap, TEXTURE_FROM_*), and the affine map to the image's uv:
+// from the mesh's uv, (u, v, 1) (Blender's Mapping node on the UVs), or from the world
+// position, (p, 1) (Generated and Object coordinates, the object's inverse transform and
+// texture space folded in: addon/export/texture_mapping.py).
 struct TextureRecord {
     ivec4 rect;
     ivec4 info;
@@ -28,12 +38,28 @@ const int WRAP_CLIP = 1;
 const int WRAP_EXTEND = 2;
 const int WRAP_MIRROR = 3;
 
+// GpuTexture's source (kTextureFrom* in native/render/gpu_layout.h).
+const int TEXTURE_FROM_UV = 0;
+const int TEXTURE_FROM_POSITION = 1;
+
 ivec2 texture_size(int k) { return texture_records[k].rect.zw; }
 
-// Where texture k is looked up for mesh uv.
+// Where texture k is looked up for mesh uv (a texture on the uvs: the environment's, a
+// normal or bump map's, which the add-on never puts on position).
 vec2 texture_uv(int k, vec2 uv) {
     vec3 h = vec3(uv, 1.0);
     return vec2(dot(texture_records[k].uv_map_u.xyz, h), dot(texture_records[k].uv_map_v.xyz, h));
+}
+
+// Where texture k is looked up at a surface point.
+vec2 texture_uv(int k, TexturePoint at) {
+#ifdef HAS_POSITION_TEXTURES
+    if (texture_records[k].info.w == TEXTURE_FROM_POSITION) {
+        vec4 h = vec4(at.position, 1.0);
+        return vec2(dot(texture_records[k].uv_map_u, h), dot(texture_records[k].uv_map_v, h));
+    }
+#endif
+    return texture_uv(k, at.uv);
 }
 
 // A texel index along an axis of n texels under the extension, as Cycles' wrap_periodic,
@@ -80,8 +106,9 @@ vec4 sample_texture_st(int k, vec2 st) {
     return mix(a, b, f.y);
 }
 
-// Texture k at a surface point of mesh uv.
+// Texture k at mesh uv (textures on the uvs only), and at a surface point.
 vec4 sample_texture(int k, vec2 uv) { return sample_texture_st(k, texture_uv(k, uv)); }
+vec4 sample_texture(int k, TexturePoint at) { return sample_texture_st(k, texture_uv(k, at)); }
 
 #endif
 #endif

@@ -25,7 +25,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles", "test_fidelity",
                 "test_materials", "test_absorption",
                 "test_cancel_latency", "test_ray_visibility", "test_sky",
-                "test_curves", "test_farm", "test_instances", "test_passes")
+                "test_curves", "test_farm", "test_instances", "test_passes",
+                "test_texture_coordinates")
 
 
 def parse_args():

@@ -10,8 +10,9 @@ import bpy
 import numpy as np
 
 import helpers
-from helpers import (add_camera, add_cube, add_light, add_mesh_object, assert_close,
-                     diffuse_material, export, node_material, set_world)
+from helpers import (CUBE_FACES, CUBE_VERTICES, add_camera, add_cube, add_light,
+                     add_mesh_object, assert_close, diffuse_material, export, node_material,
+                     set_world)
 
 PRINCIPLED = "ShaderNodeBsdfPrincipled"
 TRANSMISSION = "Transmission Weight" if helpers.BLENDER_4 else "Transmission"
@@ -458,9 +459,11 @@ def _mapped_image_material(name, image, vector_type, location, rotation, scale,
 def test_mapping_node_on_uvs_becomes_the_textures_uv_map():
     """Texture Coordinate UV -> Mapping -> Image Texture: the texture's uv map is the
     Mapping of (u, v, 0), checked at three uvs against Blender's own Euler matrix
-    (mathutils) for the Point, Texture and Vector types, within 1e-6; no warning. A chain
-    that is not affine in the UVs (Generated, a Normalize) keeps the mesh's UVs and a warning
-    naming the node."""
+    (mathutils) for the Point, Texture and Vector types, within 1e-6; no warning. Generated
+    through the Mapping becomes the texture's position map, checked at three world points
+    of a moved, turned and scaled cube whose mesh is off-centre (its auto texture space
+    not the unit cube) against Cycles' orco (mesh_texture_space) within 1e-5. A chain
+    that is not affine (a Normalize) keeps the mesh's UVs and a warning naming the node."""
     from mathutils import Euler, Vector
     pixels = np.full((2, 2, 4), 0.5, dtype=np.float32)
     image = save_image("Mapped", pixels, False, 'PNG', "png")
@@ -483,8 +486,30 @@ def test_mapping_node_on_uvs_becomes_the_textures_uv_map():
             assert_close(got, tuple(want)[:2], 1e-6, f"{kind} mapping of uv ({u}, {v})")
         assert not [w for w in data.warnings if "Mapped" in w or "image texture" in w], \
             data.warnings
-    for coordinate, between, named in (("Generated", None, "Texture Coordinate"),
-                                       ("UV", 'NORMALIZE', "Odd Vector Math")):
+    material = _mapped_image_material("Generated", image, 'POINT', location, rotation, scale,
+                                      "Generated")
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    _camera()
+    cube = add_mesh_object("Off", [(0.5 + 1.5 * x, -0.25 + 0.75 * y, 0.1 + 0.4 * z)
+                                   for x, y, z in CUBE_VERTICES], CUBE_FACES,
+                           location=(0.3, -0.2, 0.5), rotation=(0.4, -0.3, 0.9),
+                           scale=(1.5, 0.7, 1.2), material=material)
+    data = export()
+    assert not [w for w in data.warnings if "Generated" in w or "image texture" in w], \
+        data.warnings
+    texture = data.textures[0]
+    assert texture.position_map is not None, texture
+    to_object = cube.matrix_world.inverted()
+    for corner in ((0.5, -0.25, 0.1), (2.0, 0.5, 0.5), (-1.0, -1.0, -0.3)):
+        world = cube.matrix_world @ Vector(corner)
+        p = to_object @ world
+        generated = Vector(((p.x - 0.5) / 3.0 + 0.5, (p.y + 0.25) / 1.5 + 0.5,
+                            (p.z - 0.1) / 0.8 + 0.5))  # bounds (-1, -1, -0.3)..(2, 0.5, 0.5)
+        want = closed_forms['POINT'](generated)
+        got = [sum(r[k] * world[k] for k in range(3)) + r[3] for r in texture.position_map]
+        assert_close(got, tuple(want)[:2], 1e-5, f"Generated mapping at {corner}")
+    for coordinate, between, named in (("UV", 'NORMALIZE', "Odd Vector Math"),):
         data = _single(_mapped_image_material(f"Odd {coordinate}", image, 'POINT', location,
                                               rotation, scale, coordinate, between))
         assert data.textures[0].uv_map == ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
