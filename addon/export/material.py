@@ -22,7 +22,7 @@ Translucent, Transparent) and warned where it is not (Principled's parts).
 
 import math
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from ..compat import DEFAULT_SURFACE_IS_PRINCIPLED, node_tree
 from .image import image_mean_color
@@ -31,6 +31,9 @@ from .node_inputs import (clamp01, image_texture_index, input_socket, linked_nod
                           linked_output, socket_color, socket_color_texture, socket_scalar,
                           vertex_color_input,
                           socket_value)
+from .lobe_tree import (BLACK, Mix, distribution, emission, emission_image, ior_or_default, mix,
+                        with_emission)
+from .principled import convert_principled
 from .scene_data import MaterialData
 from .volume import volume_absorption
 
@@ -38,33 +41,8 @@ from .volume import volume_absorption
 # a new material's Principled BSDF (base 0.8, roughness 0.5, IOR 1.5, Multiscatter GGX).
 DEFAULT_MATERIAL = (MaterialData("plastic", (0.8, 0.8, 0.8), ior=1.5, roughness=0.5)
                     if DEFAULT_SURFACE_IS_PRINCIPLED else MaterialData("diffuse", (0.8, 0.8, 0.8)))
-BLACK = MaterialData("diffuse", (0.0, 0.0, 0.0))
 # How deep Mix materials may nest (kMaxMixDepth in native/scene/scene.h).
 MAX_MIX_DEPTH = 8
-
-
-@dataclass(eq=False)
-class Mix:
-    """A Mix material under construction: b is picked with probability factor
-    (times the texture's channel), a otherwise."""
-    a: object
-    b: object
-    factor: float = 0.5
-    texture: int = -1
-    channel: str = "luminance"
-    mode: str = "constant"      # "constant", "fresnel" (IOR ior), "facing" (blend ior)
-    ior: float = 1.5
-    mean_texel: float = 0.5     # the texture's mean channel value (for the mean emission)
-
-
-def mix(a, b, factor, texture=-1, channel="luminance", mean_texel=0.5):
-    """Mix(a, b) with a constant or textured factor, or a or b alone where the factor
-    is 0 or a constant 1."""
-    if factor <= 0.0:
-        return a
-    if texture < 0 and factor >= 1.0:
-        return b
-    return Mix(a, b, min(max(factor, 0.0), 1.0), texture, channel, mean_texel=mean_texel)
 
 
 def convert_material(material, warn, textures=None):
@@ -212,25 +190,6 @@ def _diffuse(node, context):
 
 
 # Blender's microfacet distributions: (multiscatter, mapped onto GGX with a warning).
-_DISTRIBUTIONS = {'SHARP': (False, False), 'GGX': (False, False),
-                  'MULTI_GGX': (True, False), 'BECKMANN': (False, True),
-                  'ASHIKHMIN_SHIRLEY': (False, True)}
-
-
-def distribution(node, context):
-    """multiscatter for a node's distribution, warning where it is not GGX and the two
-    differ: not at roughness 0, where every distribution is the same perfect mirror or
-    refraction (Blender 3.x's Glass BSDF defaults to Beckmann there)."""
-    name = getattr(node, "distribution", 'GGX')
-    multiscatter, approximated = _DISTRIBUTIONS.get(name, (False, True))
-    roughness = input_socket(node, "Roughness")
-    smooth = roughness is not None and not roughness.is_linked and roughness.default_value <= 0.0
-    if approximated and not smooth:
-        context(f"{node.bl_label} '{node.name}': the {name.replace('_', '-').title()} "
-                "distribution is rendered as GGX")
-    return multiscatter
-
-
 def _roughness_of(node, context):
     if getattr(node, "distribution", None) == 'SHARP':
         return {"roughness": 0.0}
@@ -255,7 +214,7 @@ def _glossy(node, context):
 
 def _glass(node, context):
     color, texture = context.color(node.inputs["Color"])
-    return MaterialData("dielectric", color, _ior(context.value(node.inputs["IOR"])),
+    return MaterialData("dielectric", color, ior_or_default(context.value(node.inputs["IOR"])),
                         color_texture=texture, tint_reflection=True,
                         vertex_color=context.vertex_color(node.inputs["Color"]),
                         multiscatter=distribution(node, context),
@@ -289,7 +248,7 @@ def _mix_shader(node, context):
     source, output = linked_output(fac)
     if source is not None and source.type == 'FRESNEL':
         _warn_normal(source, context)
-        return Mix(a, b, mode="fresnel", ior=_ior(context.value(source.inputs["IOR"])))
+        return Mix(a, b, mode="fresnel", ior=ior_or_default(context.value(source.inputs["IOR"])))
     if source is not None and source.type == 'LAYER_WEIGHT':
         _warn_normal(source, context)
         blend = min(max(context.value(source.inputs["Blend"]), 0.0), 1.0)
@@ -326,14 +285,6 @@ def _emission_only(tree):
             max(tree.color) == 0.0 and tree.color_texture < 0)
 
 
-def with_emission(tree, radiance):
-    """tree with radiance added to each of its leaves (a new tree)."""
-    if isinstance(tree, Mix):
-        return replace(tree, a=with_emission(tree.a, radiance),
-                       b=with_emission(tree.b, radiance))
-    return replace(tree, emission=tuple(e + r for e, r in zip(tree.emission, radiance)))
-
-
 def _scaled(tree, k, approximate):
     """tree with its weight times k: colours and emission scaled."""
     if isinstance(tree, Mix):
@@ -348,13 +299,8 @@ def _scaled(tree, k, approximate):
                    emission=tuple(k * e for e in tree.emission))
 
 
-def _principled(node, context):
-    from .principled import convert_principled
-    return convert_principled(node, context)
-
-
 SURFACE_CONVERTERS = {
-    'BSDF_PRINCIPLED': _principled,
+    'BSDF_PRINCIPLED': convert_principled,
     'BSDF_DIFFUSE': _diffuse,
     'BSDF_GLOSSY': _glossy,          # 4.0+ merged Anisotropic into Glossy
     'BSDF_ANISOTROPIC': _glossy,     # 3.x
@@ -368,29 +314,6 @@ SURFACE_CONVERTERS = {
 }
 
 
-def emission(node, color_name, old_color_name, warn, strength_name="Emission Strength"):
-    """Radiance = colour × strength. Principled's colour input is "Emission" in 3.x and
-    "Emission Color" in 4.x (where it defaults to white with strength 0)."""
-    color_socket = input_socket(node, color_name, old_color_name)
-    strength_socket = input_socket(node, strength_name)
-    strength = socket_value(strength_socket, warn) if strength_socket is not None else 1.0
-    if strength <= 0.0 or color_socket is None:
-        return (0.0, 0.0, 0.0)
-    if _emission_image(color_socket, warn) is not None:
-        return (strength, strength, strength)  # times the texel: emission_texture_of
-    color = socket_color(color_socket, warn, clamp=False)
-    return tuple(max(0.0, c * strength) for c in color)
-
-
-def _emission_image(socket, context):
-    """The Image Texture node on an emission colour input, where the export has a texture
-    table (context.textures), else None."""
-    node = linked_node(socket)
-    if getattr(context, "textures", None) is None or node is None or node.type != 'TEX_IMAGE':
-        return None
-    return node
-
-
 _EMISSION_COLORS = {'EMISSION': ("Color",), 'BSDF_PRINCIPLED': ("Emission Color", "Emission")}
 
 
@@ -401,7 +324,7 @@ def emission_texture_of(surface_socket, context):
     found = -1
     for node in shader_nodes(surface_socket):
         socket = input_socket(node, *_EMISSION_COLORS.get(node.type, ()))
-        image_node = _emission_image(socket, context) if socket is not None else None
+        image_node = emission_image(socket, context) if socket is not None else None
         if image_node is None:
             continue
         index = image_texture_index(image_node, context, context.textures)
@@ -411,10 +334,6 @@ def emission_texture_of(surface_socket, context):
             context(f"{node.bl_label} '{node.name}' has an emission image other than the "
                     "material's first; the first is used for the whole material")
     return found
-
-
-def _ior(ior):
-    return float(ior) if math.isfinite(ior) and ior > 0.0 else 1.5
 
 
 # The tree as the module's list.

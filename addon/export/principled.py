@@ -36,9 +36,10 @@ import math
 
 from dataclasses import replace
 
-from .material import (BLACK, MaterialData, Mix, distribution, emission, mix, with_emission,
-                       _ior)
+from .lobe_tree import (BLACK, Mix, distribution, emission, ior_or_default, mix,
+                        with_emission)
 from .node_inputs import input_socket
+from .scene_data import MaterialData
 
 TRANSPARENT = MaterialData("transparent", (1.0, 1.0, 1.0))
 
@@ -54,7 +55,7 @@ def convert_principled(node, context):
     base_vertex = context.vertex_color(node.inputs["Base Color"])
     roughness = context.roughness(node.inputs["Roughness"])
     multiscatter = distribution(node, context)
-    ior = _ior(context.value(node.inputs["IOR"]))
+    ior = ior_or_default(context.value(node.inputs["IOR"]))
     if v2:
         level = max(context.value(node.inputs["Specular IOR Level"]), 0.0)
         layer_ior = _ior_from_f0(min(_f0(ior) * 2.0 * level, 0.999), ior < 1.0)
@@ -130,7 +131,7 @@ def _coat(node, context, v2, tree, multiscatter, warn):
     if v2:
         weight = context.value(node.inputs["Coat Weight"])
         coat_roughness = context.roughness(node.inputs["Coat Roughness"])
-        coat_ior = _ior(context.value(node.inputs["Coat IOR"]))
+        coat_ior = ior_or_default(context.value(node.inputs["Coat IOR"]))
         tinted = _non_white(context.value_color(node, "Coat Tint"))
     else:
         weight = 0.25 * context.value(node.inputs["Clearcoat"])
