@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import compat, light_panel, render_panels, view_layer_panel
+from . import blender_panels, light_panel, render_panels, view_layer_panel
 
 _classes = render_panels.classes + light_panel.classes + view_layer_panel.classes
 
@@ -10,10 +10,10 @@ _classes = render_panels.classes + light_panel.classes + view_layer_panel.classe
 def register():
     for cls in _classes:
         bpy.utils.register_class(cls)
-    compat.register()
+    blender_panels.register()
 
 
 def unregister():
-    compat.unregister()
+    blender_panels.unregister()
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)
