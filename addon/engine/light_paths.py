@@ -7,10 +7,6 @@ Volume limits have no counterpart: cut-outs and hidden surfaces count against th
 path may meet (Total + 1), and the renderer has no volumes yet.
 """
 
-# Cycles' own defaults (intern/cycles/blender/addon/properties.py), for a Blender without it.
-CYCLES_DEFAULTS = {"max_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4,
-                   "transmission_bounces": 12}
-
 # The module's Settings keywords, by Cycles' property names.
 _KEYWORDS = {"max_bounces": "max_bounces", "diffuse_bounces": "max_diffuse_bounces",
              "glossy_bounces": "max_glossy_bounces",
