@@ -74,6 +74,17 @@ def test_scene_settings_defaults():
     assert (made.max_bounces, made.max_diffuse_bounces, made.max_glossy_bounces,
             made.max_transmission_bounces) == (9, 1, 2, 3)
     helpers.set_light_paths(bpy.context.scene, 16)
+    # A file that set GLSLPPM's own Max Bounces while Cycles is on is told it is not read.
+    light_paths = importlib.import_module(helpers.ADDON.__name__ + ".engine.light_paths")
+    scene = bpy.context.scene
+    if light_paths.light_paths_owner(scene) is not settings:
+        assert light_paths.old_max_bounces_warning(scene) is None
+        settings.max_bounces = 20
+        warning = light_paths.old_max_bounces_warning(scene)
+        assert warning.startswith("GLSLPPM's own Max Bounces (20) is no longer read"), warning
+        assert "Total 16, Diffuse 16" in warning, warning
+        settings.property_unset("max_bounces")
+        assert light_paths.old_max_bounces_warning(scene) is None
     assert settings.hash_mode == 'STOCHASTIC' and settings.rng in {'PAPER', 'PCG'}
     assert settings.device == -1 and settings.seed == 0
 
