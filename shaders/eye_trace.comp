@@ -1,7 +1,8 @@
 // SPPM stage 1, one thread per pixel: a fresh jittered camera ray each pass, followed
-// through mirrors and glass (reflection or refraction chosen by Fresnel) up to the maximum
-// depth. Emission seen on the way is added to the pixel's direct light; the first
-// non-specular surface becomes the pixel's visible point (Hachisuka 2015, section 2).
+// through mirrors and glass (reflection or refraction chosen by Fresnel) within Cycles'
+// Light Paths limits (common/bounces.glsl). Emission seen on the way is added to the pixel's
+// direct light; the first non-specular surface becomes the pixel's visible point (Hachisuka
+// 2015, section 2).
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
@@ -42,6 +43,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/absorption.glsl"
 #endif
 #include "common/pass_films.glsl"
+#include "common/bounces.glsl"
 #if defined(PASS_DENOISING_ALBEDO) || defined(PASS_DENOISING_NORMAL)
 #define DENOISING_FEATURES
 #include "common/denoising_features.glsl"
@@ -105,6 +107,11 @@ void main() {
 #endif
     uint rays = 0u;
     bool seen_by_camera = true;  // until the first specular bounce
+    // The eye subpath's scatters so far (common/bounces.glsl). One past a limit, the path
+    // still takes the emission (and the world) of the surface it meets next, as Cycles'
+    // PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and ends there: no visible point, no light sample.
+    uint eye_bounces = 0u;
+    bool last_surface = false;
 #ifdef PASS_STRIDE
     vec3 emitted = vec3(0.0), world = vec3(0.0), sampled = vec3(0.0);
     // The first surface the camera sees (Depth, Normal): Cycles' z-depth along the view axis,
@@ -122,7 +129,10 @@ void main() {
     float transparent = 0.0;
     bool through_glass = true;  // every bounce so far a transmission through glass
 #endif
-    for (uint depth = 0u; depth < max_bounces; ++depth) {
+    // At most max_bounces + 1 surfaces: max_bounces scatters, then the last surface's light.
+    // Surfaces passed through (hidden, lights, cut-outs) count here too, where Cycles has a
+    // separate transparent limit.
+    for (uint depth = 0u; depth <= max_bounces; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
 #ifdef SPHERE_LIGHT_RECORDS
@@ -206,6 +216,7 @@ void main() {
                                                            s.vertex_color, wo, sh.entering),
                                 sh.n);
 #endif
+        if (last_surface) break;
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
         // stands for them with the probability of not following.
         float p_smooth = bsdf_smooth_probability(sh, wo);
@@ -243,6 +254,8 @@ void main() {
         if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
             dir = normalize(dir - 2.0 * got * ng_wo);
         int kind = sh.kind;
+        uint bounce = kind == MATERIAL_TRANSPARENT
+                          ? BOUNCE_NONE : bounce_kind(wo, dir, s.geometric_normal, false);
 #else
         // Meshes emit from both sides, as in Cycles, unless the material says front only
         // (area lights, above, from the front).
@@ -261,6 +274,7 @@ void main() {
                                                                   s.normal, front),
                                 front ? s.normal : -s.normal);
 #endif
+        if (last_surface) break;
         if (kind == MATERIAL_DIFFUSE) {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
@@ -279,7 +293,10 @@ void main() {
         }
         vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
                                     rng_next(rng), true, throughput);
+        uint bounce = bounce_kind(-ray.dir, dir, s.geometric_normal, false);
 #endif
+        eye_bounces = bounces_add(eye_bounces, bounce);
+        last_surface = !bounces_within(eye_bounces);
 #ifdef FILM_TRANSPARENT
         through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&
                         dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
@@ -298,11 +315,13 @@ void main() {
     visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(view.xyz, uv.y);
     visible_points[VISIBLE_POINT_VEC4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
 #ifdef HAS_VERTEX_COLORS
-    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vertex_color, 0.0);
+    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vertex_color, float(eye_bounces));
+#else
+    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vec3(1.0), float(eye_bounces));
 #endif
 #else
     visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
-    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, 0.0);
+    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, float(eye_bounces));
     visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(weight, 0.0);
 #endif
     vec4 sum = direct_light[2 * i + 0];

@@ -4,7 +4,9 @@
 // With stochastic hashing a cell's survivor stands for all `count` photons of its cell:
 // E[count * [survivor within R]] is the number of that cell's photons within R, so both M
 // and Phi stay unbiased. With ESTIMATOR_PPPM the radius is the pass's and the update is a sum
-// of the passes' estimates instead.
+// of the passes' estimates instead. Cycles' Light Paths limits (common/bounces.glsl) take
+// out of Phi the photons, or the lobes of the point's f, whose full path they would break;
+// M still counts every photon within R, so the radii shrink as they do without limits.
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
@@ -15,6 +17,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/hash_grid.glsl"
 #include "common/lobes.glsl"
 #include "common/pass_films.glsl"
+#include "common/bounces.glsl"
 
 shared float group_max_radius[LOCAL_SIZE];
 
@@ -22,7 +25,7 @@ shared float group_max_radius[LOCAL_SIZE];
 // (common/pass_films.glsl): the classes' sums add up to Phi.
 #ifdef PASS_PHOTON_SPLIT
 #define ADD_PHOTON(p, value) \
-    { vec3 light_ = (value); phi += light_; phi_class[int(photons[3u * (p) + 1u].w)] += light_; }
+    { vec3 light_ = (value); phi += light_; phi_class[photon_class(p)] += light_; }
 #else
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
@@ -92,11 +95,9 @@ void main() {
             vec4 wo_v = visible_points[VISIBLE_POINT_VEC4 * i + 2];
             vec4 w_flags = visible_points[VISIBLE_POINT_VEC4 * i + 3];
             uint point_flags = floatBitsToUint(w_flags.w);
-#ifdef HAS_VERTEX_COLORS
-            vec3 vertex_color = visible_points[VISIBLE_POINT_VEC4 * i + 4].rgb;
-#else
-            vec3 vertex_color = vec3(1.0);
-#endif
+            vec4 color_bounces = visible_points[VISIBLE_POINT_VEC4 * i + 4];
+            vec3 vertex_color = color_bounces.rgb;
+            uint eye_bounces = uint(color_bounces.w);
             Shading sh = shading_of_leaf(int(point.w), n_u.xyz,
                                          TexturePoint(vec2(n_u.w, wo_v.w), point.xyz), vertex_color,
                                          (point_flags & VISIBLE_POINT_ENTERING) != 0u);
@@ -107,7 +108,9 @@ void main() {
             vec3 wo = wo_v.xyz;
             vec3 weight = w_flags.xyz;
 #else
-            vec3 n = visible_points[VISIBLE_POINT_VEC4 * i + 1].xyz;
+            vec4 n_bounces = visible_points[VISIBLE_POINT_VEC4 * i + 1];
+            vec3 n = n_bounces.xyz;
+            uint eye_bounces = uint(n_bounces.w);
             vec3 weight = visible_points[VISIBLE_POINT_VEC4 * i + 2].xyz;
 #endif
             // The side photons must have arrived on (sppm_buffers.glsl, photon_side_word):
@@ -154,7 +157,8 @@ void main() {
 #ifdef HAS_MICROFACET
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                     photon_on_side(p, d, r, side, both_sides)) {
-                    vec3 f = bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false);
+                    vec3 f = bsdf_f_of_kinds(sh, wo, photons[3 * p + 1].xyz, rough_only, false,
+                                             gather_bounce_kinds(eye_bounces, photon_bounces(p)));
                     float count = float(entry.y);
                     m += count;
                     ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
@@ -164,7 +168,9 @@ void main() {
                     dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, d, r, side, both_sides)) {
                     float count = float(entry.y);
                     m += count;
-                    ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
+                    if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
+                         (1u << BOUNCE_DIFFUSE)) != 0u)
+                        ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
                 }
 #endif
 #else
@@ -176,7 +182,9 @@ void main() {
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
-                        ADD_PHOTON(p, bsdf_f(sh, wo, photons[3 * p + 1].xyz, rough_only, false) *
+                        ADD_PHOTON(p, bsdf_f_of_kinds(sh, wo, photons[3 * p + 1].xyz, rough_only,
+                                                      false, gather_bounce_kinds(
+                                                                 eye_bounces, photon_bounces(p))) *
                                           photons[3 * p + 2].xyz);
                     }
 #else
@@ -184,7 +192,9 @@ void main() {
                         dot(photons[3 * p + 1].xyz, n) > 0.0 &&
                         photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
-                        ADD_PHOTON(p, photons[3 * p + 2].xyz);
+                        if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
+                             (1u << BOUNCE_DIFFUSE)) != 0u)
+                            ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }
 #endif
                 }

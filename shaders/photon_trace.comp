@@ -1,7 +1,8 @@
 // SPPM stage 2, one thread per photon path, with path regeneration (Hachisuka 2015,
 // section 3.3): each pass traces ONE bounce and stores at most one photon. A path killed
-// by Russian roulette, by the depth limit or by leaving the scene starts anew from a light
-// in the next pass, so every thread stays busy whatever the path lengths. Photons are
+// by Russian roulette, by Cycles' Light Paths limits (common/bounces.glsl) or by leaving
+// the scene starts anew from a light in the next pass, so every thread stays busy whatever
+// the path lengths. Photons are
 // stored on non-specular surfaces only, each with an independent random key for the
 // stochastic hash; with light sampling (DIRECT_LIGHT_SAMPLED) not on a path's first hit.
 layout(local_size_x = LOCAL_SIZE) in;
@@ -17,6 +18,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/emitters.glsl"
 #include "common/pass_films.glsl"
+#include "common/bounces.glsl"
 #ifdef HAS_ABSORPTION
 #include "common/absorption.glsl"
 #endif
@@ -43,13 +45,14 @@ void main() {
 
     vec4 p0 = photon_paths[3 * i + 0];
     vec3 origin = p0.xyz;
+    // Surfaces met so far: a path ends at its (max_bounces + 1)th, the last that a path within
+    // the total can store a photon on (its first scatter is not counted: common/bounces.glsl).
     float bounces = p0.w;
     vec3 dir = photon_paths[3 * i + 1].xyz;
-#ifdef DIRECT_LIGHT_SAMPLED
-    // 1 once the path has scattered (specular or diffuse), 0 while it comes straight from
-    // the light: such photons are direct light, which light sampling counts instead.
-    float scattered = photon_paths[3 * i + 1].w;
-#endif
+    // The path's bounce word: BOUNCES_SCATTERED once the path has scattered (specular or
+    // diffuse), not while it comes straight from the light (such photons are direct light,
+    // which light sampling counts instead), and its later scatters by kind.
+    uint path_bounces = uint(photon_paths[3 * i + 1].w);
     vec3 flux = photon_paths[3 * i + 2].xyz;
 #ifdef PASS_PHOTON_SPLIT
     float path_class = photon_paths[3 * i + 2].w;
@@ -67,9 +70,7 @@ void main() {
     if (bounces < 0.0) {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;
-#ifdef DIRECT_LIGHT_SAMPLED
-        scattered = 0.0;
-#endif
+        path_bounces = 0u;
 #ifdef PASS_PHOTON_SPLIT
         path_class = PHOTON_PATH_DIRECT;
 #endif
@@ -81,7 +82,10 @@ void main() {
     vec3 incoming = vec3(0.0);
 #ifdef PASS_PHOTON_SPLIT
     float stored_class = path_class;  // the class the photon arrives with
+#else
+    float stored_class = 0.0;
 #endif
+    uint stored_bounces = path_bounces;  // the bounce word the photon arrives with
     Hit hit = closest_hit(make_ray(origin, dir));
     if (hit.triangle < 0) {
         bounces = -1.0;  // left the scene: a new path next pass
@@ -101,7 +105,7 @@ void main() {
             (shadowless && kind != MATERIAL_DIFFUSE)) {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
-            if (bounces >= float(max_bounces)) bounces = -1.0;
+            if (bounces > float(max_bounces)) bounces = -1.0;
 #ifdef HAS_MICROFACET
         } else {
             // Stored wherever a visible point can gather it (a lobe rougher than the
@@ -112,7 +116,7 @@ void main() {
             bool store = material_kind(s.material) == MATERIAL_MIX
                              ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
 #ifdef DIRECT_LIGHT_SAMPLED
-            store = store && scattered > 0.5;
+            store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
 #endif
             if (store) {
                 uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
@@ -146,8 +150,8 @@ void main() {
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
-                if (bounces >= float(max_bounces)) bounces = -1.0;
-            } else if (bounces >= float(max_bounces) ||
+                if (bounces > float(max_bounces)) bounces = -1.0;
+            } else if (bounces > float(max_bounces) ||
                        !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
                 bounces = -1.0;
             } else {
@@ -172,10 +176,15 @@ void main() {
                     float meant = dot(wi, sh.n), got = dot(wi, ng_wo);
                     if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
                         wi = normalize(wi - 2.0 * got * ng_wo);
-#ifdef DIRECT_LIGHT_SAMPLED
-                    // Through a cut-out the photon has not scattered: still direct light.
-                    if (sh.kind != MATERIAL_TRANSPARENT) scattered = 1.0;
-#endif
+                    // Through a cut-out the photon has not scattered: still direct light. A
+                    // path no visible point may gather within the limits ends.
+                    path_bounces = photon_bounces_scattered(
+                        path_bounces,
+                        sh.kind == MATERIAL_TRANSPARENT
+                            ? BOUNCE_NONE
+                            : bounce_kind(-dir, wi, s.geometric_normal,
+                                          bsdf_sample_is_diffuse(sh, -dir, u_dir)));
+                    if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
                     dir = wi;
                     origin = offset_origin(s.position, s.geometric_normal, dir);
                 }
@@ -187,10 +196,7 @@ void main() {
 #ifdef DIRECT_LIGHT_SAMPLED
             // Not the first hit from the light: light sampling covers that. Caustics (light,
             // specular, then here) have scattered and are stored.
-            bool store = scattered > 0.5;
-            // Through a surface that casts no shadow the photon goes on unscattered: still
-            // direct light where it lands next.
-            if (!shadowless) scattered = 1.0;
+            bool store = (path_bounces & BOUNCES_SCATTERED) != 0u;
             if (store) {
 #endif
             uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
@@ -209,12 +215,16 @@ void main() {
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
-                if (bounces >= float(max_bounces)) bounces = -1.0;
-            } else if (bounces >= float(max_bounces) || rng_next(rng) >= q) {
+                if (bounces > float(max_bounces)) bounces = -1.0;
+            } else if (bounces > float(max_bounces) || rng_next(rng) >= q) {
                 bounces = -1.0;
             } else {
                 flux *= albedo / q;
                 PATH_SCATTERED(false);
+                // Through a surface that casts no shadow (above) the photon goes on
+                // unscattered: still direct light where it lands next.
+                path_bounces = photon_bounces_scattered(path_bounces, BOUNCE_DIFFUSE);
+                if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
                 dir = sample_cosine_hemisphere(n, rng_next(rng), rng_next(rng));
                 // About a smooth shading normal the bounce may point into the surface: mirror
                 // it back out across the true surface, or it would leave a closed mesh.
@@ -222,33 +232,29 @@ void main() {
                 if (below <= 0.0) dir = normalize(dir - 2.0 * below * ng);
                 origin = offset_origin(s.position, s.geometric_normal, dir);
             }
-        } else if (bounces >= float(max_bounces)) {
+        } else if (bounces > float(max_bounces)) {
             bounces = -1.0;
         } else {
-            dir = scatter_specular(s.material, surface_color(s), dir, s.normal,
-                                   s.geometric_normal, rng_next(rng), false, flux);
+            vec3 wi = scatter_specular(s.material, surface_color(s), dir, s.normal,
+                                       s.geometric_normal, rng_next(rng), false, flux);
             PATH_SCATTERED(true);
-#ifdef DIRECT_LIGHT_SAMPLED
-            scattered = 1.0;
-#endif
+            path_bounces = photon_bounces_scattered(
+                path_bounces, bounce_kind(-dir, wi, s.geometric_normal, false));
+            if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
+            dir = wi;
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
 #endif
     }
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);
-#ifdef DIRECT_LIGHT_SAMPLED
-    photon_paths[3 * i + 1] = vec4(dir, scattered);
-#else
-    photon_paths[3 * i + 1] = vec4(dir, 0.0);
-#endif
+    photon_paths[3 * i + 1] = vec4(dir, float(path_bounces));
 #ifdef PASS_PHOTON_SPLIT
     photon_paths[3 * i + 2] = vec4(flux, path_class);
-    photons[3 * i + 1] = vec4(incoming, stored_class);
 #else
     photon_paths[3 * i + 2] = vec4(flux, 0.0);
-    photons[3 * i + 1] = vec4(incoming, 0.0);
 #endif
+    photons[3 * i + 1] = vec4(incoming, photon_record_word(stored_class, stored_bounces));
     photons[3 * i + 0] = position_key;
     photons[3 * i + 2] = stored;
     rng_store(state_index, rng);

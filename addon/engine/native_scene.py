@@ -4,6 +4,7 @@ The one place that knows the module's constructor signatures."""
 from dataclasses import asdict
 
 from ..compat import BUMP_SHADOWING
+from .light_paths import bounce_limits
 
 
 def native_material(native, material):
@@ -59,7 +60,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         alpha=settings.alpha,
         initial_radius=settings.radius(),
         radius_scale=settings.radius_scale,
-        max_bounces=settings.max_bounces,
+        **bounce_limits(settings),
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),

@@ -21,6 +21,7 @@ from ..export.frame import FrameError, render_frame
 from ..properties.preferences import render_device, render_devices
 from . import memory, render_passes
 from .cancellable import StageClock, call_cancellable
+from .light_paths import old_max_bounces_warning
 from .native_scene import film_options, native_scene, native_settings
 from .progressive import DisplayClock, PassSchedule, long_render_warning, stats_line
 from . import viewport
@@ -116,6 +117,9 @@ class GlslppmEngineMixin:
         # warn about is not the user's to fix (issue 26), so they stay quiet.
         for warning in ([] if self.is_preview else data.warnings):
             self.report_to_user('WARNING', warning)
+        old_bounces = None if self.is_preview else old_max_bounces_warning(scene)
+        if old_bounces:
+            self.report_to_user('WARNING', old_bounces)
         print(f"GLSLPPM: exported {data.triangle_count} triangles, {data.instance_count} "
               f"instances of {len(data.instance_meshes)} meshes, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")

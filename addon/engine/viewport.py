@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from ..export import ExportError, export_scene, export_tables
+from .light_paths import bounce_limits
 from .native_scene import native_scene, native_settings
 
 # One run() call lasts about this long, so restarts and redraws wait at most that.
@@ -447,7 +448,8 @@ def change_kind(depsgraph, data, known_objects=None):
 def settings_signature(settings, film):
     """The render settings a viewport renderer is built with: a change rebuilds it."""
     return (settings.viewport_photons_per_pass, settings.alpha, settings.radius(),
-            settings.radius_scale, settings.max_bounces, settings.hash_mode, settings.rng,
+            settings.radius_scale, tuple(bounce_limits(settings).items()), settings.hash_mode,
+            settings.rng,
             settings.direct_light, settings.seed, tuple(sorted(film.items())))
 
 

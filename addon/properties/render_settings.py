@@ -53,9 +53,21 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
             name="Alpha", default=0.7, min=0.01, max=1.0,
             description="Fraction of new photons kept per pass: lower shrinks the radius "
                         "faster (less blur, more noise)"),
+        # Cycles' Light Paths under its names and defaults, read only where the Cycles
+        # add-on is off (engine/light_paths.py); with it on, scene.cycles' own are.
         "max_bounces": IntProperty(
-            name="Max Bounces", default=16, min=1, max=1024,
-            description="Longest eye and photon path"),
+            name="Total", default=12, min=0, max=1024,
+            description="Maximum number of light bounces, as Cycles' Light Paths Total (used "
+                        "when the Cycles add-on is disabled; otherwise Cycles' own)"),
+        "diffuse_bounces": IntProperty(
+            name="Diffuse", default=4, min=0, max=1024,
+            description="Maximum number of diffuse reflection bounces, as Cycles'"),
+        "glossy_bounces": IntProperty(
+            name="Glossy", default=4, min=0, max=1024,
+            description="Maximum number of glossy reflection bounces, as Cycles'"),
+        "transmission_bounces": IntProperty(
+            name="Transmission", default=12, min=0, max=1024,
+            description="Maximum number of transmission bounces, as Cycles'"),
         "direct_light": EnumProperty(
             name="Direct Light", default='SAMPLED',
             items=(('SAMPLED', "Light Sampling", "One light sample and shadow ray per pixel and "

@@ -4,6 +4,7 @@ import bpy
 
 from .. import device_speed
 from ..engine import progressive
+from ..engine.light_paths import light_paths_owner
 from ..properties import preferences
 
 
@@ -100,7 +101,9 @@ class RENDER_PT_glslppm_photons(GlslppmRenderPanel, bpy.types.Panel):
 
 
 class RENDER_PT_glslppm_light_paths(GlslppmRenderPanel, bpy.types.Panel):
-    """Where Cycles users look for bounces: one limit, for eye and photon paths alike."""
+    """Where Cycles users look for bounces, drawn as Cycles draws its Max Bounces: the same
+    properties (scene.cycles', or GLSLPPM's copies without the Cycles add-on), which the
+    renderer follows (engine/light_paths.py, docs/bounces.md)."""
     bl_label = "Light Paths"
     bl_options = {'DEFAULT_CLOSED'}
 
@@ -108,7 +111,13 @@ class RENDER_PT_glslppm_light_paths(GlslppmRenderPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        layout.column().prop(context.scene.glslppm, "max_bounces", text="Max Bounces")
+        owner = light_paths_owner(context.scene)
+        column = layout.column(align=True, heading="Max Bounces")
+        column.prop(owner, "max_bounces", text="Total")
+        column = layout.column(align=True)
+        column.prop(owner, "diffuse_bounces", text="Diffuse")
+        column.prop(owner, "glossy_bounces", text="Glossy")
+        column.prop(owner, "transmission_bounces", text="Transmission")
 
 
 class RENDER_PT_glslppm_advanced(GlslppmRenderPanel, bpy.types.Panel):

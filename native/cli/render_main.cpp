@@ -61,8 +61,12 @@ std::string usage() {
         "  --alpha A                 SPPM alpha (default %g)\n"
         "  --radius R                initial radius (default: automatic)\n"
         "  --radius-scale S          multiplies the automatic radius (default %g)\n"
-        "  --max-bounces N           eye and photon bounces (default %d; Blender's Max Bounces;\n"
-        "                            --max-depth is accepted for scripts written before)\n"
+        "  --max-bounces N           Cycles' Light Paths Total: scatters before a path's last\n"
+        "                            (default %d; --max-depth is accepted for scripts written\n"
+        "                            before; docs/bounces.md)\n"
+        "  --diffuse-bounces N       Cycles' per-kind limits (default %d each: the total alone;\n"
+        "  --glossy-bounces N        Cycles' own defaults are 4, 4 and 12)\n"
+        "  --transmission-bounces N\n"
         "  --hash stochastic|exact   photon hashing (default %s)\n"
         "  --rng pcg|paper           generator (default %s; docs/rng.md says why)\n"
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
@@ -95,7 +99,7 @@ std::string usage() {
         "  one after another, each with its own photon passes (--passes, not --seconds).\n"
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
-        d.radius_scale, d.max_bounces, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
+        d.radius_scale, d.max_bounces, d.max_diffuse_bounces, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
         to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
         to_string(d.estimator).c_str(),
         static_cast<unsigned long long>(d.seed));
@@ -144,6 +148,10 @@ Options parse(int argc, char** argv) {
         else if (a == "--radius") o.settings.initial_radius = static_cast<float>(number());
         else if (a == "--radius-scale") o.settings.radius_scale = static_cast<float>(number());
         else if (a == "--max-bounces" || a == "--max-depth") o.settings.max_bounces = static_cast<int>(number());
+        else if (a == "--diffuse-bounces") o.settings.max_diffuse_bounces = static_cast<int>(number());
+        else if (a == "--glossy-bounces") o.settings.max_glossy_bounces = static_cast<int>(number());
+        else if (a == "--transmission-bounces")
+            o.settings.max_transmission_bounces = static_cast<int>(number());
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
@@ -300,6 +308,10 @@ int main(int argc, char** argv) {
                        {"rng", to_string(o.settings.rng)},
                        {"direct_light", to_string(o.settings.direct_light)},
                        {"max_bounces", std::to_string(o.settings.max_bounces)},
+                       {"max_diffuse_bounces", std::to_string(o.settings.max_diffuse_bounces)},
+                       {"max_glossy_bounces", std::to_string(o.settings.max_glossy_bounces)},
+                       {"max_transmission_bounces",
+                        std::to_string(o.settings.max_transmission_bounces)},
                        {"renderer", s.renderer},
                        {"variant", s.variant}});
             if (o.multilayer)

@@ -766,7 +766,8 @@ PYBIND11_MODULE(_glslppm, m) {
                          const std::string& estimator, std::vector<int> devices,
                          std::uint64_t first_pass, const std::string& instancing,
                          std::uint64_t max_block_bytes, std::vector<std::string> passes,
-                         const std::string& bump_shadowing) {
+                         const std::string& bump_shadowing, int max_diffuse_bounces,
+                         int max_glossy_bounces, int max_transmission_bounces) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -775,6 +776,9 @@ PYBIND11_MODULE(_glslppm, m) {
                  s.initial_radius = initial_radius;
                  s.radius_scale = radius_scale;
                  s.max_bounces = max_bounces;
+                 s.max_diffuse_bounces = max_diffuse_bounces;
+                 s.max_glossy_bounces = max_glossy_bounces;
+                 s.max_transmission_bounces = max_transmission_bounces;
                  s.hash = parse_hash_mode(hash);
                  s.rng = parse_rng_kind(rng);
                  s.direct_light = parse_direct_light(direct_light);
@@ -819,8 +823,15 @@ PYBIND11_MODULE(_glslppm, m) {
              py::arg("instancing") = to_string(defaults.instancing),
              py::arg("max_block_bytes") = defaults.max_block_bytes,
              py::arg("passes") = std::vector<std::string>{},
-             py::arg("bump_shadowing") = to_string(defaults.bump_shadowing))
+             py::arg("bump_shadowing") = to_string(defaults.bump_shadowing),
+             py::arg("max_diffuse_bounces") = defaults.max_diffuse_bounces,
+             py::arg("max_glossy_bounces") = defaults.max_glossy_bounces,
+             py::arg("max_transmission_bounces") = defaults.max_transmission_bounces)
         .def_readonly("width", &RenderSettings::width)
+        .def_readonly("max_bounces", &RenderSettings::max_bounces)
+        .def_readonly("max_diffuse_bounces", &RenderSettings::max_diffuse_bounces)
+        .def_readonly("max_glossy_bounces", &RenderSettings::max_glossy_bounces)
+        .def_readonly("max_transmission_bounces", &RenderSettings::max_transmission_bounces)
         .def_readonly("max_block_bytes", &RenderSettings::max_block_bytes)
         .def_readonly("height", &RenderSettings::height)
         .def_readonly("radius_scale", &RenderSettings::radius_scale)

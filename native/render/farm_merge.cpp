@@ -37,7 +37,9 @@ PassRanges parse_pass_ranges(const std::string& text) {
 
 // The settings that shape the image, as "name=value;..." for the EXR attribute farm merges
 // compare. max_bounces is written under its earlier name max_depth: frames rendered before
-// the rename must still merge with those rendered after.
+// the rename must still merge with those rendered after. The per-kind limits come last, and
+// only where one is set below the total's reach (a limit of max_bounces or more cuts
+// nothing), so that frames of the settings before them keep the same string.
 std::string image_settings(const RenderSettings& s) {
     char text[512];
     std::snprintf(text, sizeof text,
@@ -48,7 +50,13 @@ std::string image_settings(const RenderSettings& s) {
                   s.max_bounces, to_string(s.hash).c_str(), to_string(s.rng).c_str(),
                   to_string(s.direct_light).c_str(), s.leaf_size, s.max_texture_size,
                   s.transparent ? 1 : 0, s.transparent_glass ? 1 : 0, s.glossy_threshold);
-    return text;
+    std::string settings = text;
+    for (const auto& [name, value] :
+         {std::pair<const char*, int>{"max_diffuse_bounces", s.max_diffuse_bounces},
+          {"max_glossy_bounces", s.max_glossy_bounces},
+          {"max_transmission_bounces", s.max_transmission_bounces}})
+        if (value < s.max_bounces) settings += ";" + std::string(name) + "=" + std::to_string(value);
+    return settings;
 }
 
 std::map<std::string, std::string> farm_attributes(const RenderSettings& settings,

@@ -59,6 +59,11 @@ struct FrameBlock {
     float pass_scale = 0.0f;
     std::uint32_t photon_step = 0;
     std::uint32_t shadow_terminator = 0;  // BumpShadowing: 0 Chiang 2019, 1 Conty 2021
+    // Cycles' per-kind limits beside max_bounces (RenderSettings, common/bounces.glsl).
+    std::uint32_t max_diffuse_bounces = 0;
+    std::uint32_t max_glossy_bounces = 0;
+    std::uint32_t max_transmission_bounces = 0;
+    std::uint32_t frame_padding = 0;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -94,7 +99,10 @@ static_assert(offsetof(FrameBlock, pass_radius) == 272);
 static_assert(offsetof(FrameBlock, pass_scale) == 276);
 static_assert(offsetof(FrameBlock, photon_step) == 280);
 static_assert(offsetof(FrameBlock, shadow_terminator) == 284);
-static_assert(sizeof(FrameBlock) == 288);
+static_assert(offsetof(FrameBlock, max_diffuse_bounces) == 288);
+static_assert(offsetof(FrameBlock, max_glossy_bounces) == 292);
+static_assert(offsetof(FrameBlock, max_transmission_bounces) == 296);
+static_assert(sizeof(FrameBlock) == 304);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.
@@ -113,10 +121,10 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 // (render/render_passes.h), which also names the offsets' defines.
 
 // `buffer VisiblePoints` (shaders/common/sppm_buffers.glsl): vec4s per pixel, as its
-// VISIBLE_POINT_VEC4 counts them: 3 for the closed model, 4 with microfacet lobes, 5 with
-// vertex colours too (the gather's f(wo, wi) reads the point's colour).
-inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool vertex_colors) {
-    return microfacet ? (vertex_colors ? 5 : 4) : 3;
+// VISIBLE_POINT_VEC4 counts them: 3 for the closed model, 5 with microfacet lobes (the fifth
+// holds the vertex colour the gather's f(wo, wi) reads, and the eye subpath's bounce counts).
+inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool /*vertex_colors*/) {
+    return microfacet ? 5 : 3;
 }
 
 // `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.

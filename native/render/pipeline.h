@@ -245,7 +245,8 @@ struct Renderer::Gpu {
     }
 
     // One pass as its stages. SPPM: pass_index is the count of passes run before. PPPM: any
-    // index; the photon paths are traced in max_bounces steps, stored side by side and hashed
+    // index; the photon paths are traced in max_bounces + 1 steps (a photon may land a
+    // (max_bounces + 1)th time: common/bounces.glsl), stored side by side and hashed
     // and gathered steps_per_gather at a time.
     void run_pass(std::uint64_t pass_index) {
         const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
@@ -260,7 +261,7 @@ struct Renderer::Gpu {
         dispatch(*eye, pixels);
         if (settings.profile) glMemoryBarrier(ssbo);
         mark(1);
-        const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_bounces) : 1u;
+        const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_bounces) + 1u : 1u;
         const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot) * 3 * 16;
         for (std::uint32_t step = 0; step < steps; ++step) {
             const std::uint32_t slot = step % steps_per_gather;

@@ -143,8 +143,10 @@ public:
     std::vector<std::vector<float>> render_passes(const std::vector<RenderPass>& wanted);
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
-    // towards where it came from, its path's class with the light split's passes
-    // (shaders/common/pass_films.glsl: 0 direct, 1 indirect, 2 caustic) else 0, flux, and
+    // towards where it came from, the record word (shaders/common/sppm_buffers.glsl: its
+    // path's class with the light split's passes, shaders/common/pass_films.glsl: 0 direct,
+    // 1 indirect, 2 caustic, else 0; plus 4 times the path's bounce word,
+    // shaders/common/bounces.glsl), flux, and
     // the side word (shaders/common/sppm_buffers.glsl: a positive integer) if stored else 0
     // (tests and debugging).
     std::vector<float> photons();

@@ -183,7 +183,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
                     largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30,
                     std::size_t(1) << 30);
                 g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
-                    cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(settings.max_bounces)));
+                    cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(settings.max_bounces) + 1));
             }
             const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
             g.require_fits(stored * 3 * 16, "photons");

@@ -477,6 +477,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     f.photon_threads = p.photon_threads;
     f.hash_cell_count = p.hash_cells;
     f.max_bounces = static_cast<std::uint32_t>(settings.max_bounces);
+    f.max_diffuse_bounces = static_cast<std::uint32_t>(settings.max_diffuse_bounces);
+    f.max_glossy_bounces = static_cast<std::uint32_t>(settings.max_glossy_bounces);
+    f.max_transmission_bounces = static_cast<std::uint32_t>(settings.max_transmission_bounces);
     f.glossy_threshold = settings.glossy_threshold;
     f.shadow_terminator = settings.bump_shadowing == BumpShadowing::Conty2021 ? 1u : 0u;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);

@@ -83,8 +83,13 @@ void validate(const RenderSettings& s) {
         fail("glossy_threshold: must be a roughness in [0, 1]");
     if (!(s.radius_scale > 0.0f) || !std::isfinite(s.radius_scale))
         fail("radius_scale: must be a positive number");
-    if (s.max_bounces < 1 || s.max_bounces > 1024)
-        fail("max_bounces: " + std::to_string(s.max_bounces) + " is outside 1..1024");
+    for (const auto& [name, value] :
+         {std::pair<const char*, int>{"max_bounces", s.max_bounces},
+          {"max_diffuse_bounces", s.max_diffuse_bounces},
+          {"max_glossy_bounces", s.max_glossy_bounces},
+          {"max_transmission_bounces", s.max_transmission_bounces}})
+        if (value < 0 || value > 1024)
+            fail(std::string(name) + ": " + std::to_string(value) + " is outside 0..1024");
     if (s.leaf_size < 1 || s.leaf_size > 64)
         fail("leaf_size: " + std::to_string(s.leaf_size) + " is outside 1..64");
     if (s.estimator == Estimator::Pppm && s.rng == RngKind::Paper)

@@ -40,7 +40,16 @@ struct RenderSettings {
     float alpha = 0.7f;           // SPPM's fraction of new photons kept (Hachisuka 2009)
     float initial_radius = 0.0f;  // 0: automatic, from the scene size and the pixel footprint
     float radius_scale = 1.0f;    // multiplies the automatic initial radius
-    int max_bounces = 16;           // eye and photon bounces
+    // Cycles' Light Paths (docs/bounces.md): a full path (eye subpath, visible point, photon
+    // subpath) keeps its light while the scatters before its last one number at most
+    // max_bounces in all and at most each kind's limit in their kind, as Cycles' path_state_next
+    // counts them; 0 keeps direct light only. The kinds' defaults here (1024) leave the total
+    // alone in charge, so module and CLI renders keep their images; the add-on passes
+    // Blender's Light Paths settings (Cycles' defaults: 12, 4, 4, 12).
+    int max_bounces = 16;
+    int max_diffuse_bounces = 1024;
+    int max_glossy_bounces = 1024;
+    int max_transmission_bounces = 1024;
     // Microfacet lobes below this roughness are followed by eye paths (sampled, as mirrors
     // and glass are); at and above it they hold the visible point that gathers photons.
     // 0.5: chosen when a visible point's direct light was a light sample alone, whose noise

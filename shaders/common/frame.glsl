@@ -24,7 +24,7 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     uint photon_threads;
     uint hash_cell_count;
     uint pass_index;
-    uint max_bounces;               // eye and photon bounces
+    uint max_bounces;             // Cycles' Total (common/bounces.glsl)
     uint emitter_count;
     float sppm_alpha;             // SPPM's fraction of new photons kept
     float radius_floor;           // radii never shrink below this (scene-relative)
@@ -43,6 +43,10 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     float pass_scale;
     uint photon_step;
     uint shadow_terminator;       // bump shadowing, 0: Chiang 2019 (Cycles up to 4.x), 1: Conty Estevez 2021 (5.x)
+    uint max_diffuse_bounces;     // Cycles' per-kind limits (common/bounces.glsl)
+    uint max_glossy_bounces;
+    uint max_transmission_bounces;
+    uint frame_padding;
 };
 
 const float PI = 3.14159265358979;

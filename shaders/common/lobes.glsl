@@ -16,6 +16,7 @@
 
 #include "common/bsdf.glsl"
 #include "common/sampling.glsl"
+#include "common/bounces.glsl"
 
 #ifdef HAS_MICROFACET
 
@@ -585,6 +586,37 @@ vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjo
     }
 }
 
+// bsdf_f of the lobes whose scatter is of the kinds in the mask (a bit per BOUNCE_ kind of
+// common/bounces.glsl): the gather's f where Cycles' Light Paths limits admit only some kinds
+// of the visible point's scatter. A glass's reflection is glossy and its refraction
+// transmission, as Cycles labels the sampled direction; plastic's base is diffuse and its
+// layer glossy, each lobe's own f (Cycles labels a direction by the closure it drew, whose
+// share of a direction is its pdf's: the two agree on every one-lobe material).
+vec3 bsdf_f_of_kinds(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjoint,
+                     uint kinds) {
+    if (kinds == 7u) return bsdf_f(sh, wo_world, wi_world, rough_only, adjoint);
+    if (kinds == 0u) return vec3(0.0);
+    vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
+    uint kind;
+    switch (sh.kind) {
+        case MATERIAL_DIFFUSE: kind = BOUNCE_DIFFUSE; break;
+        case MATERIAL_TRANSLUCENT: kind = BOUNCE_TRANSMISSION; break;
+        case MATERIAL_CONDUCTOR: kind = BOUNCE_GLOSSY; break;
+        case MATERIAL_DIELECTRIC: kind = wi.z > 0.0 ? BOUNCE_GLOSSY : BOUNCE_TRANSMISSION; break;
+        case MATERIAL_PLASTIC: {
+            vec3 f = vec3(0.0);
+            if ((kinds & (1u << BOUNCE_DIFFUSE)) != 0u)
+                f += plastic_base_f(sh, wo, wi) * bump_shadowing(sh, wi_world);
+            if ((kinds & (1u << BOUNCE_GLOSSY)) != 0u && !(rough_only && lobe_smooth(sh)))
+                f += plastic_layer_f(sh, wo, wi);
+            return f;
+        }
+        default: return vec3(0.0);
+    }
+    return (kinds & (1u << kind)) != 0u ? bsdf_f(sh, wo_world, wi_world, rough_only, adjoint)
+                                        : vec3(0.0);
+}
+
 // The density bsdf_sample draws wi with (0 for the delta lobes).
 float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
     vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
@@ -683,6 +715,16 @@ bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
         case MATERIAL_DIELECTRIC: return lobe_smooth(sh);
         case MATERIAL_PLASTIC:
             return lobe_smooth(sh) && u.z < plastic_layer_probability(sh, to_local(sh, wo_world));
+        default: return false;
+    }
+}
+
+// Whether the bounce bsdf_sample(sh, wo_world, u, ...) draws goes through a diffuse lobe
+// (Lambert, plastic's base; translucency is a transmission): common/bounces.glsl's kinds.
+bool bsdf_sample_is_diffuse(Shading sh, vec3 wo_world, vec3 u) {
+    switch (sh.kind) {
+        case MATERIAL_DIFFUSE: return true;
+        case MATERIAL_PLASTIC: return u.z >= plastic_layer_probability(sh, to_local(sh, wo_world));
         default: return false;
     }
 }

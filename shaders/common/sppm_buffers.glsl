@@ -23,19 +23,18 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 // USES_PHOTONS, USES_HASH (and USES_EMITTERS in common/scene_buffers.glsl).
 
 #ifdef USES_PIXEL_STATE
-// Visible points, 3 per pixel: (position, material id or -1), (normal facing the
-// eye, 0), (eye-path weight = throughput * albedo / pi, 0). With HAS_MICROFACET, 4 per
-// pixel, what the gather needs to evaluate f(wo, wi): (position, leaf material id or -1),
-// (shading normal on wo's side, u), (wo, v), (eye-path throughput, flag bits below).
-// With HAS_VERTEX_COLORS too, a fifth: (the vertex colour at the point, 0), for the gather's
-// f(wo, wi).
+// Visible points, 3 per pixel: (position, material id or -1), (normal facing the eye,
+// the eye subpath's bounce word), (eye-path weight = throughput * albedo / pi, 0). With
+// HAS_MICROFACET, 5 per pixel, what the gather needs to evaluate f(wo, wi): (position, leaf
+// material id or -1), (shading normal on wo's side, u), (wo, v), (eye-path throughput, flag
+// bits below), (the vertex colour at the point or 1, the eye subpath's bounce word). The
+// bounce word (common/bounces.glsl) counts the eye path's scatters before the point, as a
+// float (exact: below 2^22).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
 #ifndef HAS_MICROFACET
 #define VISIBLE_POINT_VEC4 3u
-#elif defined(HAS_VERTEX_COLORS)
-#define VISIBLE_POINT_VEC4 5u
 #else
-#define VISIBLE_POINT_VEC4 4u
+#define VISIBLE_POINT_VEC4 5u
 #endif
 
 const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
@@ -52,14 +51,17 @@ layout(std430, binding = BINDING_DIRECT_LIGHT) buffer DirectLight { vec4 direct_
 #endif
 
 #ifdef USES_PHOTON_PATHS
-// Photon paths, 3 per photon thread: (origin, bounces so far or -1 = start anew),
-// (direction, 0), (flux, 0).
+// Photon paths, 3 per photon thread: (origin, surfaces met so far or -1 = start anew),
+// (direction, the path's bounce word: common/bounces.glsl), (flux, path class or 0).
 layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_paths[]; };
 #endif
 
 #ifdef USES_PHOTONS
 // Photons stored this pass, 3 per photon thread: (position, random key bits),
-// (direction towards where it came from, 0), (flux, side word or 0 if none stored). Keys
+// (direction towards where it came from, record word), (flux, side word or 0 if none
+// stored). The record word is the path class (common/pass_films.glsl, 0 without the light
+// split) plus 4 times the path's bounce word on arrival (common/bounces.glsl): below 2^24, an
+// exact float. Keys
 // are normal floats (2^24 + 29 random bits) so that no driver may flush or canonicalise
 // them.
 layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
@@ -98,6 +100,18 @@ const float PHOTON_WALL_TOLERANCE = 0.05;
 // facets lie up to its sagitta inside it, which no slack in radii covers as the radius
 // shrinks: a diffuse sphere under a uniform sky read 0.836 of a L, glass equilibrium 0.82).
 const float PHOTON_SIDE_SAME_COS = 0.9;
+
+float photon_record_word(float path_class, uint bounces) {
+    return float(uint(path_class) + 4u * bounces);
+}
+
+uint photon_class(uint p) {
+    return uint(photons[3u * p + 1u].w) & 3u;
+}
+
+uint photon_bounces(uint p) {
+    return uint(photons[3u * p + 1u].w) >> 2;
+}
 #endif
 
 #ifdef USES_HASH

@@ -67,7 +67,21 @@ def reset_scene(engine='GLSLPPM', size=(64, 64)):
             settings.property_unset(name)
     scene.world = None
     scene.camera = None
+    # Both engines follow scene.cycles' Light Paths: the tests compare at 16 of every kind.
+    set_light_paths(scene, 16)
     return scene
+
+
+def set_light_paths(scene, total, diffuse=None, glossy=None, transmission=None):
+    """Cycles' Light Paths limits, which GLSLPPM follows too (engine/light_paths.py); a kind
+    left out takes the total. Without the Cycles add-on, GLSLPPM's own copies."""
+    cycles = getattr(scene, "cycles", None)
+    owner = cycles if cycles is not None and hasattr(cycles, "diffuse_bounces") \
+        else scene.glslppm
+    owner.max_bounces = total
+    owner.diffuse_bounces = total if diffuse is None else diffuse
+    owner.glossy_bounces = total if glossy is None else glossy
+    owner.transmission_bounces = total if transmission is None else transmission
 
 
 def add_mesh_object(name, vertices, faces, location=(0, 0, 0), rotation=(0, 0, 0),
@@ -263,10 +277,7 @@ def setup_cycles(samples=64, bounces=16):
     cycles.samples = samples
     cycles.use_denoising = False
     cycles.use_adaptive_sampling = False
-    cycles.max_bounces = bounces
-    cycles.diffuse_bounces = bounces
-    cycles.glossy_bounces = bounces
-    cycles.transmission_bounces = bounces
+    set_light_paths(scene, bounces)
     cycles.sample_clamp_direct = 0.0
     cycles.sample_clamp_indirect = 0.0
     cycles.light_sampling_threshold = 0.0

@@ -65,7 +65,26 @@ def test_scene_settings_defaults():
     settings.use_auto_radius = False
     settings.initial_radius = 0.25
     assert abs(settings.radius() - 0.25) < 1e-6
-    assert settings.max_bounces == 16
+    # Cycles' Light Paths, read from scene.cycles (the tests set 16 of every kind), else
+    # GLSLPPM's copies with Cycles' defaults.
+    assert (settings.max_bounces, settings.diffuse_bounces, settings.glossy_bounces,
+            settings.transmission_bounces) == (12, 4, 4, 12)
+    helpers.set_light_paths(bpy.context.scene, 9, diffuse=1, glossy=2, transmission=3)
+    made = engine_settings.native_settings(native, settings, 8, 8)
+    assert (made.max_bounces, made.max_diffuse_bounces, made.max_glossy_bounces,
+            made.max_transmission_bounces) == (9, 1, 2, 3)
+    helpers.set_light_paths(bpy.context.scene, 16)
+    # A file that set GLSLPPM's own Max Bounces while Cycles is on is told it is not read.
+    light_paths = importlib.import_module(helpers.ADDON.__name__ + ".engine.light_paths")
+    scene = bpy.context.scene
+    if light_paths.light_paths_owner(scene) is not settings:
+        assert light_paths.old_max_bounces_warning(scene) is None
+        settings.max_bounces = 20
+        warning = light_paths.old_max_bounces_warning(scene)
+        assert warning.startswith("GLSLPPM's own Max Bounces (20) is no longer read"), warning
+        assert "Total 16, Diffuse 16" in warning, warning
+        settings.property_unset("max_bounces")
+        assert light_paths.old_max_bounces_warning(scene) is None
     assert settings.hash_mode == 'STOCHASTIC' and settings.rng in {'PAPER', 'PCG'}
     assert settings.device == -1 and settings.seed == 0
 
@@ -80,8 +99,9 @@ def test_panels_show_for_engine():
 
 def test_panels_that_do_not_apply_are_hidden_and_cycles_users_find_theirs():
     """Light probes, Volume objects and Freestyle's line sets are hidden; Stereoscopy
-    (supported) stays; Film (transparent, its filter) and Light Paths (Max Bounces, the
-    eye and photon path limit) are the engine's own panels, as Cycles users expect."""
+    (supported) stays; Film (transparent, its filter) and Light Paths (Cycles' Max Bounces:
+    Total, Diffuse, Glossy, Transmission) are the engine's own panels, as Cycles users
+    expect."""
     hidden_families = ("DATA_PT_lightprobe", "DATA_PT_context_lightprobe", "DATA_PT_volume",
                        "DATA_PT_context_volume", "VIEWLAYER_PT_freestyle")
     panels = bpy.types.Panel.__subclasses__()
@@ -97,7 +117,7 @@ def test_panels_that_do_not_apply_are_hidden_and_cycles_users_find_theirs():
     assert bpy.types.RENDER_PT_glslppm_light_paths.bl_label == "Light Paths"
     assert bpy.types.RENDER_PT_glslppm_film.bl_label == "Film"
     properties = bpy.types.Scene.bl_rna.properties["glslppm"].fixed_type.properties
-    assert properties["max_bounces"].name == "Max Bounces"
+    assert properties["max_bounces"].name == "Total"
 
 
 def test_disable_and_enable_again():

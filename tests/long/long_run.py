@@ -3,9 +3,9 @@
 speed it takes hours). Prints one JSON object and exits 1 if a check failed.
 
 The scene is the box furnace of tests/python/test_stability.py: inside a closed box whose
-walls emit Le = 1 and reflect a = 0.5, with max_bounces = 1 every pixel sees L = 1.5 exactly
-and every photon path ends after one bounce, so photons_emitted must equal
-passes * photons_per_pass exactly. The default 21,504 photons per pass take the count past
+walls emit Le = 1 and reflect a = 0.5, with max_bounces = 0 (direct light only, as Cycles
+counts bounces) every pixel sees L = 1.5 exactly and every photon path ends after one
+bounce, so photons_emitted must equal passes * photons_per_pass exactly. The default 21,504 photons per pass take the count past
 2^32 (4,300,800,000 after 200,000 passes).
 
 Checks at log-spaced checkpoints: the film is finite; passes and photons_emitted are exact;
@@ -51,7 +51,7 @@ def main():
     args = parser.parse_args()
 
     settings = g.Settings(width=args.width, height=args.width, photons_per_pass=args.photons,
-                          max_bounces=1, seed=args.seed, device=args.device)
+                          max_bounces=0, seed=args.seed, device=args.device)
     r = g.Renderer(box_furnace(g), settings)
     failures, rows = [], []
     previous = r.stats()

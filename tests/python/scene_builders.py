@@ -100,9 +100,9 @@ def inward_box(h=1.0):
 
 
 def box_furnace(g, albedo=0.5, emission=1.0):
-    """Inside a closed box whose walls all emit Le and reflect albedo a, with one bounce
-    (max_bounces=1) L = Le + a Le exactly: the irradiance is pi Le everywhere in a closed
-    enclosure. The camera sees only the middle of one face (farther than any radius from an
+    """Inside a closed box whose walls all emit Le and reflect albedo a, with direct light
+    only (max_bounces=0, as Cycles counts bounces: docs/bounces.md) L = Le + a Le exactly:
+    the irradiance is pi Le everywhere in a closed enclosure. The camera sees only the middle of one face (farther than any radius from an
     edge), where the photon density is uniform, so the kernel adds no bias and every path
     ends after one bounce: photons_emitted = passes * photons_per_pass exactly."""
     p, t = inward_box()

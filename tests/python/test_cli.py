@@ -103,3 +103,24 @@ def test_max_bounces_and_its_older_name_max_depth_set_the_same_setting(glslppm, 
     help_text = subprocess.run([RENDER, "--help"], capture_output=True, text=True,
                                timeout=60).stdout
     assert "--max-bounces N" in help_text and "--max-depth is accepted" in help_text
+
+
+def test_per_kind_bounce_limits_reach_the_render(glslppm, tmp_path):
+    """--diffuse-bounces, --glossy-bounces and --transmission-bounces (Cycles' Light Paths,
+    docs/bounces.md) are recorded in the file and change the image: the Cornell box at
+    diffuse 0 loses its interreflections, so it is darker than at the default."""
+    means = {}
+    for name, extra in (("default", []), ("limited", ["--diffuse-bounces", "0",
+                                                      "--glossy-bounces", "1",
+                                                      "--transmission-bounces", "3"])):
+        out = tmp_path / f"{name}.exr"
+        result = subprocess.run(
+            [RENDER, "--width", "16", "--height", "12", "--passes", "2", "--photons", "1024",
+             *extra, "--out", str(out)], capture_output=True, text=True, timeout=300, cwd="/")
+        assert result.returncode == 0, result.stderr
+        image, header = glslppm.read_exr(str(out))
+        means[name] = float(image[..., :3].mean())
+        if name == "limited":
+            assert (header["max_diffuse_bounces"], header["max_glossy_bounces"],
+                    header["max_transmission_bounces"]) == ("0", "1", "3")
+    assert means["limited"] < 0.95 * means["default"], means  # measured 0.90 of it

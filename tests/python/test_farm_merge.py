@@ -48,6 +48,9 @@ def renders(tmp_path_factory):
                           "--photons", "2048"),
         "scene": render(d / "scene.exr", "--passes", "3", "--first-pass", "3",
                         "--environment-color", "0.1,0.1,0.1"),
+        # Cycles' per-kind limits shape the image too (docs/bounces.md).
+        "diffuse": render(d / "diffuse.exr", "--passes", "3", "--first-pass", "3",
+                          "--diffuse-bounces", "2"),
     }
 
 
@@ -93,6 +96,8 @@ def test_interleaved_halves_from_the_module_merge(glslppm, tmp_path):
     ("photons", "photons.exr: glslppm.settings has photons_per_pass=2048 where it has "
                 "photons_per_pass=4096 in {first}"),
     ("scene", "scene.exr: glslppm.scene_hash "),
+    ("diffuse", "diffuse.exr: glslppm.settings has max_diffuse_bounces=2 where it has (none) "
+                "in {first}"),
 ])
 def test_files_that_do_not_belong_together_are_refused(renders, tmp_path, other, message):
     out = tmp_path / "merged.exr"

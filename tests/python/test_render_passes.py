@@ -81,6 +81,24 @@ def test_caustics_zero_without_glass_and_carry_the_glass_caustic(glslppm):
     assert caustics.max() > 5.0 * r.render_pass("indirect").max()
 
 
+SCATTERED = 1 << 21  # shaders/common/bounces.glsl's BOUNCES_SCATTERED
+
+
+def photon_class(ph):
+    """The path class of photon records (Renderer.photons(): column 7 is class + 4 x the
+    bounce word)."""
+    return ph[:, 7].astype(np.uint32) & 3
+
+
+def photon_bounces(ph):
+    return ph[:, 7].astype(np.uint32) >> 2
+
+
+def kind_count(words, kind):
+    """A kind's count in bounce words: 0 diffuse, 1 glossy, 2 transmission (7 bits each)."""
+    return (words >> (7 * kind)) & 127
+
+
 def test_photon_classes_follow_the_glass(glslppm):
     """A parallel beam falls onto a glass ball above a black floor (test_caustic_flux's beam),
     photons alone: a photon that comes straight down beside the ball is direct light (class
@@ -103,6 +121,7 @@ def test_photon_classes_follow_the_glass(glslppm):
     r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=65536, seed=1,
                                      direct_light="photons", passes=["caustics", "direct"]))
     counted = {0: 0, 2: 0}
+    in_and_out = 0  # caustic photons in and out of the ball, not reflected inside
     for _ in range(8):
         r.run(1)
         ph = r.photons()
@@ -116,12 +135,25 @@ def test_photon_classes_follow_the_glass(glslppm):
         straight = ph[:, 5] > math.cos(2e-3)
         clear = (rho < 0.495) | (rho > 0.503)
         beside = straight & clear & (rho > 0.503)
-        assert np.all(ph[beside, 7] == 0.0)
-        assert np.all(ph[clear & ~beside, 7] == 2.0)
-        assert np.all(np.isin(ph[:, 7], [0.0, 2.0]))
+        classes, bounces = photon_class(ph), photon_bounces(ph)
+        assert np.all(classes[beside] == 0)
+        assert np.all(classes[clear & ~beside] == 2)
+        assert np.all(np.isin(classes, [0, 2]))
+        # The bounce words (shaders/common/bounces.glsl, docs/bounces.md): none beside the
+        # ball. Off the ball, the first scatter (a reflection off its outside, or the way in)
+        # only marks the word; the way out is one transmission, after any glossy internal
+        # reflections; nothing is diffuse, and nothing enters the convex ball twice.
+        assert np.all(bounces[beside] == 0)
+        through = bounces[clear & ~beside]
+        glossy, transmission = kind_count(through, 1), kind_count(through, 2)
+        assert np.all(through & SCATTERED != 0)
+        assert np.all(kind_count(through, 0) == 0)
+        assert np.all((transmission == 1) | ((transmission == 0) & (glossy == 0)))
+        in_and_out += int(((glossy == 0) & (transmission == 1)).sum())
         counted[0] += int(beside.sum())
         counted[2] += int((clear & ~beside).sum())
     assert counted[0] > 1000 and counted[2] > 1000, counted
+    assert in_and_out > 0.5 * counted[2], (in_and_out, counted)
 
 
 def test_caustic_pass_flux_equals_the_photons_through_glass(glslppm):
@@ -141,7 +173,7 @@ def test_caustic_pass_flux_equals_the_photons_through_glass(glslppm):
     for _ in range(40):
         r.run(1)
         ph = r.photons()
-        ph = ph[(ph[:, 11] > 0.0) & (np.abs(ph[:, 1]) < 1e-5) & (ph[:, 7] == 2.0)]
+        ph = ph[(ph[:, 11] > 0.0) & (np.abs(ph[:, 1]) < 1e-5) & (photon_class(ph) == 2)]
         ph = ph.astype(np.float64)
         pixel = pixel_of(ph[:, :3], to_world, fov_x, size)
         inside = pixel >= 0

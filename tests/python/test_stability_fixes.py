@@ -31,7 +31,7 @@ def test_stats_is_a_consistent_snapshot_while_another_thread_runs(glslppm):
     passes = 954 with photons_emitted = 950 * 64)."""
     g = glslppm
     photons = 64
-    settings = g.Settings(width=8, height=8, photons_per_pass=photons, max_bounces=1, seed=1)
+    settings = g.Settings(width=8, height=8, photons_per_pass=photons, max_bounces=0, seed=1)
     r = g.Renderer(box_furnace(g), settings)
     seen, stop = [], threading.Event()
 
@@ -56,7 +56,7 @@ def test_photon_count_passes_two_to_the_32_exactly(glslppm):
     high word: photons_emitted = start + 5 * 64 exactly, and the film stays finite."""
     g = glslppm
     photons = 64
-    settings = g.Settings(width=8, height=8, photons_per_pass=photons, max_bounces=1, seed=1)
+    settings = g.Settings(width=8, height=8, photons_per_pass=photons, max_bounces=0, seed=1)
     r = g.Renderer(box_furnace(g), settings)
     start = 2 ** 32 - 3 * photons + 7
     r._debug_set_photons_emitted(start)
@@ -69,7 +69,7 @@ def test_close_cancels_a_long_run_promptly(glslppm):
     """close() from another thread while run(100000) is going returns within a second; the
     running call returns early (or says the renderer was closed)."""
     g = glslppm
-    settings = g.Settings(width=8, height=8, photons_per_pass=64, max_bounces=1)
+    settings = g.Settings(width=8, height=8, photons_per_pass=64, max_bounces=0)
     r = g.Renderer(box_furnace(g), settings)
     outcome = []
 

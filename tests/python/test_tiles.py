@@ -34,14 +34,15 @@ def test_plan_bands_rows_by_the_largest_buffer(glslppm):
     plan = g.plan_tiles(box, capped(g, rows=47))
     assert [t[1:] for t in plan["tiles"]] == [(0, 48, 24), (24, 48, 24)]
     assert len(g.plan_tiles(box, g.Settings(width=SIZE, height=SIZE))["tiles"]) == 1
-    # Microfacet lobes add a vec4 to every visible point.
+    # Microfacet lobes add two vec4s to every visible point (what the gather's f(wo, wi)
+    # reads, and the point's colour with the eye subpath's bounce word: docs/bounces.md).
     p, t = quad((-1, -1, -3), (1, -1, -3), (1, 1, -3), (-1, 1, -3))
     plastic = g.Scene(p, t, materials=[g.Material("plastic", roughness=0.3)])
     plan = g.plan_tiles(plastic, capped(g))
-    assert plan["block_bytes_per_pixel"] == 64 and plan["gpu_bytes_per_pixel"] == 144
-    assert len(plan["tiles"]) == math.ceil(SIZE / (SIZE * ROWS * 48 // (SIZE * 64)))
-    # Vertex colours read by a material add one more (the gather's colour of the point),
-    # as the renderer allocates (its gpu_bytes_per_pixel).
+    assert plan["block_bytes_per_pixel"] == 80 and plan["gpu_bytes_per_pixel"] == 160
+    assert len(plan["tiles"]) == math.ceil(SIZE / (SIZE * ROWS * 48 // (SIZE * 80)))
+    # Vertex colours read by a material fill the colour of that fifth vec4, as the renderer
+    # allocates (its gpu_bytes_per_pixel).
     colors = np.ones((4, 3), np.float32)
     painted = g.Scene(p, t, colors=colors,
                       materials=[g.Material("plastic", roughness=0.3, vertex_color=True)],
