@@ -88,9 +88,10 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                         "runs; farm job k of n passes each sets k * n (glslppm-merge joins "
                         "the files)"),
         "glossy_threshold": FloatProperty(
-            name="Glossy Threshold", default=0.2, min=0.0, max=1.0, precision=2,
+            name="Glossy Threshold", default=0.5, min=0.0, max=1.0, precision=2,
             description="Glossy and glass lobes smoother than this roughness are followed "
-                        "by the eye paths; rougher ones gather photons"),
+                        "by the eye paths; rougher ones gather photons (0.5 measured the "
+                        "least error on the glossy Cornell box, docs/materials.md)"),
         "hash_mode": EnumProperty(
             name="Photon Hash", default='STOCHASTIC',
             items=(('STOCHASTIC', "Stochastic", "Keep one random photon per hash cell and "

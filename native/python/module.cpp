@@ -838,6 +838,26 @@ PYBIND11_MODULE(_glslppm, m) {
         .def_property_readonly("estimator", [](const RenderSettings& s) { return to_string(s.estimator); })
         .def_readonly("devices", &RenderSettings::devices)
         .def_readonly("first_pass", &RenderSettings::first_pass)
+        // Every other setting readable too, so that callers (the add-on's defaults test)
+        // can compare theirs with the module's.
+        .def_readonly("photons_per_pass", &RenderSettings::photons_per_pass)
+        .def_readonly("alpha", &RenderSettings::alpha)
+        .def_readonly("initial_radius", &RenderSettings::initial_radius)
+        .def_readonly("device", &RenderSettings::device)
+        .def_readonly("seed", &RenderSettings::seed)
+        .def_readonly("leaf_size", &RenderSettings::leaf_size)
+        .def_readonly("max_texture_size", &RenderSettings::max_texture_size)
+        .def_readonly("transparent", &RenderSettings::transparent)
+        .def_readonly("transparent_glass", &RenderSettings::transparent_glass)
+        .def_readonly("glossy_threshold", &RenderSettings::glossy_threshold)
+        .def_property_readonly("hash", [](const RenderSettings& s) { return to_string(s.hash); })
+        .def_property_readonly("rng", [](const RenderSettings& s) { return to_string(s.rng); })
+        .def_property_readonly("direct_light",
+                               [](const RenderSettings& s) { return to_string(s.direct_light); })
+        .def_property_readonly("instancing",
+                               [](const RenderSettings& s) { return to_string(s.instancing); })
+        .def_property_readonly("bump_shadowing",
+                               [](const RenderSettings& s) { return to_string(s.bump_shadowing); })
         .def_property_readonly("passes", [](const RenderSettings& s) {
             std::vector<std::string> names;
             for (RenderPass p : s.passes) names.push_back(render_pass_info(p).name);
