@@ -40,9 +40,9 @@ shared float group_max_radius[LOCAL_SIZE];
 // needed an exception (normals within 26 degrees kept whatever their offsets), which also
 // kept the inside of every slab's far wall: the light inside emissive letters, a furnace up
 // to 10^4 times brighter than outside, came through as fireflies (Principled text 1.38x
-// Cycles at 128 passes, 1.58x at 2048; now 1.07x with light sampling's fix; a closed slab
-// 3.04x its emission, now exact: tests/python/test_photon_sides.py). A lobe that transmits
-// (both_sides) takes photons of either side, as before.
+// Cycles at 128 passes, 1.58x at 2048, now 1.10x; a closed slab 3.04x its emission, now
+// exact: tests/python/test_photon_sides.py). A lobe that transmits (both_sides) takes photons
+// of either side, as before.
 bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
     if (both_sides) return true;
     vec3 n = photon_side(photons[3u * p + 2u].w);

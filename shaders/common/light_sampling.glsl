@@ -339,11 +339,6 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     if (transmits && world) ls.radiance_over_pdf *= 2.0;
 #endif
     float cos_theta = abs(dot(ng, ls.wi));
-    // A lobe that only reflects takes light from above the true surface alone, as Cycles
-    // decides reflection or transmission by the geometric normal: about a smoothed normal
-    // tilted towards a sharp edge, samples below the surface reached the mesh's other faces
-    // through its inside, unshadowed.
-    if (!transmits && dot(ng_wo, ls.wi) <= 0.0) cos_theta = 0.0;
     vec3 f = bsdf_f(sh, wo, ls.wi, rough_only, false);
 #ifdef HAS_NORMAL_MAP
     // A normal map's tilt shades by the shading normal's cosine (the photons' deposits are
@@ -384,8 +379,7 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     world_too = true;
 #endif
     vec3 wi, sampled;
-    if ((triangle_mis || world_too) && bsdf_sample(sh, wo, u_bsdf, false, wi, sampled) &&
-        (transmits || dot(ng_wo, wi) > 0.0)) {
+    if ((triangle_mis || world_too) && bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
         float p_bsdf = bsdf_pdf(sh, wo, wi);
         vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
 #ifdef HAS_NORMAL_MAP
@@ -400,7 +394,7 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     }
 #elif defined(HAS_ENVIRONMENT)
     vec3 wi, sampled;
-    if (bsdf_sample(sh, wo, u_bsdf, false, wi, sampled) && (transmits || dot(ng_wo, wi) > 0.0)) {
+    if (bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
         float p_bsdf = bsdf_pdf(sh, wo, wi);
         float p_light = environment_light_pdf(wi, ng_wo, transmits);
         vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);

@@ -1,24 +1,25 @@
-"""The gather's side test (gather.comp, photon_on_side) and light sampling's side (common/
-light_sampling.glsl) against a closed form: a convex emissive mesh under a black world lights
-nothing of itself outside, so every pixel wholly on it is its emission, exactly. Its closed
-inside, lit by the faces' backs (meshes emit from both sides, as in Cycles), is a furnace
-1 / (1 - albedo) times brighter: any of that light gathered or sampled outside shows as excess.
+"""The gather's side test (gather.comp, photon_on_side) against a closed form: a convex
+emissive mesh under a black world lights nothing of itself outside, so every pixel wholly on
+it is its emission, exactly. Its closed inside, lit by the faces' backs (meshes emit from both
+sides, as in Cycles), is a furnace 1 / (1 - albedo) times brighter: any photon of the inside
+gathered outside shows as excess.
 
+- A slab 0.04 thick, thinner than the gather radius (0.14), flat normals: the inside of its
+  far wall faces the way its near wall's outside does, and the side test kept its photons
+  (its exception for normals within 26 degrees, made for a tessellated sphere's facets); it
+  now reads the true surfaces' normals and leaves out every photon below the point's plane
+  whose own plane the point is above. Both direct light modes.
 - A cube with smoothed vertex normals (each corner's the mean of its three faces', as Blender
-  smooth-shades a text object): the shading normals tilt by up to 55 degrees towards the
-  edges, and light samples below the true surface but above the tilted normal reached the
-  other faces through the inside, unshadowed (Cycles takes reflection from above the
-  geometric normal only).
-- A slab 0.04 thick, thinner than the gather radius (0.14): the inside of its far wall faces
-  the way its near wall's outside does, and the side test kept its photons ("normals within
-  26 degrees"); now it reads the true surfaces' normals and leaves out every photon below
-  the point's plane whose own plane the point is above.
+  smooth-shades a text object), photons alone: its facets' true normals must keep its own
+  outside photons and none of the inside's (exact before too; a guard of the convex case).
 
 Measured before (48 x 48, 32 passes), mean of the pixels wholly on the mesh / worst pixel:
-smooth cube 1.0000 / 1.0000 (diffuse: its light sampling already read the true normal),
-1.1228 / 23.3 (Principled v1's mix); slab 3.044 / 4.72 (diffuse), 816.7 / 37,069 (Principled
-v1, whose inside is brighter still). After: 1.00000 / 1.0000 in all four. Nothing but the
-emission may add: 0.1% on the mean, 1% on any pixel (the Blender cube test's bounds)."""
+slab, light sampling: 3.044 / 4.72 (diffuse), 816.7 / 37,069 (Principled v1's mix, whose
+inside is brighter still); slab, photons: 3.730 / 5.82 and 719.2 / 22,765. After: 1.00000 /
+1.0000 in all six. Nothing but the emission may add: 0.1% on the mean, 1% on any pixel (the
+Blender cube test's bounds). Light samples are not checked on the smooth cube: Cycles takes
+light from below the true surface where the smoothed normal admits it, and so does this
+renderer (measured: leaving it out took the text on 4.3 from 1.003x Cycles to 0.987x)."""
 import numpy as np
 import pytest
 
@@ -63,7 +64,7 @@ def principled_v1(g, emission):
             g.Material("conductor", color=(2.0,) * 3, roughness=0.5, **e)]
 
 
-def render(g, shape, material):
+def render(g, shape, material, direct):
     if shape == SMOOTH_CUBE:
         p, t, n = box((-1, -1, -1), (1, 1, 1), smooth=True)
     else:
@@ -75,7 +76,7 @@ def render(g, shape, material):
     scene = g.Scene(p, t, normals=n, material_ids=np.zeros(len(t), np.uint32),
                     materials=materials, camera=camera)
     renderer = g.Renderer(scene, g.Settings(width=48, height=48, photons_per_pass=16384,
-                                            seed=1))
+                                            seed=1, direct_light=direct))
     renderer.run(32)
     image = renderer.film()[..., :3].astype(np.float64).mean(axis=2)
     radius = renderer.stats()["initial_radius"]
@@ -84,15 +85,16 @@ def render(g, shape, material):
 
 
 @pytest.mark.parametrize("material", ["diffuse", "principled v1"])
-@pytest.mark.parametrize("shape", [SMOOTH_CUBE, SLAB])
-def test_convex_emissive_mesh_is_its_emission_alone(glslppm, shape, material):
-    image, radius = render(glslppm, shape, material)
+@pytest.mark.parametrize("shape, direct", [(SLAB, "sampled"), (SLAB, "photons"),
+                                           (SMOOTH_CUBE, "photons")])
+def test_convex_emissive_mesh_is_its_emission_alone(glslppm, shape, direct, material):
+    image, radius = render(glslppm, shape, material, direct)
     lit = image > 0.5
     inner = lit.copy()  # wholly on the mesh: lit, with their 8 neighbours lit
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             inner &= np.roll(np.roll(lit, dy, axis=0), dx, axis=1)
-    print(f"  {shape}, {material}: {int(inner.sum())} pixels, mean {image[inner].mean():.5f} "
+    print(f"  {shape}, {direct}, {material}: {int(inner.sum())} pixels, mean {image[inner].mean():.5f} "
           f"worst {np.abs(image[inner] - 1.0).max() + 1.0:.4f} (radius {radius:.4f})")
     if shape == SLAB:
         assert radius > 0.04, radius  # the slab is thinner than the radius
