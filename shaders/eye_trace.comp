@@ -97,6 +97,9 @@ void main() {
     vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
     vec3 normal = vec3(0.0);
     vec3 weight = vec3(0.0);
+#ifndef HAS_MICROFACET
+    vec3 true_normal = vec3(0.0, 0.0, 1.0);  // the geometric normal on the point's side
+#endif
 #ifdef HAS_MICROFACET
     vec4 view = vec4(0.0);
     vec2 uv = vec2(0.0);
@@ -232,11 +235,11 @@ void main() {
             vertex_color = s.vertex_color;
 #endif
             weight = throughput;
+            // The true surface's normal on wo's side: the gather's side test reads it.
             point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
-                          (sh.entering ? VISIBLE_POINT_ENTERING : 0u);
-#ifdef HAS_NORMAL_MAP
-            point_flags |= pack_octahedral(sh.ng) << VISIBLE_POINT_NORMAL_SHIFT;
-#endif
+                          (sh.entering ? VISIBLE_POINT_ENTERING : 0u) |
+                          pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
+                              << VISIBLE_POINT_NORMAL_SHIFT;
 #ifdef DIRECT_LIGHT_SAMPLED
             ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
                                    s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
@@ -278,6 +281,7 @@ void main() {
         if (kind == MATERIAL_DIFFUSE) {
             point = vec4(s.position, float(s.material));
             normal = front ? s.normal : -s.normal;
+            true_normal = front ? s.geometric_normal : -s.geometric_normal;
             weight = throughput * color / PI;
 #ifdef DIRECT_LIGHT_SAMPLED
             // Direct light by one light sample; photons bring only the rest. The eye path
@@ -321,8 +325,9 @@ void main() {
 #endif
 #else
     visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
-    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, float(eye_bounces));
-    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(weight, 0.0);
+    visible_points[VISIBLE_POINT_VEC4 * i + 1] =
+        vec4(normal, uintBitsToFloat(pack_octahedral(true_normal)));
+    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(weight, float(eye_bounces));
 #endif
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];

@@ -122,16 +122,10 @@ void main() {
                 uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
                 position_key = vec4(s.position, uintBitsToFloat(key));
                 incoming = -dir;
-#ifdef HAS_NORMAL_MAP
-                // The side of the true surface, as the gather reads a normal-mapped visible
-                // point's (sh.ng): a mapped normal tilted past 60 degrees left half the
-                // photons out (0.56 of a tilted plane's light).
-                vec3 side_normal = s.geometric_normal;
-#else
-                vec3 side_normal = s.normal;
-#endif
+                // The side of the true surface (the gather reads the visible point's).
                 stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                         ? side_normal : -side_normal));
+                                                         ? s.geometric_normal
+                                                         : -s.geometric_normal));
 #ifdef HAS_NORMAL_MAP
                 // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
                 // density (per area of the true surface) into the shading normal's cosine:
@@ -203,7 +197,7 @@ void main() {
             position_key = vec4(s.position, uintBitsToFloat(key));
             incoming = -dir;
             stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                     ? s.normal : -s.normal));
+                                                     ? s.geometric_normal : -s.geometric_normal));
 #ifdef DIRECT_LIGHT_SAMPLED
             }
 #endif

@@ -24,12 +24,13 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 
 #ifdef USES_PIXEL_STATE
 // Visible points, 3 per pixel: (position, material id or -1), (normal facing the eye,
-// the eye subpath's bounce word), (eye-path weight = throughput * albedo / pi, 0). With
-// HAS_MICROFACET, 5 per pixel, what the gather needs to evaluate f(wo, wi): (position, leaf
-// material id or -1), (shading normal on wo's side, u), (wo, v), (eye-path throughput, flag
-// bits below), (the vertex colour at the point or 1, the eye subpath's bounce word). The
-// bounce word (common/bounces.glsl) counts the eye path's scatters before the point, as a
-// float (exact: below 2^22).
+// the geometric normal facing it as pack_octahedral's bits), (eye-path weight =
+// throughput * albedo / pi, the eye subpath's bounce word). With HAS_MICROFACET, 5 per pixel,
+// what the gather needs to evaluate f(wo, wi): (position, leaf material id or -1), (shading
+// normal on wo's side, u), (wo, v), (eye-path throughput, flag bits below, the geometric
+// normal among them), (the vertex colour at the point or 1, the eye subpath's bounce word).
+// The bounce word (common/bounces.glsl) counts the eye path's scatters before the point, as
+// a float (exact: below 2^22).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
 #ifndef HAS_MICROFACET
 #define VISIBLE_POINT_VEC4 3u
@@ -39,8 +40,8 @@ layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 vis
 
 const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
 const uint VISIBLE_POINT_ENTERING = 2u;   // wo is on the geometric front (a dielectric's outside)
-// HAS_NORMAL_MAP: bits 2-31 hold the geometric normal on wo's side (pack_octahedral), which
-// the gather's diffuse lobes read (bump_shadowing in common/lobes.glsl).
+// Bits 2-31 hold the geometric normal on wo's side (pack_octahedral), which the side test and
+// with HAS_NORMAL_MAP the diffuse lobes read (bump_shadowing in common/lobes.glsl).
 const uint VISIBLE_POINT_NORMAL_SHIFT = 2u;
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
@@ -66,7 +67,7 @@ layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_
 // them.
 layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
 
-// The side word: the (shading) normal of the surface a photon landed on, on the side it
+// The side word: the true (geometric) normal of the surface a photon landed on, on the side it
 // arrived from, as two 11-bit octahedral coordinates plus 1 (an integer below 2^23, exact
 // in a float, never 0). The gather leaves out photons whose surface faces away from the
 // visible point's (gather.comp): the light inside a closed emissive mesh, or behind a thin
@@ -92,14 +93,9 @@ vec3 photon_side(float word) {
 // the visible point's by more than 120 degrees (cos below -0.5) is on its other side; a convex
 // surface's neighbouring photons are within 60 degrees (cos above 0.5).
 const float PHOTON_SIDE_MIN_COS = 0.5;
-// The slack of the test against the far walls of thin slabs, in radii: it covers facets,
-// whose normals differ from the smooth surface's.
-const float PHOTON_WALL_TOLERANCE = 0.05;
-// Surfaces whose normals agree within 26 degrees (cos above 0.9) face the same way: a smooth
-// convex surface's own photons, kept whatever the facets' offsets (a tessellated sphere's
-// facets lie up to its sagitta inside it, which no slack in radii covers as the radius
-// shrinks: a diffuse sphere under a uniform sky read 0.836 of a L, glass equilibrium 0.82).
-const float PHOTON_SIDE_SAME_COS = 0.9;
+// The slack of the plane tests, in radii, where the normals agree: the side word's rounding
+// (11 bits a coordinate, about 1e-3 rad) tilts a coplanar photon's heights by up to 1e-3 r.
+const float PHOTON_WALL_TOLERANCE = 0.01;
 
 float photon_record_word(float path_class, uint bounces) {
     return float(uint(path_class) + 4u * bounces);

@@ -16,16 +16,6 @@ vec3 triangle_normal(vec3 a, vec3 b, vec3 c) {
     return normalize(cross(e1 / m, e2 / m));
 }
 
-#ifdef HAS_NORMAL_MAP
-// GpuMaterial::normal_map (native/render/gpu_layout.h): 0, or the texture's index + 1 in the
-// low 15 bits, bit 15 for a bump map, the strength as a half float in the high 16; a bump
-// map's distance is a half float in the high 16 bits of the options.
-uint material_normal_map(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].w); }
-const uint NORMAL_MAP_BUMP = 0x8000u;
-float material_bump_distance(int m) {
-    return unpackHalf2x16(floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x) >> 16).x;
-}
-
 // A unit vector in the low 30 bits: the octahedral encoding, 15 bits per coordinate, as
 // pack_tangent writes it (native/scene/tangent_space.cpp).
 vec3 unpack_octahedral(uint bits) {
@@ -43,6 +33,16 @@ uint pack_octahedral(vec3 v) {
                         : (1.0 - abs(t.yx)) * vec2(t.x >= 0.0 ? 1.0 : -1.0, t.y >= 0.0 ? 1.0 : -1.0);
     uvec2 q = uvec2(ivec2(round(clamp(o, -1.0, 1.0) * 16383.0)) + 16383);
     return (q.x & 0x7FFFu) | (q.y & 0x7FFFu) << 15;
+}
+
+#ifdef HAS_NORMAL_MAP
+// GpuMaterial::normal_map (native/render/gpu_layout.h): 0, or the texture's index + 1 in the
+// low 15 bits, bit 15 for a bump map, the strength as a half float in the high 16; a bump
+// map's distance is a half float in the high 16 bits of the options.
+uint material_normal_map(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].w); }
+const uint NORMAL_MAP_BUMP = 0x8000u;
+float material_bump_distance(int m) {
+    return unpackHalf2x16(floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x) >> 16).x;
 }
 
 // pack_tangent's word: the direction, and the bitangent's sign in bit 31.
