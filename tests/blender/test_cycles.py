@@ -99,7 +99,7 @@ def test_unequal_light_path_limits_match_cycles():
     worst 9%. Measured under 3.4: ratio 1.0021, regions mean 1.1% and worst 6.0%; at 16 of
     every kind 1.223."""
     helpers.reset_scene(size=(64, 64))
-    _scenes_module().build_cornell_box(glass=True, mirror=True)
+    _demo_module().build_cornell_box(glass=True, mirror=True)
     bpy.data.objects["CeilingLight"].visible_camera = False
     scene = bpy.context.scene
     helpers.load_native()

@@ -238,14 +238,20 @@ def test_mix_shader_floor_matches_cycles():
     a rough visible point is light sampling alone (no BSDF sampling to weigh against), so
     a narrow highlight of a large light converges slowly: with roughness 0.2 and a 2 m
     light the highlight's region still moved by +-6% between two seeds at 512 passes,
-    while Cycles' moved by 0.1% at 2048 samples."""
+    while Cycles' moved by 0.1% at 2048 samples.
+
+    Rendered at glossy threshold 0.2, so that the glossy leaf holds the visible point as this
+    test was written for. At the default 0.5 the eye paths follow it instead and the highlight
+    comes from light samples weighed by MIS: three seeds gave worst regions 4.9%, 3.2% and
+    2.4% (means 1.2%, 0.3%, 0.4%), the highlight's region 1.207, 1.305 and 1.238 against
+    Cycles' 1.269: unbiased, but too noisy at 256 passes for this bound."""
     helpers.reset_scene(size=SIZE)
     _floor(_mix_material(), size=6.0)
     add_light('AREA', 300.0, location=(0.0, 4.0, 2.5), rotation=(-1.1, 0.0, 0.0), size=1.0)
     helpers.set_world((0.1, 0.1, 0.1))
     _look_from((0.0, -4.0, 1.2), (0, 1.0, 0),
                lens=50.0)
-    ours, reference = _render_both("mix_floor", 256, 16384, 1024)
+    ours, reference = _render_both("mix_floor", 256, 16384, 1024, glossy_threshold=0.2)
     _compare("mix shader floor", ours, reference, 3, 0.04, 0.02)
 
 
