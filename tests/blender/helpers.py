@@ -257,6 +257,22 @@ def render_image(name, engine='GLSLPPM'):
     return load_image(path)
 
 
+def linear_image(name, pixels):
+    """A float image of (H, W, 4) pixels saved as EXR in OUT and loaded back Linear, so that
+    both engines read it from a file (row 0 at the bottom)."""
+    height, width = pixels.shape[:2]
+    image = bpy.data.images.new(name, width, height, float_buffer=True)
+    image.pixels.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
+    path = os.path.join(OUT, f"{name}.exr")
+    image.filepath_raw = path
+    image.file_format = 'OPEN_EXR'
+    image.save()
+    bpy.data.images.remove(image)
+    image = bpy.data.images.load(path, check_existing=False)
+    image.colorspace_settings.name = "Linear" if not BLENDER_4 else "Linear Rec.709"
+    return image
+
+
 def load_image(path):
     image = bpy.data.images.load(path, check_existing=False)
     try:

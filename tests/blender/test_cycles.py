@@ -445,16 +445,7 @@ def _smooth_float_image(name):
     rng = np.random.default_rng(11)
     pixels = np.ones((4, 5, 4), dtype=np.float32)
     pixels[..., :3] = rng.uniform(0.1, 0.9, size=(4, 5, 3))
-    image = bpy.data.images.new(name, 5, 4, float_buffer=True)
-    image.pixels.foreach_set(pixels.ravel())
-    path = os.path.join(helpers.OUT, f"{name}.exr")
-    image.filepath_raw = path
-    image.file_format = 'OPEN_EXR'
-    image.save()
-    bpy.data.images.remove(image)
-    image = bpy.data.images.load(path, check_existing=False)
-    image.colorspace_settings.name = "Linear" if not helpers.BLENDER_4 else "Linear Rec.709"
-    return image
+    return helpers.linear_image(name, pixels)
 
 
 def _mapped_texture_plane(extension):

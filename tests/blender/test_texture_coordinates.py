@@ -9,7 +9,6 @@ silhouette's pixels depend on the engines' pixel filters): bounds stated at each
 the measured numbers."""
 
 import math
-import os
 
 import bpy
 import numpy as np
@@ -27,16 +26,7 @@ def _checker_image(name):
     pixels[cells, :3] = (0.9, 0.6, 0.2)
     pixels[~cells, :3] = (0.1, 0.3, 0.8)
     pixels[0, 0, :3] = (0.5, 0.9, 0.4)  # one odd cell: a turned or mirrored image shows
-    image = bpy.data.images.new(name, 4, 4, float_buffer=True)
-    image.pixels.foreach_set(pixels.ravel())
-    path = os.path.join(helpers.OUT, f"{name}.exr")
-    image.filepath_raw = path
-    image.file_format = 'OPEN_EXR'
-    image.save()
-    bpy.data.images.remove(image)
-    image = bpy.data.images.load(path, check_existing=False)
-    image.colorspace_settings.name = "Linear" if not helpers.BLENDER_4 else "Linear Rec.709"
-    return image
+    return helpers.linear_image(name, pixels)
 
 
 def _emissive_checker(name, coordinate, coordinate_object=None):
