@@ -36,7 +36,8 @@ void main() {
     if (i >= u_count) return;
     vec3 n = vec3(0.0, 0.0, 1.0);
     uint s = probe_hash(i ^ probe_hash(u_seed));
-    Shading sh = shading_at(u_material, n, n, vec2(0.0), vec3(1.0), u_wo, probe_uniform(s));
+    TexturePoint at = TexturePoint(vec2(0.0), vec3(0.0));
+    Shading sh = shading_at(u_material, n, n, at, vec3(1.0), u_wo, probe_uniform(s));
     if (u_mode == 0u) {
         vec3 u = vec3(probe_uniform(s), probe_uniform(s), probe_uniform(s));
         vec3 wi, weight;
@@ -47,7 +48,7 @@ void main() {
     } else {
         vec3 wi = probe_in[i].xyz;
         vec3 f = bsdf_f(sh, u_wo, wi, false, false);
-        Shading back = shading_at(u_material, n, n, vec2(0.0), vec3(1.0), wi, 0.5);
+        Shading back = shading_at(u_material, n, n, at, vec3(1.0), wi, 0.5);
         vec3 f_swapped = bsdf_f(back, wi, u_wo, false, false);
         probe_out[2u * i] = vec4(f, bsdf_pdf(sh, u_wo, wi));
         probe_out[2u * i + 1u] = vec4(f_swapped, 0.0);
