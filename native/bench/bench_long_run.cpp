@@ -23,7 +23,7 @@ int bench_long_run(int argc, char** argv) {
     RenderSettings settings;
     settings.width = settings.height = 8;
     settings.photons_per_pass = 21504;
-    settings.max_bounces = 1;
+    settings.max_bounces = 0;  // direct light only: one photon per path, so one per pass
     settings.seed = 1;
     long long total = 200000;
     for (int i = 0; i < argc; ++i) {

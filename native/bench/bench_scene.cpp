@@ -58,8 +58,10 @@ Scene make_box_furnace() {
 }  // namespace
 
 double furnace_radiance(int max_bounces) {
+    // Cycles' Total (docs/bounces.md): N bounces keep N + 1 scatters, so the eye sees the
+    // emission and N + 1 reflections of it.
     const double a = kFurnaceAlbedo;
-    return kFurnaceEmission * (1.0 - std::pow(a, max_bounces + 1)) / (1.0 - a);
+    return kFurnaceEmission * (1.0 - std::pow(a, max_bounces + 2)) / (1.0 - a);
 }
 
 std::size_t parse_count(const std::string& text) {

@@ -19,9 +19,10 @@ namespace glslppm {
 // Throws std::invalid_argument naming the spec when it is none of the above.
 Scene make_bench_scene(const std::string& spec, float aspect = 1.0f);
 
-// The radiance every pixel of `furnace` converges to with paths of at most max_bounces
-// bounces: each bounce adds a^k Le, so L = Le (1 - a^(D+1)) / (1 - a), which tends to the
-// furnace's Le / (1 - a) = 2 (1.99998 at the default depth 16; 1.5 at depth 1).
+// The radiance every pixel of `furnace` converges to under a Total of max_bounces (Cycles'
+// rule, docs/bounces.md: N + 1 scatters): each scatter adds a^k Le, so L = Le (1 - a^(N+2)) /
+// (1 - a), which tends to the furnace's Le / (1 - a) = 2 (1.999992 at the default 16; 1.5 at 0,
+// direct light only).
 double furnace_radiance(int max_bounces);
 
 // "1000", "100k", "4M" -> a count; throws std::invalid_argument otherwise.
