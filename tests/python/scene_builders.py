@@ -21,6 +21,21 @@ def shape_quad(a, b, c, d):
         np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
 
 
+def join_shapes(parts):
+    """((positions, normals, triangles), material id) parts as one mesh's arrays:
+    (positions, normals, triangles, material ids), triangles re-indexed."""
+    positions, normals, triangles, ids = [], [], [], []
+    base = 0
+    for (p, n, t), m in parts:
+        positions.append(p)
+        normals.append(n)
+        triangles.append(t + base)
+        ids.append(np.full(len(t), m, np.uint32))
+        base += len(p)
+    return (np.concatenate(positions), np.concatenate(normals), np.concatenate(triangles),
+            np.concatenate(ids))
+
+
 def shape_sphere(center, radius, rings, segments):
     """native/procedural/shapes.cpp make_sphere, in float32 as the C++ computes it."""
     pi = np.float32(3.14159265358979)
@@ -61,14 +76,7 @@ def cornell_box(g, scale=1.0, light=17.0, rings=16):
         (shape_sphere((-0.45, 0.38, -0.35), 0.38, rings, 2 * rings), 4),  # mirror
         (shape_sphere((0.45, 0.38, 0.3), 0.38, rings, 2 * rings), 5),  # glass
     ]
-    positions, normals, triangles, ids = [], [], [], []
-    base = 0
-    for (p, n, t), m in parts:
-        positions.append(p)
-        normals.append(n)
-        triangles.append(t + base)
-        ids.append(np.full(len(t), m, np.uint32))
-        base += len(p)
+    positions, normals, triangles, ids = join_shapes(parts)
     materials = [
         g.Material("diffuse", color=(0.75, 0.75, 0.75)),
         g.Material("diffuse", color=(0.75, 0.25, 0.25)),
@@ -80,9 +88,8 @@ def cornell_box(g, scale=1.0, light=17.0, rings=16):
     ]
     camera = np.eye(4, dtype=np.float32)
     camera[:3, 3] = np.array([0, 1, 4], np.float32) * np.float32(scale)
-    return g.Scene((np.concatenate(positions) * np.float32(scale)).astype(np.float32),
-                   np.concatenate(triangles), normals=np.concatenate(normals),
-                   material_ids=np.concatenate(ids), materials=materials,
+    return g.Scene((positions * np.float32(scale)).astype(np.float32), triangles,
+                   normals=normals, material_ids=ids, materials=materials,
                    camera=g.Camera(camera, fov_x=2.0 * math.atan(1.15 / 3.0)))
 
 

@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from conftest import look_at
-from scene_builders import shape_quad
+from scene_builders import join_shapes, shape_quad
 
 PASSES = 4
 
@@ -28,17 +28,10 @@ def box_scene(g, camera, wall=(0.75, 0.25, 0.25), lights=None, extra_kind=None, 
         parts.append((shape_quad((0.2, 0.01, 0.2), (0.2, 0.01, 0.4), (0.4, 0.01, 0.4),
                                  (0.4, 0.01, 0.2)), 2))
         materials.append(g.Material(extra_kind, color=(0.9, 0.9, 0.9), roughness=roughness))
-    positions, normals, triangles, ids, base = [], [], [], [], 0
-    for (p, n, t), m in parts:
-        positions.append(p)
-        normals.append(n)
-        triangles.append(t + base)
-        ids.append(np.full(len(t), m, np.uint32))
-        base += len(p)
+    positions, normals, triangles, ids = join_shapes(parts)
     if lights is None:
         lights = [g.Light("point", power=40.0, position=(0.0, 1.6, 0.2))]
-    return g.Scene(np.concatenate(positions), np.concatenate(triangles),
-                   normals=np.concatenate(normals), material_ids=np.concatenate(ids),
+    return g.Scene(positions, triangles, normals=normals, material_ids=ids,
                    materials=materials, lights=lights, camera=camera)
 
 
