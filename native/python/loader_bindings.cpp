@@ -1,5 +1,5 @@
-#include "python/loaders_module.h"
-
+// The scene-file loaders: load_scene, load_texture, and scene_contents (a loaded scene
+// as plain dicts and arrays).
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -7,6 +7,8 @@
 
 #include "image/image_file.h"
 #include "loaders/scene_file.h"
+#include "python/bindings.h"
+#include "python/enum_names.h"
 
 namespace py = pybind11;
 
@@ -31,57 +33,12 @@ py::array_t<float> matrix(const float* column_major, int n) {
     return out;
 }
 
-const char* kind_name(MaterialKind k) {
-    switch (k) {
-        case MaterialKind::Diffuse:
-            return "diffuse";
-        case MaterialKind::Conductor:
-            return "conductor";
-        case MaterialKind::Dielectric:
-            return "dielectric";
-        case MaterialKind::Plastic:
-            return "plastic";
-        case MaterialKind::Translucent:
-            return "translucent";
-        case MaterialKind::Transparent:
-            return "transparent";
-        case MaterialKind::Mix:
-            return "mix";
-    }
-    return "?";
-}
-
-const char* channel_name(TextureChannel c) {
-    constexpr const char* names[] = {"red", "green", "blue", "alpha", "luminance"};
-    return names[static_cast<std::uint32_t>(c) % 5];
-}
-
-const char* mix_mode_name(MixFactor f) {
-    constexpr const char* names[] = {"constant", "fresnel", "facing"};
-    return names[static_cast<std::uint32_t>(f) % 3];
-}
-
-const char* light_name(LightKind k) {
-    switch (k) {
-        case LightKind::Point:
-            return "point";
-        case LightKind::Spot:
-            return "spot";
-        case LightKind::Sun:
-            return "sun";
-        case LightKind::Area:
-            return "area";
-    }
-    return "?";
-}
-
 py::dict texture_dict(const Texture& t) {
     py::dict d;
     d["name"] = t.name;
     d["width"] = t.width;
     d["height"] = t.height;
-    constexpr const char* kWrapNames[] = {"repeat", "clip", "extend", "mirror"};
-    d["wrap"] = kWrapNames[static_cast<std::uint32_t>(t.wrap) & 3u];
+    d["wrap"] = name_of(t.wrap, kTextureWraps);
     d["encoding"] = t.srgb8.empty() ? "linear" : "srgb8";
     const std::vector<py::ssize_t> shape{t.height, t.width, 4};
     if (!t.srgb8.empty()) {
@@ -100,7 +57,7 @@ py::list materials_list(const Scene& s) {
     py::list out;
     for (const Material& m : s.materials) {
         py::dict d;
-        d["kind"] = kind_name(m.kind);
+        d["kind"] = name_of(m.kind, kMaterialKinds);
         d["color"] = vec3(m.color);
         d["ior"] = m.ior;
         d["emission"] = vec3(m.emission);
@@ -111,7 +68,7 @@ py::list materials_list(const Scene& s) {
         d["casts_shadow"] = m.casts_shadow;
         d["roughness"] = m.roughness;
         d["roughness_texture"] = m.roughness_texture;
-        d["roughness_channel"] = channel_name(m.roughness_channel);
+        d["roughness_channel"] = name_of(m.roughness_channel, kTextureChannels);
         d["multiscatter"] = m.multiscatter;
         d["schlick"] = m.schlick;
         d["tint_reflection"] = m.tint_reflection;
@@ -119,8 +76,8 @@ py::list materials_list(const Scene& s) {
         d["mix_b"] = m.mix_b;
         d["mix_factor"] = m.mix_factor;
         d["mix_texture"] = m.mix_texture;
-        d["mix_channel"] = channel_name(m.mix_channel);
-        d["mix_mode"] = mix_mode_name(m.mix_mode);
+        d["mix_channel"] = name_of(m.mix_channel, kTextureChannels);
+        d["mix_mode"] = name_of(m.mix_mode, kMixModes);
         d["mix_ior"] = m.mix_ior;
         d["normal_texture"] = m.normal_texture;
         d["normal_strength"] = m.normal_strength;
@@ -137,7 +94,7 @@ py::list lights_list(const Scene& s) {
     py::list out;
     for (const Light& l : s.lights) {
         py::dict d;
-        d["kind"] = light_name(l.kind);
+        d["kind"] = name_of(l.kind, kLightKinds);
         d["color"] = vec3(l.color);
         d["power"] = l.power;
         d["position"] = vec3(l.position);
