@@ -424,7 +424,7 @@ class GlslppmEngineMixin:
         pixels = renderer.film(out=buffer, bottom_up=True).reshape(-1, 4)
         combined.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
         if extra:
-            images = renderer.render_passes(list(extra))
+            images = renderer.render_passes(list(extra), bottom_up=True)
             for name, render_pass in extra.items():
                 _set_rect(render_pass, images[name])
         return True
@@ -474,13 +474,13 @@ def _device_limits(native, device):
     return _limits[device]
 
 
-def _set_rect(render_pass, film):
-    """Film rows run top to bottom; Blender's rect wants the bottom row first.
-    foreach_set copies the buffer in one go (assigning rect converts pixel by pixel:
-    1 s for a 1920x1080 frame, against 0.01-0.03 s); Blender 4.x wants it flat,
-    3.x as (pixels, channels): 4 for Combined, 1 or 3 for the other passes."""
-    pixels = np.ascontiguousarray(film[::-1], dtype=np.float32).reshape(
-        -1, render_pass.channels)
+def _set_rect(render_pass, pixels):
+    """pixels (height, width, channels), bottom row first as Blender's rect wants them (the
+    module flips its films in the read-back: film(bottom_up=True), render_passes(...,
+    bottom_up=True)). foreach_set copies the buffer in one go (assigning rect converts
+    pixel by pixel: 1 s for a 1920x1080 frame, against 0.01-0.03 s); Blender 4.x wants it
+    flat, 3.x as (pixels, channels): 4 for Combined, 1 or 3 for the other passes."""
+    pixels = np.ascontiguousarray(pixels, dtype=np.float32).reshape(-1, render_pass.channels)
     render_pass.rect.foreach_set(pixels.ravel() if FLAT_RECT else pixels)
 
 

@@ -62,8 +62,10 @@ private:
 };
 
 // Renderer.render_pass(es): each pass as a height x width x channels array, resolved
-// together (one read back of the pass films).
-py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names) {
+// together (one read back of the pass films); bottom_up: rows from the bottom, as film()
+// gives Combined for Blender, flipped in the copy that drops the fourth channel.
+py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names,
+                            bool bottom_up) {
     std::vector<RenderPass> wanted;
     for (const std::string& name : names) wanted.push_back(parse_render_pass(name));
     std::vector<std::vector<float>> images;
@@ -78,9 +80,14 @@ py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names
         const int channels = render_pass_info(wanted[k]).channels;
         py::array_t<float> a({s.height, s.width, channels});
         float* dst = a.mutable_data();
-        const std::vector<float>& image = images[k];
-        for (std::size_t i = 0; i < image.size() / 4; ++i)
-            for (int c = 0; c < channels; ++c) dst[i * channels + c] = image[4 * i + c];
+        const float* src = images[k].data();
+        const std::size_t row = std::size_t(s.width);
+        for (std::size_t y = 0; y < std::size_t(s.height); ++y) {
+            const std::size_t from = (bottom_up ? std::size_t(s.height) - 1 - y : y) * row;
+            for (std::size_t x = 0; x < row; ++x)
+                for (int c = 0; c < channels; ++c)
+                    dst[(y * row + x) * channels + c] = src[4 * (from + x) + c];
+        }
         out[py::str(names[k])] = a;
     }
     return out;
@@ -262,13 +269,14 @@ void bind_renderer(py::module_& m) {
         "Linear RGBA, height x width x 4 float32, row 0 at the top (bottom_up: at the bottom, "
         "as Blender's images store rows). out: an array of that shape to fill instead of a new "
         "one (returned).")
-        .def("render_pass", [](PyRenderer& r, const std::string& name) {
-            const py::dict images = render_pass_arrays(r, {name});
+        .def("render_pass", [](PyRenderer& r, const std::string& name, bool bottom_up) {
+            const py::dict images = render_pass_arrays(r, {name}, bottom_up);
             return py::object(images[py::str(name)]);
-        }, py::arg("name"),
+        }, py::arg("name"), py::arg("bottom_up") = false,
         "One of the settings' passes (docs/passes.md) as film() gives Combined: height x width "
-        "x 1 (depth) or 3, the mean over the passes run.")
-        .def("render_passes", &render_pass_arrays, py::arg("names"),
+        "x 1 (depth) or 3, the mean over the passes run; row 0 at the top (bottom_up: at the "
+        "bottom, as Blender stores rows).")
+        .def("render_passes", &render_pass_arrays, py::arg("names"), py::arg("bottom_up") = false,
              "Several passes as render_pass() gives one, {name: array}, with one read back "
              "from the GPU.")
         .def_property_readonly("settings", [](PyRenderer& r) { return r.get()->settings(); },

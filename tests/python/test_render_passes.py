@@ -440,3 +440,20 @@ def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall):
     assert np.abs(albedo - want).max() < 1e-5, np.abs(albedo - want).max()
     normal = r.render_pass("denoising_normal")
     assert np.abs(normal - (-1.0, 0.0, 0.0)).max() < 1e-5, np.abs(normal - (-1, 0, 0)).max()
+
+
+def test_bottom_up_passes_are_the_rows_reversed(glslppm):
+    """The add-on asks for its passes bottom row first, as Blender stores them, and the module
+    flips them in the copy it makes anyway (one flip, as film(bottom_up=True) for Combined):
+    exactly the top-down image's rows reversed, for 1- and 3-channel passes and Combined."""
+    g = glslppm
+    r = render(g, g.caustic_scene(24), ["depth", "direct", "normal"], width=40, height=24)
+    r.run(2)
+    top_down = r.render_passes(["depth", "direct", "normal"])
+    bottom_up = r.render_passes(["depth", "direct", "normal"], bottom_up=True)
+    for name in top_down:
+        assert top_down[name].shape == bottom_up[name].shape
+        assert top_down[name].std() > 0.0  # rows that differ: a flip that did nothing fails
+        assert np.array_equal(bottom_up[name], top_down[name][::-1]), name
+    assert np.array_equal(r.render_pass("direct", bottom_up=True), top_down["direct"][::-1])
+    assert np.array_equal(r.film(bottom_up=True), r.film()[::-1])
