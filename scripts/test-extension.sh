@@ -9,7 +9,7 @@
 #   3. The same on a machine with Blender and nothing the project builds with: the minimal
 #      chroot (scripts/blender-chroot.sh minimal: Debian 13, Blender and Mesa's EGL, no -dev
 #      package), where ldd must find every library but the system's in the zip too.
-#   4. The demo (demo/cornell_box.py), small, rendered from the zip in each of them:
+#   4. The demo (demo/showcase.py), small, rendered from the zip in each of them:
 #      pixel for pixel (to float rounding) the image of the module the other suites tested.
 # Prints PASS/FAIL lines and "RESULT extension: N passed, M failed"; exits 1 on a failure.
 set -uo pipefail
@@ -98,7 +98,7 @@ for entry in 4.3:trixie 5.2:sid 4.3-minimal:minimal; do
   fi
 done
 
-# 4. The demo (demo/cornell_box.py, what `make demo` renders) from the zip, small: in
+# 4. The demo (demo/showcase.py, what `make demo` renders) from the zip, small: in
 #    each Blender it must equal, pixel for pixel to float rounding, the same render by the
 #    module the other suites tested (that Blender's build tree, through GLSLPPM_MODULE_DIR),
 #    so the zip's module and the libraries it bundles render what was tested; the minimal
@@ -112,13 +112,13 @@ for entry in 4.3:trixie:build-trixie 5.2:sid:build-sid 4.3-minimal:minimal:; do
   blender_env_prefix "$version:$where"
   log=$out/demo-$version.log
   "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$out/user-$version" blender -b \
-    --factory-startup --python demo/cornell_box.py -- --out "/src/$out/$version/demo-zip" \
+    --factory-startup --python demo/showcase.py -- --out "/src/$out/$version/demo-zip" \
     "${demo_args[@]}" >"$log" 2>&1
   reference=$out/4.3/demo-zip.exr
   if [ -n "$build" ]; then
     "${prefix[@]}" env BLENDER_USER_RESOURCES="/src/$out/user-$version" \
       GLSLPPM_MODULE_DIR="/src/$build" blender -b --factory-startup \
-      --python demo/cornell_box.py -- --out "/src/$out/$version/demo-build" \
+      --python demo/showcase.py -- --out "/src/$out/$version/demo-build" \
       "${demo_args[@]}" >>"$log" 2>&1
     reference=$out/$version/demo-build.exr
   fi
