@@ -25,20 +25,18 @@ WholeFilm camera_frame(const Camera& cam, const RenderSettings& settings, FrameB
     const bool region = cam.full_width > 0;
     if (region && (cam.region_x + settings.width > cam.full_width ||
                    cam.region_y + settings.height > cam.full_height))
-        throw std::invalid_argument("camera region: the image (" +
-                                    std::to_string(settings.width) + "x" +
-                                    std::to_string(settings.height) + " at " +
-                                    std::to_string(cam.region_x) + ", " +
-                                    std::to_string(cam.region_y) + ") does not fit in the " +
-                                    std::to_string(cam.full_width) + "x" +
-                                    std::to_string(cam.full_height) + " frame");
+        throw std::invalid_argument(
+            "camera region: the image (" + std::to_string(settings.width) + "x" +
+            std::to_string(settings.height) + " at " + std::to_string(cam.region_x) + ", " +
+            std::to_string(cam.region_y) + ") does not fit in the " +
+            std::to_string(cam.full_width) + "x" + std::to_string(cam.full_height) + " frame");
     const int frame_width = region ? cam.full_width : settings.width;
     const int frame_height = region ? cam.full_height : settings.height;
     // The film's height over its width; pixels may be non-square.
-    const float aspect = static_cast<float>(frame_height) * cam.pixel_aspect /
-                         static_cast<float>(frame_width);
-    const bool wide = static_cast<float>(frame_width) >=
-                      static_cast<float>(frame_height) * cam.pixel_aspect;
+    const float aspect =
+        static_cast<float>(frame_height) * cam.pixel_aspect / static_cast<float>(frame_width);
+    const bool wide =
+        static_cast<float>(frame_width) >= static_cast<float>(frame_height) * cam.pixel_aspect;
     const float tan_x = std::tan(0.5f * cam.fov_x);
     const float tan_larger = wide ? tan_x : tan_x * aspect;
     f.camera_to_world = cam.to_world;
@@ -74,7 +72,8 @@ WholeFilm camera_frame(const Camera& cam, const RenderSettings& settings, FrameB
                                        static_cast<std::uint32_t>(cam.region_x)
                                  : 0u;
     f.frame_width = static_cast<std::uint32_t>(frame_width);
-    f.frame_pixels = static_cast<std::uint32_t>(frame_width) * static_cast<std::uint32_t>(frame_height);
+    f.frame_pixels =
+        static_cast<std::uint32_t>(frame_width) * static_cast<std::uint32_t>(frame_height);
     f.orthographic = cam.projection == Projection::Orthographic ? 1u : 0u;
     f.aperture_radius = cam.aperture_radius;
     f.focus_distance = cam.focus_distance;
@@ -135,7 +134,8 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
 
 void fill_frame(const Scene& scene, const RenderSettings& settings, const PackedBvh& bvh,
                 PreparedScene& p) {
-    p.pixels = static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
+    p.pixels =
+        static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
     p.photon_threads = settings.photons_per_pass;
     p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
     const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);

@@ -43,8 +43,8 @@ void Renderer::Gpu::begin_pass(std::uint64_t pass_index) {
     frame.pass_index = static_cast<std::uint32_t>(pass_index);
     frame.photon_step = 0;
     if (settings.estimator == Estimator::Pppm) {
-        const float r = pppm_pass_radius(scene.initial_radius, frame.radius_floor, pass_index,
-                                         settings.alpha);
+        const float r =
+            pppm_pass_radius(scene.initial_radius, frame.radius_floor, pass_index, settings.alpha);
         frame.pass_radius = r;
         // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
         frame.pass_scale = static_cast<float>(
@@ -124,10 +124,8 @@ void Renderer::Gpu::end_pass() {
     ++passes;
     if (settings.profile) {
         GLuint64 t[5];
-        for (int k = 0; k < 5; ++k)
-            glGetQueryObjectui64v(timer.queries[k], GL_QUERY_RESULT, &t[k]);
-        for (int k = 0; k < 4; ++k)
-            timer.seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+        for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(timer.queries[k], GL_QUERY_RESULT, &t[k]);
+        for (int k = 0; k < 4; ++k) timer.seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
     }
 }
 
@@ -145,8 +143,8 @@ void Renderer::Gpu::restart_film() {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         const GLuint zero[4] = {0u, 0u, 0u, 0u};
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.pass_films);
-        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER,
-                          GL_UNSIGNED_INT, zero);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                          zero);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     passes = 0;

@@ -7,14 +7,14 @@
 // renderer_readback.cpp (film, passes, stats).
 #pragma once
 
+#include <epoxy/gl.h>
+
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <epoxy/gl.h>
 
 #include "bvh/packed_bvh.h"
 #include "bvh/two_level_bvh.h"
@@ -50,8 +50,8 @@ struct StagePrograms {
     const gl::ComputeProgram* eye = nullptr;
     const gl::ComputeProgram* photon = nullptr;
     const gl::ComputeProgram* hash_clear = nullptr;
-    const gl::ComputeProgram* hash_a = nullptr;  // insert / count
-    const gl::ComputeProgram* hash_b = nullptr;  // winner / scatter
+    const gl::ComputeProgram* hash_a = nullptr;                       // insert / count
+    const gl::ComputeProgram* hash_b = nullptr;                       // winner / scatter
     const gl::ComputeProgram* scan[3] = {nullptr, nullptr, nullptr};  // the exact hash's
     const gl::ComputeProgram* gather = nullptr;
     const gl::ComputeProgram* end_pass = nullptr;
@@ -65,7 +65,7 @@ struct StagePrograms {
 // Every buffer and texture of the pipeline, named by what it holds; `ssbos` lists every
 // storage buffer (deleted together). The scene's own (BVH, materials, ...) are bound once.
 struct PipelineBuffers {
-    GLuint frame = 0;  // the FrameBlock's uniform buffer
+    GLuint frame = 0;                           // the FrameBlock's uniform buffer
     GLuint materials = 0, emitter_records = 0;  // replaced by update_tables
     GLuint film = 0, counters = 0, pixel_stats = 0, direct_light = 0, pass_films = 0;
     GLuint photon_paths = 0, photons = 0, hash = 0, radius_stats = 0;

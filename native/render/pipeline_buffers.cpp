@@ -35,11 +35,12 @@ GLuint Renderer::Gpu::make_buffer(GLuint binding, std::size_t bytes, const void*
     while (glGetError() != GL_NO_ERROR) {
     }
     require_fits(bytes, what);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
-                 data, GL_DYNAMIC_COPY);
+    glBufferData(GL_SHADER_STORAGE_BUFFER,
+                 static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), data, GL_DYNAMIC_COPY);
     if (glGetError() == GL_OUT_OF_MEMORY)
         throw gl::GlError("out of GPU memory allocating " + std::string(what) + " (" +
-                          std::to_string(bytes >> 20) + " MiB): lower the resolution or "
+                          std::to_string(bytes >> 20) +
+                          " MiB): lower the resolution or "
                           "the photons per pass");
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id);
     buffers.bytes += bytes;
@@ -50,8 +51,8 @@ void Renderer::Gpu::replace_buffer(GLuint id, std::size_t bytes, const void* dat
                                    const char* what) {
     require_fits(bytes, what);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, id);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)),
-                 data, GL_DYNAMIC_COPY);
+    glBufferData(GL_SHADER_STORAGE_BUFFER,
+                 static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), data, GL_DYNAMIC_COPY);
 }
 
 void Renderer::Gpu::upload_atlas(const TextureAtlas& atlas) {

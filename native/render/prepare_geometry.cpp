@@ -23,7 +23,8 @@ TextureUse texture_use(const Scene& scene, bool has_uvs, std::vector<std::string
             if (t < 0) continue;  // indices were checked by validate_scene
             if (!has_uvs) {
                 if (!warned)
-                    warnings.push_back("materials[" + std::to_string(k) + "] has a texture but "
+                    warnings.push_back("materials[" + std::to_string(k) +
+                                       "] has a texture but "
                                        "the mesh has no uvs: its constant values are used instead");
                 warned = true;
                 continue;
@@ -53,8 +54,9 @@ void keep_used_vertex_colors(PreparedScene& p) {
         for (MeshView& m : p.instance_meshes) m.colors = {};
     }
     if (material_colors && !mesh_colors)
-        p.warnings.push_back("a material multiplies in vertex colours but no mesh has any: "
-                             "its colour is used alone");
+        p.warnings.push_back(
+            "a material multiplies in vertex colours but no mesh has any: "
+            "its colour is used alone");
 }
 
 }  // namespace
@@ -157,7 +159,8 @@ const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
             ++inst.mesh;
             instances.push_back(inst);
         }
-        p.two_level = std::make_unique<TwoLevelBvh>(build_two_level_bvh(bottoms, instances, options));
+        p.two_level =
+            std::make_unique<TwoLevelBvh>(build_two_level_bvh(bottoms, instances, options));
         p.two_level->stats.bottom_seconds = bottom_seconds;  // mesh 0 is timed in p.bvh.stats
     }
     if (scene.instances.empty()) p.bounds = scene_bounds(bvh);  // else flatten_or_instance's

@@ -1,3 +1,6 @@
+// The Renderer: its constructor prepares the scene (render/scene_preparation.h) and sets up
+// one pipeline per device (renderer_setup.cpp); runs deal passes to them (a pass is the
+// stages of pass_stages.cpp); set_camera, update_tables and reset_film restart them.
 #include "render/renderer.h"
 #include "render/pipeline.h"
 

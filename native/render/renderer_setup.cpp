@@ -1,9 +1,9 @@
 // Renderer::set_up: one worker's GL thread and context, its programs and its buffers
 // (the rest of the Renderer is in renderer.cpp; results read back in renderer_readback.cpp).
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <chrono>
-
-#include <epoxy/gl.h>
 
 #include "gl/object_counts.h"
 #include "render/pipeline.h"
@@ -43,9 +43,9 @@ void compile_programs(gl::ProgramCache& cache, const gl::Defines& defines, HashM
     s.restart = program("restart_film.comp", nullptr);
     s.resolve = program("resolve_film.comp", nullptr);
     s.radius_reduce = program("radius_stats.comp", nullptr);
-    for (const gl::ComputeProgram* p : {s.eye, s.photon, s.hash_clear, s.hash_a, s.hash_b,
-                                        s.scan[0], s.scan[1], s.scan[2], s.gather, s.end_pass,
-                                        s.restart, s.resolve}) {
+    for (const gl::ComputeProgram* p :
+         {s.eye, s.photon, s.hash_clear, s.hash_a, s.hash_b, s.scan[0], s.scan[1], s.scan[2],
+          s.gather, s.end_pass, s.restart, s.resolve}) {
         if (p) ++(p->reused() ? s.reused : s.compiled);
     }
     s.compile_seconds =
@@ -103,8 +103,8 @@ void upload_scene(Renderer::Gpu& g, const Scene& scene, const PreparedScene& pre
         g.make_buffer(BINDING_ENVIRONMENT_CDF, 16, nullptr, "environment distribution");
     }
     const EmitterTable& emitters = g.scene.emitters;
-    g.buffers.emitter_records = g.make_buffer(BINDING_EMITTERS, bytes(emitters.records),
-                                              emitters.records.data(), "lights");
+    g.buffers.emitter_records =
+        g.make_buffer(BINDING_EMITTERS, bytes(emitters.records), emitters.records.data(), "lights");
     g.buffers.materials = g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
                                         prepared.material_records.data(), "materials");
     g.buffers.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
@@ -117,14 +117,14 @@ void upload_scene(Renderer::Gpu& g, const Scene& scene, const PreparedScene& pre
 void plan_photon_slots(Renderer::Gpu& g) {
     const std::size_t ph = g.scene.photon_threads;
     const bool pppm = g.settings.estimator == Estimator::Pppm;
-    g.photon_slot = pppm ? static_cast<std::uint32_t>((ph + 15) / 16 * 16)
-                         : static_cast<std::uint32_t>(ph);
+    g.photon_slot =
+        pppm ? static_cast<std::uint32_t>((ph + 15) / 16 * 16) : static_cast<std::uint32_t>(ph);
     if (!pppm) return;
     GLint64 largest = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
     const std::size_t cap = std::min<std::size_t>(
-        largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30,
-        std::size_t(1) << 30);
+        largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30, std::size_t(1)
+                                                                                    << 30);
     g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
         cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(g.settings.max_bounces) + 1));
 }
@@ -137,7 +137,8 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     const bool exact = settings.hash == HashMode::Exact;
     const std::size_t px = g.scene.pixels, ph = g.scene.photon_threads;
     const std::size_t hash_cells = g.scene.hash_cells;
-    const std::size_t point_vec4s = visible_point_vec4s(prepared.microfacet, prepared.vertex_colors);
+    const std::size_t point_vec4s =
+        visible_point_vec4s(prepared.microfacet, prepared.vertex_colors);
     g.require_fits(px * point_vec4s * 16, "visible points", true);
     g.require_fits(ph * 3 * 16, "photons");
     g.require_fits(hash_cells * 16, "hash cells");
@@ -162,10 +163,10 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     b.hash = g.make_buffer(BINDING_HASH_CELLS, hash_cells * 16, nullptr, "hash cells");
     const std::size_t sorted = exact ? stored + hash_cells / 1024 : 1;
     g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
-    b.bytes_per_photon = double(ph * 3 * 16 + stored * 3 * 16 + hash_cells * 16 +
-                                (exact ? sorted * 4 : 0) +
-                                (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
-                         double(std::max<std::size_t>(ph, 1));
+    b.bytes_per_photon =
+        double(ph * 3 * 16 + stored * 3 * 16 + hash_cells * 16 + (exact ? sorted * 4 : 0) +
+               (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
+        double(std::max<std::size_t>(ph, 1));
     b.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
     const PassLayout& layout = g.scene.pass_layout;
     if (layout.stride > 0) {
@@ -174,8 +175,8 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
         b.pass_films = g.make_buffer(BINDING_PASS_FILMS, pass_bytes, nullptr, "render passes");
         b.bytes_per_pixel += std::size_t(layout.stride) * 16;
     }
-    b.radius_stats = g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr,
-                                   "radius statistics");
+    b.radius_stats =
+        g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr, "radius statistics");
 }
 
 }  // namespace
@@ -192,11 +193,11 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
     g.thread = std::make_unique<gl::GlThread>(g.device);
     g.thread->call([&] {
         try {
-            compile_programs(g.thread->context().programs(), g.scene.defines, settings.hash,
-                             cancel, g.programs);
+            compile_programs(g.thread->context().programs(), g.scene.defines, settings.hash, cancel,
+                             g.programs);
             // The traversal's node count, in every program that traces rays.
-            const std::uint32_t node_count = g.two_level ? g.two_level->top_node_count
-                                                         : g.bvh->node_count;
+            const std::uint32_t node_count =
+                g.two_level ? g.two_level->top_node_count : g.bvh->node_count;
             for (const gl::ComputeProgram* p : {g.programs.eye, g.programs.photon}) {
                 p->use();
                 glUniform1ui(p->uniform("bvh_node_count"), node_count);

@@ -55,11 +55,11 @@ void geometry_and_light_features(const Scene& scene, const PackedBvh& bvh, Featu
     const PreparedScene& p = f.p;
     bool conductor = false, dielectric = false;
     traced_material_kinds(scene, bvh, p, conductor, dielectric);
-    f.feature(!(p.instancing.two_level ? p.two_level->normals : bvh.normals).empty(),
-              "HAS_NORMALS", "normals");
-    f.feature(scene.camera.projection == Projection::Perspective &&
-                  scene.camera.aperture_radius > 0.0f,
-              "HAS_DEPTH_OF_FIELD", "depth-of-field");
+    f.feature(!(p.instancing.two_level ? p.two_level->normals : bvh.normals).empty(), "HAS_NORMALS",
+              "normals");
+    f.feature(
+        scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f,
+        "HAS_DEPTH_OF_FIELD", "depth-of-field");
     f.feature(scene.camera.projection == Projection::Orthographic, "HAS_ORTHOGRAPHIC",
               "orthographic");
     f.feature(conductor, "HAS_CONDUCTOR", "conductor");
@@ -97,7 +97,8 @@ void texture_and_material_features(const Scene& scene, Features& f) {
     f.feature(p.vertex_colors, "HAS_VERTEX_COLORS", "vertex-colors");
     f.feature(uses_normal_maps(p), "HAS_NORMAL_MAP", "normal-map");
     bool emission_texture = false;
-    for (const Material& m : materials) emission_texture |= use.materials && m.emission_texture >= 0;
+    for (const Material& m : materials)
+        emission_texture |= use.materials && m.emission_texture >= 0;
     f.feature(emission_texture, "HAS_EMISSION_TEXTURE", "emission-texture");
     // Blender 4.x's F82 tint on a metal: a conductor whose tint is not white. Without one the
     // conductor Fresnel is Schlick's alone (3.6% of a pass on the glossy Cornell box, H200).

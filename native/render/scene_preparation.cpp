@@ -1,7 +1,6 @@
 // prepare_scene: the preparation's steps in their order (render/scene_preparation.h).
 #include "render/scene_preparation.h"
 
-
 namespace glslppm {
 
 void prepare_environment(const Scene& scene, PreparedScene& p) {
@@ -14,8 +13,8 @@ void prepare_emitters(const Scene& scene, const PackedBvh& bvh, PreparedScene& p
     p.emitters = build_emitters(scene, p.geometry.materials, bvh, p.bounds, p.environment.get());
 }
 
-PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            unsigned local_size, const CancelFlag* cancel, const PackedBvh* built,
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings, unsigned local_size,
+                            const CancelFlag* cancel, const PackedBvh* built,
                             std::size_t flatten_max_triangles) {
     validate_inputs(scene, settings);
     PreparedScene p;

@@ -3,9 +3,8 @@
 // emitters, features, camera and radius.
 #include <gtest/gtest.h>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <memory>
 #include <string>
 
@@ -246,7 +245,8 @@ TEST(PreparationSteps, CameraFrameAndRadiusAgainstClosedForms) {
     // The rest of the Frame: sizes and the scene-relative floors.
     PreparedScene whole = prepare_scene(make_cornell_box(), s, 64);
     EXPECT_EQ(whole.frame.hash_cell_count, 8192u);
-    EXPECT_FLOAT_EQ(whole.frame.ray_offset_floor, 1e-3f * glm::length(whole.bounds.hi - whole.bounds.lo));
+    EXPECT_FLOAT_EQ(whole.frame.ray_offset_floor,
+                    1e-3f * glm::length(whole.bounds.hi - whole.bounds.lo));
 }
 
 }  // namespace
