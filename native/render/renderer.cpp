@@ -1,39 +1,40 @@
+// The Renderer: its constructor prepares the scene (render/scene_preparation.h) and sets up
+// one pipeline per device (renderer_setup.cpp); runs deal passes to them (a pass is the
+// stages of pass_stages.cpp); set_camera, update_tables and reset_film restart them.
 #include "render/renderer.h"
 #include "render/pipeline.h"
 
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <chrono>
-#include <cstddef>
-#include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <future>
 #include <optional>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
 
-#include "gl/object_counts.h"
 #include "gl/egl_context.h"
-#include "bvh/packed_bvh.h"
-#include "bvh/traverse_cpu.h"
-#include "gl/gl_thread.h"
-#include "gl/shader_program.h"
-#include "render/area_lights.h"
-#include "render/emitters.h"
-#include "render/environment_map.h"
-#include "render/gpu_layout.h"
-#include "render/scene_preparation.h"
-#include "render/texture_atlas.h"
-#include "render/rng_seed.h"
-#include "render/film_merge.h"
-#include "render/pppm_schedule.h"
 #include "scene/scene_hash.h"
 #include "scene/scene_validation.h"
 
 namespace glslppm {
+namespace {
+
+// The stats of the MTBVH traced: two levels count every mesh once and their build.
+BvhStats traced_bvh_stats(const PreparedScene& p) {
+    BvhStats st = p.bvh.stats;
+    if (!p.two_level) return st;
+    const TwoLevelStats& two = p.two_level->stats;
+    st.triangles = two.mesh_triangles;
+    st.build_seconds += two.bottom_seconds + two.top_seconds;
+    st.bytes_total = two.bytes_total;
+    st.bytes_per_triangle =
+        st.triangles ? static_cast<double>(st.bytes_total) / static_cast<double>(st.triangles) : 0.0;
+    return st;
+}
+
+}  // namespace
+
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
     : settings_(settings), next_pass_(settings.first_pass) {
     const std::vector<int> devices =
@@ -45,44 +46,24 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Can
         if (gl::is_software_device(device)) flatten_max_triangles_ = kFlattenMaxTrianglesSoftware;
     PreparedScene prepared =
         prepare_scene(scene, settings, kLocalSize, cancel, nullptr, flatten_max_triangles_);
-    if (prepared.two_level) {
-        // The same buffers carry the two-level tree (bvh/two_level_bvh.h): the top tree's node
-        // count is what the traversal starts from.
-        TwoLevelBvh& two = *prepared.two_level;
-        PackedBvh& bvh = prepared.bvh;
-        bvh.nodes = std::move(two.nodes);
-        bvh.links = std::move(two.links);
-        bvh.triangles = std::move(two.triangles);
-        bvh.normals = std::move(two.normals);
-        bvh.uvs = std::move(two.uvs);
-        bvh.colors = std::move(two.colors);
-        bvh.node_count = two.top_node_count;
-        BvhStats& st = bvh.stats;
-        st.triangles = two.stats.mesh_triangles;
-        st.build_seconds += two.stats.bottom_seconds + two.stats.top_seconds;
-        st.bytes_total = two.stats.bytes_total;
-        st.bytes_per_triangle =
-            st.triangles ? static_cast<double>(st.bytes_total) / static_cast<double>(st.triangles) : 0.0;
-    }
-    std::vector<glm::vec4> instances;  // two-level instance records, else empty
-    if (prepared.two_level) instances = std::move(prepared.two_level->instances);
+    // The MTBVH traced, one level or two, shared by the workers (each uploads it).
+    std::shared_ptr<const PackedBvh> bvh;
+    std::shared_ptr<const TwoLevelBvh> two_level;
+    const BvhStats bvh_stats = traced_bvh_stats(prepared);
+    if (prepared.two_level)
+        two_level = std::move(prepared.two_level);
+    else
+        bvh = std::make_shared<const PackedBvh>(std::move(prepared.bvh));
     scene_hash_without_camera_ = scene_hash_without_camera(scene, cancel);
     scene_hash_ = scene_hash_hex(scene_hash_with_camera(scene_hash_without_camera_, scene.camera));
     try {
-        for (std::size_t k = 0; k < devices.size(); ++k) {
+        for (int device : devices) {
             gpus_.push_back(std::make_unique<Gpu>());
-            // The last worker takes the BVH (one or two levels); the others copy it.
             Gpu& g = *gpus_.back();
-            if (k + 1 == devices.size()) {
-                g.bvh = std::move(prepared.bvh);
-                g.instances = std::move(instances);
-            } else {
-                g.bvh = prepared.bvh;
-                g.instances = instances;
-            }
-            g.instancing = prepared.instancing;
-            g.instance_count = scene.instances.size();
-            set_up(g, devices[k], scene, settings, prepared, cancel);
+            g.bvh = bvh;
+            g.two_level = two_level;
+            g.bvh_stats = bvh_stats;
+            set_up(g, device, scene, settings, prepared, cancel);
         }
     } catch (...) {
         for (auto& g : gpus_)
@@ -241,7 +222,7 @@ bool Renderer::set_camera(const Camera& camera) {
     // The programs were specialized for the projection and for depth of field.
     const Gpu& first = *gpus_[0];
     const auto has = [&](const char* define) {
-        return std::any_of(first.defines.begin(), first.defines.end(),
+        return std::any_of(first.scene.defines.begin(), first.scene.defines.end(),
                            [&](const auto& d) { return d.first == define; });
     };
     const bool orthographic = camera.projection == Projection::Orthographic;
@@ -249,35 +230,17 @@ bool Renderer::set_camera(const Camera& camera) {
     if (!settings_.full_variant &&
         (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
         return false;
-    // frame_camera through a worker's own MTBVH. On the two-level path its buffers hold the
-    // TwoLevelBvh's arrays (the constructor moved them in): they are lent back to one for
-    // the call, since walking them as a one-level tree measures the wrong distances.
-    auto frame_worker_camera = [&](Gpu& g, FrameBlock& frame) {
-        if (g.instances.empty()) return frame_camera(camera, g.settings, g.bvh, g.bounds, frame);
-        TwoLevelBvh two;
-        two.top_node_count = g.bvh.node_count;
-        auto lend = [&] {
-            two.nodes.swap(g.bvh.nodes);
-            two.links.swap(g.bvh.links);
-            two.triangles.swap(g.bvh.triangles);
-            two.normals.swap(g.bvh.normals);
-            two.uvs.swap(g.bvh.uvs);
-            two.instances.swap(g.instances);
-        };
-        lend();
-        struct GiveBack {
-            decltype(lend)& back;
-            ~GiveBack() { back(); }
-        } give_back{lend};
-        return frame_camera(camera, g.settings, PackedBvh{}, g.bounds, frame, &two);
-    };
     for (auto& w : gpus_) {
         Gpu& g = *w;
         g.thread->call([&] {
-            FrameBlock frame = g.frame;
-            const float radius = frame_worker_camera(g, frame);
-            g.frame = frame;
-            g.initial_radius = radius;  // PPPM's pass radii scale from it too
+            // frame_camera through the worker's MTBVH, one level or two.
+            FrameBlock frame = g.scene.frame;
+            const float radius = g.two_level ? frame_camera(camera, g.settings, PackedBvh{},
+                                                            g.scene.bounds, frame, g.two_level.get())
+                                             : frame_camera(camera, g.settings, *g.bvh,
+                                                            g.scene.bounds, frame);
+            g.scene.frame = frame;
+            g.scene.initial_radius = radius;  // PPPM's pass radii scale from it too
             g.restart_film();
             ++g.camera_updates;
             ++g.film_resets;
@@ -294,12 +257,13 @@ bool Renderer::update_tables(const Scene& scene) {
     Gpu& first = *gpus_[0];
     std::optional<PreparedScene> prepared;
     const bool same = first.thread->call([&] {
-        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr, &first.bvh,
-                                       flatten_max_triangles_));
+        prepared.emplace(prepare_scene(scene, first.settings, kLocalSize, nullptr,
+                                       first.bvh.get(), flatten_max_triangles_));
         const PreparedScene& p = *prepared;
-        return p.geometry.mesh.triangles.size() == first.geometry_triangles &&
-               p.geometry.materials.size() == first.material_count && p.variant == first.variant &&
-               p.defines == first.defines && p.textures.used == first.textures_used &&
+        const PipelineScene& kept = first.scene;
+        return p.geometry_triangles == kept.geometry_triangles &&
+               p.material_count == kept.material_count && p.variant == kept.variant &&
+               p.defines == kept.defines && p.textures.used == kept.textures.used &&
                !p.environment;
     });
     if (!same) return false;
@@ -307,14 +271,15 @@ bool Renderer::update_tables(const Scene& scene) {
     for (auto& w : gpus_) {
         Gpu& g = *w;
         g.thread->call([&] {
-            g.replace_buffer(g.materials, p.material_records.size() * sizeof(glm::vec4),
+            g.replace_buffer(g.buffers.materials, p.material_records.size() * sizeof(glm::vec4),
                              p.material_records.data(), "materials");
-            g.emitters = p.emitters;
-            g.replace_buffer(g.emitter_records,
-                             g.emitters.records.size() * sizeof(g.emitters.records[0]),
-                             g.emitters.records.data(), "lights");
-            g.frame = p.frame;
-            g.initial_radius = p.initial_radius;
+            const EmitterTable& emitters = p.emitters;
+            g.replace_buffer(g.buffers.emitter_records,
+                             emitters.records.size() * sizeof(emitters.records[0]),
+                             emitters.records.data(), "lights");
+            g.scene.emitters = emitters;
+            g.scene.frame = p.frame;
+            g.scene.initial_radius = p.initial_radius;
             g.restart_film();
             ++g.table_updates;
             ++g.film_resets;
@@ -333,7 +298,7 @@ void Renderer::debug_set_photons_emitted(std::uint64_t count) {
         const std::uint32_t words[2] = {static_cast<std::uint32_t>(count),
                                         static_cast<std::uint32_t>(count >> 32)};
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.counters);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, g.buffers.counters);
         glBufferSubData(GL_SHADER_STORAGE_BUFFER, offsetof(Counters, emitted_lo), sizeof(words),
                         words);
     });

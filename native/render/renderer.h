@@ -152,8 +152,10 @@ public:
     std::vector<float> photons();
     const RenderSettings& settings() const { return settings_; }
 
-private:
+    // One worker's GPU pipeline (render/pipeline.h), complete only in the Renderer's sources.
     struct Gpu;
+
+private:
     static void set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
                        const PreparedScene& prepared, const CancelFlag* cancel);
     int run_workers(const std::vector<std::uint64_t>& indices);

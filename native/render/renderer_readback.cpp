@@ -4,38 +4,54 @@
 #include "render/pipeline.h"
 
 #include <algorithm>
-#include <atomic>
-#include <bit>
-#include <chrono>
-#include <cstddef>
-#include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <future>
-#include <optional>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
 
-#include "gl/object_counts.h"
-#include "gl/egl_context.h"
-#include "bvh/packed_bvh.h"
-#include "bvh/traverse_cpu.h"
-#include "gl/gl_thread.h"
-#include "gl/shader_program.h"
-#include "render/area_lights.h"
-#include "render/emitters.h"
-#include "render/environment_map.h"
-#include "render/gpu_layout.h"
-#include "render/scene_preparation.h"
-#include "render/texture_atlas.h"
-#include "render/rng_seed.h"
 #include "render/film_merge.h"
 #include "render/pppm_schedule.h"
-#include "scene/scene_hash.h"
-#include "scene/scene_validation.h"
 
 namespace glslppm {
+
+std::vector<float> Renderer::Gpu::resolve_film() {
+    std::vector<float> out(std::size_t(scene.pixels) * 4, 0.0f);
+    resolve_film_into(out.data());
+    return out;
+}
+
+void Renderer::Gpu::resolve_film_into(float* out, bool bottom_up) {
+    const Counters c = read_counters();
+    const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+    FrameBlock& frame = scene.frame;
+    frame.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+    frame.inv_photons_emitted = emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+    upload_frame();
+    dispatch(*programs.resolve, scene.pixels);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    buffers.reader.read(buffers.film, 0, std::size_t(scene.pixels) * 16, out,
+                        bottom_up ? std::size_t(settings.width) * 16 : 0);
+}
+
+std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<RenderPass>& wanted) {
+    const std::uint32_t pixels = scene.pixels;
+    const PassLayout& layout = scene.pass_layout;
+    std::vector<glm::vec4> films(std::size_t(pixels) * layout.stride);
+    std::vector<glm::vec4> stats(std::size_t(pixels) * 2);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    buffers.reader.read(buffers.pass_films, 0, films.size() * 16, films.data());
+    buffers.reader.read(buffers.pixel_stats, 0, stats.size() * 16, stats.data());
+    const Counters c = read_counters();
+    const std::uint64_t emitted = total(c.emitted_lo, c.emitted_hi);
+    PassResolve r;
+    r.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
+    r.inv_photons_emitted =
+        emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
+    r.pppm = settings.estimator == Estimator::Pppm;
+    std::vector<std::vector<float>> images;
+    for (RenderPass pass : wanted)
+        images.push_back(resolve_render_pass(layout, pass, films, stats, pixels, r));
+    return images;
+}
 
 std::vector<float> Renderer::film() {
     if (gpus_.size() == 1) {
@@ -85,7 +101,7 @@ std::vector<float> Renderer::render_pass(RenderPass pass) {
 
 std::vector<std::vector<float>> Renderer::render_passes(const std::vector<RenderPass>& wanted) {
     for (RenderPass pass : wanted)
-        if (gpus_[0]->pass_layout.offset(pass) < 0)
+        if (gpus_[0]->scene.pass_layout.offset(pass) < 0)
             throw std::invalid_argument(std::string("render pass '") +
                                         render_pass_info(pass).name +
                                         "' was not enabled: add it to the settings' passes");
@@ -110,10 +126,10 @@ std::vector<std::vector<float>> Renderer::render_passes(const std::vector<Render
 
 std::vector<float> Renderer::photons() {
     Gpu& g = *gpus_[0];
-    std::vector<float> out(std::size_t(g.photon_threads) * 12, 0.0f);
+    std::vector<float> out(std::size_t(g.scene.photon_threads) * 12, 0.0f);
     g.thread->call([&] {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        g.reader.read(g.photons, 0, out.size() * 4, out.data());
+        g.buffers.reader.read(g.buffers.photons, 0, out.size() * 4, out.data());
     });
     return out;
 }
@@ -139,10 +155,10 @@ RenderStats Renderer::stats() {
             } else {
                 // The radii reduced on the GPU: a few KiB read back, not every pixel's
                 // statistics.
-                w.radius_reduce->use();
+                w.programs.radius_reduce->use();
                 glDispatchCompute(1, 1, 1);
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                glBindBuffer(GL_SHADER_STORAGE_BUFFER, w.radius_stats);
+                glBindBuffer(GL_SHADER_STORAGE_BUFFER, w.buffers.radius_stats);
                 glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
                                    static_cast<GLsizeiptr>(radius_stats.size() * sizeof(glm::vec2)),
                                    radius_stats.data());
@@ -160,7 +176,7 @@ RenderStats Renderer::stats() {
     s.seconds = gpus_.size() == 1 ? g.seconds : seconds_;
     s.photons_per_second = s.seconds > 0 ? static_cast<double>(s.photons_emitted) / s.seconds : 0;
     s.rays_per_second = s.seconds > 0 ? static_cast<double>(s.rays) / s.seconds : 0;
-    s.radius_floor = g.frame.radius_floor;
+    s.radius_floor = g.scene.frame.radius_floor;
     s.estimator = to_string(settings_.estimator);
     s.scene_hash = scene_hash_;
     if (pppm) {
@@ -168,7 +184,7 @@ RenderStats Renderer::stats() {
         s.pass_ranges = pass_ranges(indices);
         const std::uint64_t last = s.pass_ranges.empty() ? settings_.first_pass
                                                          : s.pass_ranges.back().second - 1;
-        s.mean_radius = s.max_radius = pppm_pass_radius(g.initial_radius, g.frame.radius_floor,
+        s.mean_radius = s.max_radius = pppm_pass_radius(g.scene.initial_radius, g.scene.frame.radius_floor,
                                                         last, settings_.alpha);
     } else {
         double sum = 0.0, largest = 0.0;
@@ -176,34 +192,34 @@ RenderStats Renderer::stats() {
             sum += t.x;
             largest = std::max(largest, static_cast<double>(t.y));
         }
-        s.mean_radius = g.pixels ? sum / g.pixels : 0.0;
+        s.mean_radius = g.scene.pixels ? sum / g.scene.pixels : 0.0;
         s.max_radius = largest;
         if (s.passes) s.pass_ranges.push_back({0, s.passes});
     }
-    s.initial_radius = g.initial_radius;
+    s.initial_radius = g.scene.initial_radius;
     s.renderer = g.thread->info().renderer;
-    s.variant = g.variant;
+    s.variant = g.scene.variant;
     s.direct_light = to_string(g.settings.direct_light);
-    s.triangles = g.bvh.stats.triangles;
-    s.degenerate_dropped = g.bvh.stats.degenerate_dropped;
-    s.instancing = g.instancing.path;
-    s.instancing_reason = g.instancing.reason;
-    s.instances = g.instance_count;
-    s.instanced_triangles = g.instancing.instanced_triangles;
-    s.emitters = g.emitters.count;
-    s.bvh_seconds = g.bvh.stats.total_seconds();
-    s.bvh_bytes_per_triangle = g.bvh.stats.bytes_per_triangle;
-    for (const auto& w : gpus_) s.gpu_bytes += w->gpu_bytes;
-    s.gpu_bytes_per_pixel = g.gpu_bytes_per_pixel;
-    s.gpu_bytes_per_photon = g.gpu_bytes_per_photon;
-    s.eye_seconds = g.stage_seconds[0];
-    s.photon_seconds = g.stage_seconds[1];
-    s.hash_seconds = g.stage_seconds[2];
-    s.gather_seconds = g.stage_seconds[3];
-    s.warnings = g.warnings;
-    s.programs_compiled = g.programs_compiled;
-    s.programs_reused = g.programs_reused;
-    s.compile_seconds = g.compile_seconds;
+    s.triangles = g.bvh_stats.triangles;
+    s.degenerate_dropped = g.bvh_stats.degenerate_dropped;
+    s.instancing = g.scene.instancing.path;
+    s.instancing_reason = g.scene.instancing.reason;
+    s.instances = g.scene.instance_count;
+    s.instanced_triangles = g.scene.instancing.instanced_triangles;
+    s.emitters = g.scene.emitters.count;
+    s.bvh_seconds = g.bvh_stats.total_seconds();
+    s.bvh_bytes_per_triangle = g.bvh_stats.bytes_per_triangle;
+    for (const auto& w : gpus_) s.gpu_bytes += w->buffers.bytes;
+    s.gpu_bytes_per_pixel = g.buffers.bytes_per_pixel;
+    s.gpu_bytes_per_photon = g.buffers.bytes_per_photon;
+    s.eye_seconds = g.timer.seconds[0];
+    s.photon_seconds = g.timer.seconds[1];
+    s.hash_seconds = g.timer.seconds[2];
+    s.gather_seconds = g.timer.seconds[3];
+    s.warnings = g.scene.warnings;
+    s.programs_compiled = g.programs.compiled;
+    s.programs_reused = g.programs.reused;
+    s.compile_seconds = g.programs.compile_seconds;
     s.camera_updates = g.camera_updates;
     s.table_updates = g.table_updates;
     s.film_resets = g.film_resets;

@@ -1,8 +1,8 @@
-// The scene's preparation for the GPU, done on the CPU without GL: validation, the geometry
-// with its area lights, the MTBVH, the emitter table and the environment's distribution, the
-// feature set the programs are specialized for, the camera's Frame and the automatic
-// radius. The Renderer uploads what this returns; GoogleTest checks it without EGL
-// (tests/native/scene_preparation_test.cpp).
+// The scene's preparation for the GPU, done on the CPU without GL, as named steps (Cycles'
+// scene managers, called in order): validate, flatten or instance, tangents, BVH,
+// environment, emitters, features, camera and radius (the Frame). The Renderer uploads what
+// this returns; GoogleTest checks each step without EGL (tests/native/scene_preparation_test.cpp,
+// tests/native/preparation_steps_test.cpp).
 #pragma once
 
 #include <cstdint>
@@ -32,16 +32,16 @@ struct TextureUse {
     std::vector<bool> used;  // per scene texture
 };
 
-struct PreparedScene {
-    SceneGeometry geometry;  // the scene's mesh and materials, area lights appended
-    TextureUse textures;
-    PackedBvh bvh;  // the triangles placed once (with the area lights)
-    // The scene's instances: how they are traced, and the two-level MTBVH (the placed-once
-    // triangles its mesh 0) when that is the path; null otherwise (flattened into `bvh`).
+// What the pipeline keeps of a prepared scene, taken whole (Renderer::Gpu::scene): the
+// programs' defines, the sizes, the Frame, the emitter table and what decides whether a
+// later scene can reuse the programs (update_tables).
+struct PipelineScene {
     InstancePlan instancing;
-    std::unique_ptr<TwoLevelBvh> two_level;
+    std::size_t instance_count = 0;  // the scene's instances, traced or flattened
+    TextureUse textures;
+    // The prepared geometry's triangles (area lights included) and materials.
+    std::size_t geometry_triangles = 0, material_count = 0;
     SceneBounds bounds;
-    std::unique_ptr<EnvironmentMap> environment;  // null without an environment map
     EmitterTable emitters;
     // The programs' #defines and the variant's name (stats()["variant"]).
     std::vector<std::pair<std::string, std::string>> defines;
@@ -52,14 +52,25 @@ struct PreparedScene {
     // the BVH); with HAS_MICROFACET a visible point holds its colour in a fifth vec4.
     bool vertex_colors = false;
     PassLayout pass_layout;  // the render passes' records in the pass films
-    // The Materials buffer: GpuMaterial records, then albedo tables.
-    std::vector<glm::vec4> material_records;
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     FrameBlock frame{};
     float initial_radius = 0.0f;
     std::vector<std::string> warnings;
+};
+
+struct PreparedScene : PipelineScene {
+    SceneGeometry geometry;  // the scene's mesh and materials, area lights appended
+    // Two levels: the instance meshes as traced (uvs and colours only where used).
+    std::vector<MeshView> instance_meshes;
+    PackedBvh bvh;  // the triangles placed once (with the area lights)
+    // The two-level MTBVH (the placed-once triangles its mesh 0) when instances are traced
+    // that way (instancing.two_level); null otherwise (flattened into `bvh`).
+    std::unique_ptr<TwoLevelBvh> two_level;
+    std::unique_ptr<EnvironmentMap> environment;  // null without an environment map
+    // The Materials buffer: GpuMaterial records, then albedo tables.
+    std::vector<glm::vec4> material_records;
     // Tangents made from the uvs for normal-mapped meshes that came without (the MeshViews
-    // of `geometry` and the instance meshes point into these; a list never moves them).
+    // of `geometry` and `instance_meshes` point into these; a list never moves them).
     std::list<std::vector<glm::vec4>> generated_tangents;
 };
 
@@ -89,11 +100,70 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                             const PackedBvh* built = nullptr,
                             std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware);
 
+// The steps of prepare_scene, in its order, each tested on its own
+// (tests/native/preparation_steps_test.cpp). Each fills its part of `p`.
+
+// validate: the settings and the scene as given (std::invalid_argument, SceneError).
+void validate_inputs(const Scene& scene, const RenderSettings& settings);
+
+// flatten or instance (prepare_geometry.cpp): area lights join the geometry; instances are
+// flattened into it or kept for two levels (p.instancing, p.instance_meshes; p.bounds of
+// an instanced scene); textures count only where the meshes have uvs (p.textures) and
+// vertex colours only where a material multiplies them in (p.vertex_colors).
+void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
+                         std::size_t flatten_max_triangles, PreparedScene& p);
+
+// Whether the materials read normal or bump maps (HAS_NORMAL_MAP): then every mesh with
+// uvs needs tangents.
+bool uses_normal_maps(const PreparedScene& p);
+
+// tangents: meshes without them get tangents from their uvs (scene/tangent_space.h) where
+// uses_normal_maps(p).
+void generate_missing_tangents(PreparedScene& p);
+
+// BVH: the MTBVH of the placed-once triangles (or `built`, an earlier one of the same
+// geometry: p.bvh stays empty), the two-level MTBVH on that path, and the scene's bounds.
+// Returns the MTBVH of the placed-once triangles. SceneError for a scene without
+// triangles or of a size floats do not render.
+const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
+                           const CancelFlag* cancel, const PackedBvh* built, PreparedScene& p);
+
+// environment: the environment map's sampling distribution (p.environment), where the
+// scene has one.
+void prepare_environment(const Scene& scene, PreparedScene& p);
+
+// emitters: the emitter table (render/emitters.h) of the placed-once triangles in `bvh`.
+void prepare_emitters(const Scene& scene, const PackedBvh& bvh, PreparedScene& p);
+
+// features (scene_features.cpp): the programs' #defines and the variant's name: only what
+// the scene uses is compiled (DESIGN.md, "model only what a scene requires").
+void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
+                     const PackedBvh& bvh, PreparedScene& p);
+
+// frame (camera_frame.cpp): the sizes and the Frame's constants, the camera's part and the
+// automatic radius (p.initial_radius) through `bvh` included.
+void fill_frame(const Scene& scene, const RenderSettings& settings, const PackedBvh& bvh,
+                PreparedScene& p);
+
 // The camera's part of the Frame (film extent and shift, projection, depth of field) at the
 // settings' image size, and the automatic radius it implies (settings.initial_radius when
 // positive): two pixel footprints at the median distance the camera sees, through `bvh`.
 float frame_camera(const Camera& camera, const RenderSettings& settings, const PackedBvh& bvh,
                    const SceneBounds& bounds, FrameBlock& frame,
                    const TwoLevelBvh* two_level = nullptr);
+
+// camera: frame_camera's first half: the Frame's camera fields. Returns the whole frame's
+// film, which the automatic radius looks through (a region's window is part of it).
+struct WholeFilm {
+    glm::vec2 half_extent{0.0f}, shift{0.0f};
+    int width = 0, height = 0;  // pixels
+};
+WholeFilm camera_frame(const Camera& camera, const RenderSettings& settings, FrameBlock& frame);
+
+// radius: two pixel footprints at the median distance the camera sees through `film`, at
+// most 5% of the scene's diagonal; settings.initial_radius when positive.
+float automatic_radius(const Camera& camera, const RenderSettings& settings,
+                       const FrameBlock& frame, const WholeFilm& film, const PackedBvh& bvh,
+                       const SceneBounds& bounds, const TwoLevelBvh* two_level = nullptr);
 
 }  // namespace glslppm

@@ -1,0 +1,180 @@
+// One pass as its stages, in the order the GPU runs them (render/pipeline.h): the eye paths
+// find visible points, the photon paths trace one bounce and store a photon, the photons are
+// hashed, each visible point gathers and updates its estimate, and the pass is counted.
+#include <algorithm>
+#include <iterator>
+
+#include "render/pipeline.h"
+#include "render/pppm_schedule.h"
+
+namespace glslppm {
+
+void Renderer::Gpu::run_pass(std::uint64_t pass_index) {
+    const bool pppm = settings.estimator == Estimator::Pppm;
+    begin_pass(pass_index);
+    trace_eye(pass_index);
+    const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_bounces) + 1u : 1u;
+    for (std::uint32_t step = 0; step < steps; ++step) {
+        const std::uint32_t slot = step % steps_per_gather;
+        trace_photons(pass_index, step);
+        if (slot + 1 < steps_per_gather && step + 1 < steps) continue;
+        if (!pppm) {
+            hash_photons(scene.photon_threads);
+            gather(true);
+            continue;
+        }
+        // PPPM: the steps stored so far, hashed and gathered as one set of photons.
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons);
+        const std::uint32_t stored = (slot + 1) * photon_slot;
+        scene.frame.photon_threads = stored;
+        upload_frame();
+        hash_photons(stored);
+        gather(step + 1 == steps_per_gather || step + 1 == steps);
+        scene.frame.photon_threads = scene.photon_threads;
+        upload_frame();
+    }
+    end_pass();
+}
+
+// The frame's pass constants. PPPM: pass `pass_index`'s radius r_1 s(i), its estimate's
+// factor and the hash cells of that radius, from the index alone.
+void Renderer::Gpu::begin_pass(std::uint64_t pass_index) {
+    FrameBlock& frame = scene.frame;
+    frame.pass_index = static_cast<std::uint32_t>(pass_index);
+    frame.photon_step = 0;
+    if (settings.estimator == Estimator::Pppm) {
+        const float r =
+            pppm_pass_radius(scene.initial_radius, frame.radius_floor, pass_index, settings.alpha);
+        frame.pass_radius = r;
+        // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
+        frame.pass_scale = static_cast<float>(
+            1.0 / (3.14159265358979323846 * double(r) * double(r) * double(scene.photon_threads)));
+        // The hash grid's cells take r (hash_cell_size() in common/hash_grid.glsl).
+    }
+    upload_frame();
+}
+
+// eye_trace.comp: each pixel's eye path to its visible point.
+void Renderer::Gpu::trace_eye(std::uint64_t pass_index) {
+    mark(0);
+    set_rng_seed(*programs.eye, pass_index, 0);
+    dispatch(*programs.eye, scene.pixels);
+    if (settings.profile) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    mark(1);
+}
+
+// photon_trace.comp: one bounce of every photon path. PPPM: step `step` of the pass, stored
+// in its slot of the photon buffer.
+void Renderer::Gpu::trace_photons(std::uint64_t pass_index, std::uint32_t step) {
+    if (step > 0) {
+        scene.frame.photon_step = step;
+        upload_frame();
+    }
+    if (settings.estimator == Estimator::Pppm) {
+        const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot) * 3 * 16;
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons,
+                          (step % steps_per_gather) * slot_bytes, slot_bytes);
+    }
+    set_rng_seed(*programs.photon, pass_index, 1u + (step << 8));
+    dispatch(*programs.photon, scene.photon_threads);
+    // Storage barriers only within a pass: the host writes nothing but the frame's uniform
+    // block, which no shader writes (a buffer-update barrier here cost a host wait for the
+    // GPU per step on NVIDIA, and one device's wait blocked the other devices' threads).
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (step == 0) mark(2);
+}
+
+// hash_photons.comp: the stored photons into the hash cells (stochastic: one survivor per
+// cell and its count; exact: counted, prefix-summed and scattered).
+void Renderer::Gpu::hash_photons(std::uint32_t stored) {
+    const GLbitfield ssbo = GL_SHADER_STORAGE_BARRIER_BIT;
+    dispatch(*programs.hash_clear, scene.hash_cells);
+    glMemoryBarrier(ssbo);
+    dispatch(*programs.hash_a, stored);
+    glMemoryBarrier(ssbo);
+    if (settings.hash == HashMode::Exact) {
+        const std::uint32_t blocks = scene.hash_cells / 1024u;
+        programs.scan[0]->use();
+        glDispatchCompute(blocks, 1, 1);
+        glMemoryBarrier(ssbo);
+        programs.scan[1]->use();
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(ssbo);
+        programs.scan[2]->use();
+        glDispatchCompute(blocks, 1, 1);
+        glMemoryBarrier(ssbo);
+    }
+    dispatch(*programs.hash_b, stored);
+    glMemoryBarrier(ssbo);
+}
+
+// gather.comp: each visible point's photons and its progressive update.
+void Renderer::Gpu::gather(bool mark_stage) {
+    if (mark_stage) mark(3);
+    dispatch(*programs.gather, scene.pixels);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+// end_pass.comp: the pass's counts into the 64-bit totals.
+void Renderer::Gpu::end_pass() {
+    programs.end_pass->use();
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    mark(4);
+    ++passes;
+    if (settings.profile) {
+        GLuint64 t[5];
+        for (int k = 0; k < 5; ++k) glGetQueryObjectui64v(timer.queries[k], GL_QUERY_RESULT, &t[k]);
+        for (int k = 0; k < 4; ++k) timer.seconds[k] += 1e-9 * static_cast<double>(t[k + 1] - t[k]);
+    }
+}
+
+void Renderer::Gpu::restart_film() {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const gl::ComputeProgram& restart = *programs.restart;
+    restart.use();
+    glUniform1ui(restart.uniform("u_pixels"), scene.pixels);
+    glUniform1ui(restart.uniform("u_photon_threads"), scene.photon_threads);
+    glUniform1f(restart.uniform("u_initial_radius"), scene.initial_radius);
+    dispatch(restart, std::max(scene.pixels, scene.photon_threads));
+    if (buffers.pass_films) {
+        // A clear after shader writes takes a buffer-update barrier: a restart is not a
+        // pass, so its host wait does not slow the passes.
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        const GLuint zero[4] = {0u, 0u, 0u, 0u};
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.pass_films);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                          zero);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    passes = 0;
+    pass_indices.clear();  // PPPM: a restarted film has run no pass index
+    seconds = submit_seconds = wait_seconds = 0.0;
+    std::fill(std::begin(timer.seconds), std::end(timer.seconds), 0.0);
+}
+
+void Renderer::Gpu::dispatch(const gl::ComputeProgram& program, std::uint32_t threads) {
+    program.use();
+    const std::uint32_t groups = (threads + kLocalSize - 1) / kLocalSize;
+    if (groups <= 65535u) {
+        glDispatchCompute(std::max(groups, 1u), 1, 1);
+    } else {
+        const std::uint32_t x = 32768u;
+        glDispatchCompute(x, (groups + x - 1) / x, 1);
+    }
+}
+
+void Renderer::Gpu::set_rng_seed(const gl::ComputeProgram& program, std::uint64_t pass_index,
+                                 std::uint32_t stage) {
+    const GLint location = program.uniform("u_rng_seed");
+    if (location >= 0) {
+        program.use();
+        glUniform1ui(location, mix_seed(settings.seed, pass_index, stage));
+    }
+}
+
+void Renderer::Gpu::mark(int stage) {
+    if (settings.profile) glQueryCounter(timer.queries[stage], GL_TIMESTAMP);
+}
+
+}  // namespace glslppm
