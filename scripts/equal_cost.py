@@ -47,10 +47,10 @@ RENDER_SCRIPT = os.path.join(REPO, "scripts", "equal_cost_render.py")
 # top, drawn around the caustic in the reference; and whether Cycles' MNEE applies (a
 # refractive caster under a light MNEE samples; the ring's caustic is reflective).
 SCENES = {
-    "caustic": {"regions": {"caustic": (0.50, 0.52, 0.72, 0.66)}, "mnee": True},
+    "caustic": {"regions": {"caustic": (0.48, 0.51, 0.72, 0.65)}, "mnee": True},
     "ring": {"regions": {"cardioid": (0.30, 0.40, 0.75, 0.72)}, "mnee": False},
     "pool": {"regions": {"floor through water": (0.20, 0.25, 0.80, 0.70)}, "mnee": True},
-    "point_ball": {"regions": {"caustic": (0.50, 0.52, 0.72, 0.66)}, "mnee": True},
+    "point_ball": {"regions": {"caustic": (0.48, 0.51, 0.72, 0.65)}, "mnee": True},
     "cornell": {"regions": {"glass sphere caustic": (0.55, 0.72, 0.80, 0.90)}, "mnee": False},
 }
 CYCLES_METHODS = ("cycles", "cycles-mnee")
@@ -135,8 +135,19 @@ def scores(image, ref, var, regions):
         out[name] = {"rel_rmse": mse ** 0.5 / mean_ref,
                      "rel_rmse_corrected": max(0.0, mse - noise) ** 0.5 / mean_ref,
                      "reference_rel_noise": noise ** 0.5 / mean_ref,
-                     "reference_mean": mean_ref, "bias": float((y[rows, cols] - y_ref[rows, cols]).mean()) / mean_ref}
+                     "reference_mean": mean_ref,
+                     "bias": float((y[rows, cols] - y_ref[rows, cols]).mean()) / mean_ref}
     return out
+
+
+def reference_from_halves(halves):
+    """The reference (mean of k independent renders, RGB) and the variance of that mean's
+    luminance per pixel, sum((Y_i - Y_mean)^2) / (k (k - 1))."""
+    stack = np.stack([h.astype(np.float64) for h in halves])
+    k = len(halves)
+    mean = stack.mean(axis=0)
+    var = ((luminance(stack) - luminance(mean)[None]) ** 2).sum(axis=0) / (k * (k - 1))
+    return mean, var
 
 
 def command_reference(args):
@@ -147,11 +158,8 @@ def command_reference(args):
         out = work_dir(args, args.scene, "reference", f"{safe(args.method)}_{k}")
         records.append(render(args, args.scene, args.method, count, REFERENCE_SEED + k, out))
         halves.append(np.load(out + ".npy").astype(np.float64))
-    stack = np.stack(halves)
-    mean = stack.mean(axis=0)
+    mean, var = reference_from_halves(halves)
     k = len(halves)
-    var = (luminance(stack) - luminance(mean)[None]) ** 2
-    var = var.sum(axis=0) / (k * (k - 1))
     info = {"method": args.method, "count": count * k, "halves": k,
             "render_cpu_s": sum(r["render_cpu_s"] for r in records)}
     np.savez(work_dir(args, args.scene, "reference.npz"), mean=mean, var=var,
@@ -161,6 +169,18 @@ def command_reference(args):
     noise = scores(mean, mean, var, SCENES[args.scene]["regions"])
     print(f"reference {args.scene}: {info}; its own relative noise: " +
           ", ".join(f"{n} {v['reference_rel_noise']:.4f}" for n, v in noise.items()))
+
+
+def fit_cost(counts, costs):
+    """CPU-s = fixed + per_unit * count through two (count, CPU-s) points; neither part
+    negative."""
+    per_unit = max((costs[1] - costs[0]) / (counts[1] - counts[0]), 1e-6)
+    return {"per_unit_cpu_s": per_unit, "fixed_cpu_s": max(0.0, costs[0] - per_unit * counts[0])}
+
+
+def count_for_budget(cost, budget):
+    """The sample or pass count whose predicted CPU-s is the budget (at least 1)."""
+    return max(1, int(round((budget - cost["fixed_cpu_s"]) / cost["per_unit_cpu_s"])))
 
 
 def calibration(args, scene, method):
@@ -173,10 +193,8 @@ def calibration(args, scene, method):
             out = work_dir(args, scene, "calibration", f"{safe(method)}_{count}")
             costs.append(render(args, scene, method, count, MEASURE_SEED + 100, out)
                          ["render_cpu_s"])
-        per_unit = max((costs[1] - costs[0]) / (large - small), 1e-6)
-        table[method] = {"per_unit_cpu_s": per_unit,
-                         "fixed_cpu_s": max(0.0, costs[0] - per_unit * small),
-                         "counts": [small, large], "render_cpu_s": costs}
+        table[method] = dict(fit_cost((small, large), costs), counts=[small, large],
+                             render_cpu_s=costs)
         with open(path, "w") as f:
             json.dump(table, f, indent=1)
     return table[method]
@@ -195,7 +213,7 @@ def command_measure(args):
     for budget in args.budgets:
         for method in args.methods:
             c = calibration(args, args.scene, method)
-            count = max(1, int(round((budget - c["fixed_cpu_s"]) / c["per_unit_cpu_s"])))
+            count = count_for_budget(c, budget)
             out = work_dir(args, args.scene, "runs", f"{safe(method)}_{budget:g}")
             record = render(args, args.scene, method, count, MEASURE_SEED, out)
             record["budget"] = budget
