@@ -11,6 +11,7 @@ one at a time. Steps, each resumable (results already in the work folder are reu
     scripts/equal_cost.py measure   --scene caustic --methods sppm,pppm,cycles,cycles-mnee \\
                                     --budgets 30,120,480
     scripts/equal_cost.py table     --scenes caustic,cornell [--json docs/equal_cost.json]
+    scripts/equal_cost.py all --scene ring --reference-count 20000 --budgets 30,120  (all four)
 
 Cost: the CPU-seconds (user + sys, all threads) the render process spends inside
 bpy.ops.render.render (scene export or sync, BVH, shader compilation, every pass or sample,
@@ -51,7 +52,7 @@ SCENES = {
     "ring": {"regions": {"cardioid": (0.30, 0.40, 0.75, 0.72)}, "mnee": False},
     "pool": {"regions": {"floor through water": (0.20, 0.25, 0.80, 0.70)}, "mnee": True},
     "point_ball": {"regions": {"caustic": (0.48, 0.51, 0.72, 0.65)}, "mnee": True},
-    "cornell": {"regions": {"glass sphere caustic": (0.55, 0.72, 0.80, 0.90)}, "mnee": False},
+    "cornell": {"regions": {"glass sphere caustic": (0.57, 0.76, 0.76, 0.88)}, "mnee": False},
 }
 CYCLES_METHODS = ("cycles", "cycles-mnee")
 CALIBRATION = {"glslppm": (2, 10), "cycles": (16, 256)}  # (small, larger) counts
@@ -332,11 +333,20 @@ def parse_args():
     for name in ("calibrate", "measure"):
         p = sub.add_parser(name)
         p.add_argument("--scene", required=True, choices=SCENES)
-        p.add_argument("--methods", required=True, type=lambda s: s.split(";") if ";" in s
-                       else s.split(","))
+        p.add_argument("--methods", type=lambda s: s.split(";") if ";" in s else s.split(","),
+                       help="comma-separated (';' when a method carries settings); default "
+                            "sppm, pppm, cycles and cycles-mnee where MNEE applies")
         if name == "measure":
             p.add_argument("--budgets", default="30,120,480",
                            type=lambda s: [float(b) for b in s.split(",")])
+    p = sub.add_parser("all", help="reference (unless made), calibrate, measure, table")
+    p.add_argument("--scene", required=True, choices=SCENES)
+    p.add_argument("--reference-method", default="cycles")
+    p.add_argument("--reference-count", type=int, required=True)
+    p.add_argument("--halves", type=int, default=2)
+    p.add_argument("--methods", type=lambda s: s.split(";") if ";" in s else s.split(","))
+    p.add_argument("--budgets", default="30,120,480",
+                   type=lambda s: [float(b) for b in s.split(",")])
     p = sub.add_parser("table")
     p.add_argument("--scenes", required=True, type=lambda s: s.split(","))
     p.add_argument("--json")
@@ -344,9 +354,27 @@ def parse_args():
     return parser.parse_args()
 
 
+def command_all(args):
+    if not os.path.exists(work_dir(args, args.scene, "reference.npz")):
+        command_reference(argparse.Namespace(**vars(args), method=args.reference_method,
+                                             count=args.reference_count))
+    command_calibrate(args)
+    command_measure(args)
+    command_table(argparse.Namespace(**vars(args), scenes=[args.scene], json=None,
+                                     markdown=None))
+
+
+def default_methods(scene):
+    """glslppm's estimators (add vcm once the add-on has it), Cycles, and Cycles' MNEE
+    where it applies."""
+    return ["sppm", "pppm", "cycles"] + (["cycles-mnee"] if SCENES[scene]["mnee"] else [])
+
+
 def main():
     args = parse_args()
-    {"reference": command_reference, "calibrate": command_calibrate,
+    if getattr(args, "methods", "unset") is None:
+        args.methods = default_methods(args.scene)
+    {"reference": command_reference, "calibrate": command_calibrate, "all": command_all,
      "measure": command_measure, "table": command_table}[args.command](args)
 
 
