@@ -68,3 +68,14 @@ def test_cost_fit_and_budget_count():
     assert cost["fixed_cpu_s"] == pytest.approx(0.5)
     assert equal_cost.count_for_budget(cost, 30.0) == 118
     assert equal_cost.count_for_budget(cost, 0.1) == 1
+
+
+def test_power_law_through_measured_points():
+    # CPU-s = 0.5 n^1.2 (a cost per pass that grows with the pass count), known at the
+    # calibration's larger count and one measured run: the budget's count is exact.
+    def cost(n):
+        return 0.5 * n ** 1.2
+    calibration = {"per_unit_cpu_s": 1.0, "fixed_cpu_s": 0.0, "counts": [2, 10],
+                   "render_cpu_s": [cost(2), cost(10)], "points": [[200, cost(200)]]}
+    assert equal_cost.predict_count(calibration, cost(400)) == 400
+    assert equal_cost.predict_count(calibration, cost(50)) == 50
