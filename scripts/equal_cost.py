@@ -274,20 +274,23 @@ def collect(args, scene):
     folder = work_dir(args, scene, "runs")
     ref, var, info = load_reference(args, scene)
     regions = SCENES[scene]["regions"]
-    runs = []
+    runs, off_budget = [], []
     for name in sorted(os.listdir(folder)):
         if name.endswith(".json"):
             with open(os.path.join(folder, name)) as f:
                 record = json.load(f)
-            if "budget" in record:
-                # Rescored, so that a newer reference applies to every run.
-                record["scores"] = scores(np.load(os.path.join(folder, name[:-5] + ".npy")),
-                                          ref, var, regions)
+            # Rescored, so that a newer reference or region applies to every run.
+            record["scores"] = scores(np.load(os.path.join(folder, name[:-5] + ".npy")),
+                                      ref, var, regions)
+            if "_off" in name:
+                record.pop("budget", None)
+                off_budget.append(record)
+            elif "budget" in record:
                 runs.append(record)
     noise = scores(ref, ref, var, regions)
     return {"scene": scene, "size": runs[0]["size"] if runs else None, "reference": info,
             "reference_rel_noise": {n: v["reference_rel_noise"] for n, v in noise.items()},
-            "regions": regions, "runs": runs}
+            "regions": regions, "runs": runs, "off_budget_runs": off_budget}
 
 
 def markdown(result):
@@ -321,6 +324,12 @@ def markdown(result):
             ratios.append(f"| {budget:g} | {min(ours):.4f} | {min(theirs):.4f} | "
                           f"{min(ours) / min(theirs):.2f} | {min(ours_w):.4f} | "
                           f"{min(theirs_w):.4f} | {min(ours_w) / min(theirs_w):.2f} |")
+    for r in result["off_budget_runs"]:
+        s = r["scores"]
+        lines.append(f"| (off budget) | {r['method']} | {r['count']} | {r['render_cpu_s']:.1f} | "
+                     f"{r['startup_cpu_s']:.1f} | {s[region]['rel_rmse']:.4f} "
+                     f"({s[region]['rel_rmse_corrected']:.4f}) | {s[region]['bias']:+.3f} | "
+                     f"{s['whole']['rel_rmse']:.4f} ({s['whole']['rel_rmse_corrected']:.4f}) |")
     if ratios:
         lines += ["", "| budget | glslppm best, region | Cycles best, region | ratio | "
                   "glslppm best, whole | Cycles best, whole | ratio |",
