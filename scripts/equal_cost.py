@@ -266,7 +266,8 @@ def command_measure(args):
             with open(out + ".json", "w") as f:
                 json.dump(record, f, indent=1)
             s = record["scores"]
-            print(f"{args.scene} {budget:g} {method} x{count}: {record['render_cpu_s']:.1f} CPU-s, "
+            print(f"{args.scene} {budget:g} {method} x{record['count']}: "
+                  f"{record['render_cpu_s']:.1f} CPU-s, "
                   + ", ".join(f"{n} {v['rel_rmse']:.4f}" for n, v in s.items()), flush=True)
 
 
@@ -371,6 +372,18 @@ def write_png(path, rgb, regions):
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
+def parse_methods(text):
+    """"sppm,pppm:radius_scale=0.5,photons_per_pass=16384,cycles" -> three methods: an item
+    with "=" and no ":" is one more setting of the method before it (';' also separates)."""
+    methods = []
+    for part in text.replace(";", ",").split(","):
+        if "=" in part and ":" not in part and methods:
+            methods[-1] += "," + part
+        elif part:
+            methods.append(part)
+    return methods
+
+
 def parse_args():
     parser = argparse.ArgumentParser(prog="equal_cost.py", description=__doc__.split("\n")[0])
     parser.add_argument("--work", default=os.path.join(REPO, "build", "equal_cost"),
@@ -386,8 +399,8 @@ def parse_args():
     for name in ("calibrate", "measure"):
         p = sub.add_parser(name)
         p.add_argument("--scene", required=True, choices=SCENES)
-        p.add_argument("--methods", type=lambda s: s.split(";") if ";" in s else s.split(","),
-                       help="comma-separated (';' when a method carries settings); default "
+        p.add_argument("--methods", type=parse_methods,
+                       help="comma-separated, settings after ':' (sppm:radius_scale=0.5); default "
                             "sppm, pppm, cycles and cycles-mnee where MNEE applies")
         if name == "measure":
             p.add_argument("--budgets", default="30,120,480",
@@ -397,7 +410,7 @@ def parse_args():
     p.add_argument("--reference-method", default="cycles")
     p.add_argument("--reference-count", type=int, required=True)
     p.add_argument("--halves", type=int, default=2)
-    p.add_argument("--methods", type=lambda s: s.split(";") if ";" in s else s.split(","))
+    p.add_argument("--methods", type=parse_methods)
     p.add_argument("--budgets", default="30,120,480",
                    type=lambda s: [float(b) for b in s.split(",")])
     p = sub.add_parser("table")

@@ -79,3 +79,9 @@ def test_power_law_through_measured_points():
                    "render_cpu_s": [cost(2), cost(10)], "points": [[200, cost(200)]]}
     assert equal_cost.predict_count(calibration, cost(400)) == 400
     assert equal_cost.predict_count(calibration, cost(50)) == 50
+
+
+def test_methods_carry_their_settings():
+    assert equal_cost.parse_methods("sppm,pppm:radius_scale=0.5,photons_per_pass=16384,cycles") \
+        == ["sppm", "pppm:radius_scale=0.5,photons_per_pass=16384", "cycles"]
+    assert equal_cost.parse_methods("sppm:radius_scale=0.5;vcm") == ["sppm:radius_scale=0.5", "vcm"]
