@@ -132,7 +132,7 @@ def _plane(name, corners, material):
 
 
 def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
-    """The tabletop: table z = 0 spanning x in [-8, 8], y in [-8, 7], a grey wall at y = 7.
+    """The tabletop: table z = 0 spanning x, y in [-6, 6], under a spot's pool of light.
     light_radius: the lamp's (Blender's Radius); a larger one softens the caustics
     until a path tracer finds them too (the test against Cycles uses one). Returns the
     scene."""
@@ -140,9 +140,7 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     # Diffuse BSDF, not Principled: Blender 3.x's Principled diffuse is Disney's, which
     # glslppm renders as Lambert (7% darker at this table's grazing far end, docs/materials.md).
     table = shader_material("Table", "ShaderNodeBsdfDiffuse", Color=(0.80, 0.76, 0.70, 1.0))
-    _plane("Table", [(-8, -8, 0), (8, -8, 0), (8, 7, 0), (-8, 7, 0)], table)
-    backdrop = shader_material("Backdrop", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
-    _plane("Backdrop", [(-8, 7, 0), (8, 7, 0), (8, 7, 6), (-8, 7, 6)], backdrop)
+    _plane("Table", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], table)
 
     # The tumbler: a glass shell 2.5 mm thick (on a 0.32 m radius) with a thicker base.
     radius, height, wall, base = 0.32, 0.78, 0.025, 0.06
@@ -176,13 +174,13 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     _cube("FrostedCube", (*FROSTED_CUBE, 0.18), 0.36, frosted, rotation=0.5)
 
     # A spot, not a point lamp: the same 2 cm source, its photons all sent towards the
-    # table (a point lamp sends half of them to the sky; the cone's 6x denser photons are
+    # table (a point lamp sends half of them to the sky; the cone's 13x denser photons are
     # what makes the caustics converge within the demo's two minutes).
     light = bpy.data.lights.new("Lamp", 'SPOT')
     light.energy = light_power
     light.shadow_soft_size = light_radius
-    light.spot_size = math.radians(100.0)
-    light.spot_blend = 0.6
+    light.spot_size = math.radians(64.0)
+    light.spot_blend = 0.35
     light.color = (1.0, 0.95, 0.88)
     lamp = bpy.data.objects.new("Lamp", light)
     lamp.location = LIGHT
@@ -191,12 +189,12 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     scene.collection.objects.link(lamp)
 
     world = bpy.data.worlds.new("World")
-    world.color = (0.04, 0.045, 0.05)
+    world.color = (0.02, 0.022, 0.025)
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
     background = world.node_tree.nodes.get("Background")
     if background is not None:
-        background.inputs["Color"].default_value = (0.04, 0.045, 0.05, 1.0)
+        background.inputs["Color"].default_value = (0.02, 0.022, 0.025, 1.0)
         background.inputs["Strength"].default_value = 1.0
     scene.world = world
 
