@@ -10,8 +10,8 @@ The triangles, normals and camera are the add-on's own (instances flattened). Ma
 map to glTF's metallic-roughness model as glslppm-render reads it back
 (native/loaders/gltf_materials.cpp): Lambert is specular 0, a conductor metallic 1, glass
 transmission 1 with KHR_materials_ior and KHR_materials_volume for its absorption. The
-point lamp keeps its power (KHR_lights_punctual's candela at 683 lm/W) and loses its
-radius, which glTF has no field for: its caustics are sharper than Blender's. Writes no
+spot lamp keeps its power (KHR_lights_punctual's candela at 683 lm/W) and cone, and loses
+its radius, which glTF has no field for: its caustics are sharper than Blender's. Writes no
 textures: the showcase has none.
 """
 
@@ -85,6 +85,19 @@ def material(entry, materials):
     return out
 
 
+def light_matrix(light):
+    """A glTF node matrix (column-major) at the lamp, its -Z along the lamp's direction."""
+    back = -np.asarray(light.direction, np.float64)
+    back /= np.linalg.norm(back)
+    side = np.cross([0.0, 0.0, 1.0] if abs(back[2]) < 0.9 else [1.0, 0.0, 0.0], back)
+    side /= np.linalg.norm(side)
+    up = np.cross(back, side)
+    matrix = np.identity(4)
+    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = side, up, back
+    matrix[:3, 3] = light.position
+    return matrix.T.reshape(-1).tolist()
+
+
 def write_gltf(data, path):
     positions, normals, indices, ids = flattened(data)
     buffers, views, accessors, primitives = bytearray(), [], [], []
@@ -113,10 +126,15 @@ def write_gltf(data, path):
                                "material": m})
     lights = []
     for light in data.lights:
-        if light.kind != "point":
+        if light.kind not in ("point", "spot"):
             raise SystemExit(f"showcase_gltf: a {light.kind} lamp is not written")
-        lights.append({"type": "point", "color": list(light.color),
-                       "intensity": light.power * WATTS_TO_LUMENS / (4.0 * math.pi)})
+        entry = {"type": light.kind, "color": list(light.color),
+                 "intensity": light.power * WATTS_TO_LUMENS / (4.0 * math.pi)}
+        if light.kind == "spot":
+            outer = 0.5 * light.spot_size
+            entry["spot"] = {"outerConeAngle": outer,
+                             "innerConeAngle": outer * (1.0 - light.spot_blend)}
+        lights.append(entry)
     camera = data.camera
     aspect = data.width / data.height
     yfov = 2.0 * math.atan(math.tan(0.5 * camera.fov_x) / aspect)
@@ -124,7 +142,7 @@ def write_gltf(data, path):
     nodes = [{"mesh": 0},
              {"camera": 0, "matrix": to_world.T.reshape(-1).tolist()}]
     for k, light in enumerate(data.lights):
-        nodes.append({"translation": list(light.position),
+        nodes.append({"matrix": light_matrix(light),
                       "extensions": {"KHR_lights_punctual": {"light": k}}})
     document = {
         "asset": {"version": "2.0", "generator": "glslppm scripts/showcase_gltf.py"},
