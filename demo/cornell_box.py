@@ -47,8 +47,9 @@ def shader_material(name, node_type, **inputs):
     return material
 
 
-def _quad(name, corners, material):
-    """One quad, corners counter-clockwise seen from inside the box."""
+def quad(name, corners, material):
+    """One quad object, corners counter-clockwise seen from its front (inside the box);
+    demo/showcase.py builds its table with it too."""
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
     mesh.materials.append(material)
@@ -57,9 +58,10 @@ def _quad(name, corners, material):
     return obj
 
 
-def _sphere(name, location, radius, material):
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=radius,
-                                         location=location)
+def sphere(name, location, radius, material, segments=48):
+    """A smooth-shaded UV sphere of `segments` x segments/2 (demo/showcase.py's balls too)."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=segments, ring_count=segments // 2,
+                                         radius=radius, location=location)
     obj = bpy.context.active_object
     obj.name = name
     obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
@@ -72,11 +74,11 @@ def build_cornell_box(glass=True, mirror=True, light_power=40.0, lens=38.0):
     in along +y through the open front. Returns the scene."""
     scene = bpy.context.scene
     white, red, green = _diffuse("White", WHITE), _diffuse("Red", RED), _diffuse("Green", GREEN)
-    _quad("Floor", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], white)
-    _quad("Ceiling", [(-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)], white)
-    _quad("Back", [(-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)], white)
-    _quad("Left", [(-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)], red)
-    _quad("Right", [(1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)], green)
+    quad("Floor", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], white)
+    quad("Ceiling", [(-1, -1, 2), (-1, 1, 2), (1, 1, 2), (1, -1, 2)], white)
+    quad("Back", [(-1, 1, 0), (1, 1, 0), (1, 1, 2), (-1, 1, 2)], white)
+    quad("Left", [(-1, -1, 0), (-1, 1, 0), (-1, 1, 2), (-1, -1, 2)], red)
+    quad("Right", [(1, -1, 0), (1, -1, 2), (1, 1, 2), (1, 1, 0)], green)
 
     light = bpy.data.lights.new("CeilingLight", 'AREA')
     light.shape = 'SQUARE'
@@ -88,10 +90,10 @@ def build_cornell_box(glass=True, mirror=True, light_power=40.0, lens=38.0):
     scene.collection.objects.link(light_object)
 
     if glass:
-        _sphere("GlassSphere", (0.45, -0.25, 0.35), 0.35,
+        sphere("GlassSphere", (0.45, -0.25, 0.35), 0.35,
                 shader_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0))
     if mirror:
-        _sphere("MirrorSphere", (-0.45, 0.35, 0.4), 0.4,
+        sphere("MirrorSphere", (-0.45, 0.35, 0.4), 0.4,
                 shader_material("Mirror", "ShaderNodeBsdfGlossy", Roughness=0.0,
                                 Color=(0.95, 0.95, 0.95, 1.0)))
 

@@ -30,7 +30,7 @@ import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cornell_box import shader_material  # noqa: E402  (demo/ is not a package)
+from cornell_box import quad, shader_material, sphere  # noqa: E402  (demo/ is no package)
 
 # Where each object stands on the table (x to the right, y away from the camera, z up).
 TUMBLER = (-0.55, 0.35)
@@ -103,31 +103,12 @@ def _merge_and_orient(mesh):
     bm.free()
 
 
-def _ball(name, location, radius, material):
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=radius,
-                                         location=location)
-    obj = bpy.context.active_object
-    obj.name = name
-    obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
-    obj.data.materials.append(material)
-    return obj
-
-
 def _cube(name, location, size, material, rotation=0.0):
     bpy.ops.mesh.primitive_cube_add(size=size, location=location)
     obj = bpy.context.active_object
     obj.name = name
     obj.rotation_euler = (0.0, 0.0, rotation)
     obj.data.materials.append(material)
-    return obj
-
-
-def _plane(name, corners, material):
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(name, mesh)
-    bpy.context.scene.collection.objects.link(obj)
     return obj
 
 
@@ -140,7 +121,7 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     # Diffuse BSDF, not Principled: Blender 3.x's Principled diffuse is Disney's, which
     # glslppm renders as Lambert (7% darker at this table's grazing far end, docs/materials.md).
     table = shader_material("Table", "ShaderNodeBsdfDiffuse", Color=(0.80, 0.76, 0.70, 1.0))
-    _plane("Table", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], table)
+    quad("Table", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], table)
 
     # The tumbler: a glass shell 2.5 mm thick (on a 0.32 m radius) with a thicker base.
     radius, height, wall, base = 0.32, 0.78, 0.025, 0.06
@@ -165,10 +146,10 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
 
     blue = _material_with_volume("BlueGlass", "ShaderNodeBsdfGlass", (0.25, 0.55, 0.95), 6.0,
                                  IOR=1.5, Roughness=0.0)
-    _ball("BlueBall", (*BLUE_BALL, 0.24), 0.24, blue)
+    sphere("BlueBall", (*BLUE_BALL, 0.24), 0.24, blue, segments=64)
     copper = _principled("Copper", **{"Base Color": (0.95, 0.64, 0.54, 1.0), "Metallic": 1.0,
                                       "Roughness": 0.3})
-    _ball("CopperBall", (*COPPER_BALL, 0.3), 0.3, copper)
+    sphere("CopperBall", (*COPPER_BALL, 0.3), 0.3, copper, segments=64)
     frosted = shader_material("FrostedGlass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.25)
     next(n for n in frosted.node_tree.nodes if n.type == 'BSDF_GLASS').distribution = 'GGX'
     _cube("FrostedCube", (*FROSTED_CUBE, 0.18), 0.36, frosted, rotation=0.5)
