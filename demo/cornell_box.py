@@ -115,6 +115,19 @@ def _clear():
             collection.remove(item)
 
 
+def enable_addon():
+    """The GLSLPPM engine, unless registered already: the legacy add-on (3.x) or the
+    extension (4.2+); demo/showcase.py uses it too."""
+    import addon_utils
+    registered = {getattr(engine, "bl_idname", "")
+                  for engine in bpy.types.RenderEngine.__subclasses__()
+                  if getattr(engine, "is_registered", False)}
+    if 'GLSLPPM' not in registered:
+        for name in ("glslppm", "bl_ext.user_default.glslppm"):
+            if addon_utils.enable(name, default_set=True) is not None:
+                break
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="cornell_box.py")
@@ -126,14 +139,7 @@ def main():
     parser.add_argument("--save", default=None, help="also save the scene as .blend")
     args = parser.parse_args(argv)
 
-    import addon_utils
-    registered = {getattr(engine, "bl_idname", "")
-                  for engine in bpy.types.RenderEngine.__subclasses__()
-                  if getattr(engine, "is_registered", False)}
-    if 'GLSLPPM' not in registered:
-        for name in ("glslppm", "bl_ext.user_default.glslppm"):
-            if addon_utils.enable(name, default_set=True) is not None:
-                break
+    enable_addon()
     _clear()
     scene = build_cornell_box()
     scene.render.engine = 'GLSLPPM'

@@ -30,7 +30,7 @@ import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cornell_box import quad, shader_material, sphere  # noqa: E402  (demo/ is no package)
+from cornell_box import enable_addon, quad, shader_material, sphere  # noqa: E402  (demo/ is no package)
 
 # Where each object stands on the table (x to the right, y away from the camera, z up).
 TUMBLER = (-0.55, 0.35)
@@ -212,17 +212,6 @@ def use_cycles(scene, samples):
     cycles.glossy_bounces = cycles.diffuse_bounces = 4
     cycles.pixel_filter_type = 'BOX'
     cycles.filter_width = 1.0
-
-
-def enable_addon():
-    import addon_utils
-    registered = {getattr(engine, "bl_idname", "")
-                  for engine in bpy.types.RenderEngine.__subclasses__()
-                  if getattr(engine, "is_registered", False)}
-    if 'GLSLPPM' not in registered:
-        for name in ("glslppm", "bl_ext.user_default.glslppm"):
-            if addon_utils.enable(name, default_set=True) is not None:
-                break
 
 
 def main():

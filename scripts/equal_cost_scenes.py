@@ -25,19 +25,17 @@ def _y_up(x, y, z):
 
 
 def _material(name, node_type, **inputs):
-    material = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):
-        material.use_nodes = True
-    tree = material.node_tree
-    for node in list(tree.nodes):
-        if node.type != 'OUTPUT_MATERIAL':
-            tree.nodes.remove(node)
-    shader = tree.nodes.new(node_type)
-    for key, value in inputs.items():
-        shader.inputs[key].default_value = value
-    output = next(node for node in tree.nodes if node.type == 'OUTPUT_MATERIAL')
-    tree.links.new(shader.outputs[0], output.inputs["Surface"])
-    return material
+    """A material whose Surface is one shader node (demo/cornell_box.py's shader_material)."""
+    return _demo().shader_material(name, node_type, **inputs)
+
+
+def _demo():
+    """demo/cornell_box.py, imported from the repository's demo/ (not a package)."""
+    demo = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "demo")
+    if demo not in sys.path:
+        sys.path.insert(0, os.path.abspath(demo))
+    import cornell_box
+    return cornell_box
 
 
 def diffuse(name, color):
@@ -209,10 +207,7 @@ def build_pool():
 def build_cornell():
     """The demo Cornell box (demo/cornell_box.py: glass and mirror spheres, ceiling
     area light), mostly diffuse."""
-    demo = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "demo")
-    sys.path.insert(0, demo)
-    import cornell_box
-    cornell_box.build_cornell_box()
+    _demo().build_cornell_box()
     for obj in bpy.context.scene.objects:
         if obj.type == 'MESH':
             obj["equal_cost_role"] = "caster" if obj.name == "GlassSphere" else "receiver"
