@@ -96,7 +96,6 @@ void main() {
         radius_after = r;
         vec4 point = visible_points[VISIBLE_POINT_VEC4 * i + 0];
         if (point.w >= 0.0) {
-#ifdef HAS_MICROFACET
             // The visible point's material, to weigh each photon by f(wo, wi).
             vec4 n_u = visible_points[VISIBLE_POINT_VEC4 * i + 1];
             vec4 wo_v = visible_points[VISIBLE_POINT_VEC4 * i + 2];
@@ -116,21 +115,9 @@ void main() {
 #endif
             vec3 wo = wo_v.xyz;
             vec3 weight = w_flags.xyz;
-#else
-            vec4 n_side = visible_points[VISIBLE_POINT_VEC4 * i + 1];
-            vec3 n = n_side.xyz;
-            vec3 side = unpack_octahedral(floatBitsToUint(n_side.w));
-            vec4 weight_bounces = visible_points[VISIBLE_POINT_VEC4 * i + 2];
-            vec3 weight = weight_bounces.xyz;
-            uint eye_bounces = uint(weight_bounces.w);
-#endif
             // The side photons must have arrived on (sppm_buffers.glsl, photon_side_word):
             // either side for a lobe that transmits.
-#ifdef HAS_MICROFACET
             bool both_sides = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
-#else
-            bool both_sides = false;
-#endif
             float cell_size = hash_cell_size();
             ivec3 center = grid_cell(point.xyz, cell_size);
             float r2 = r * r;
@@ -159,7 +146,6 @@ void main() {
                 vec3 d = x - point.xyz;
                 // Only from the cell it belongs to: cells sharing a table entry must not
                 // count their survivor twice.
-#ifdef HAS_MICROFACET
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                     photon_on_side(p, d, r, side, both_sides)) {
                     vec3 f = bsdf_f_of_kinds(sh, wo, photons[3 * p + 1].xyz, rough_only, false,
@@ -169,21 +155,10 @@ void main() {
                     ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
                 }
 #else
-                if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                    dot(photons[3 * p + 1].xyz, n) > 0.0 && photon_on_side(p, d, r, side, both_sides)) {
-                    float count = float(entry.y);
-                    m += count;
-                    if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
-                         (1u << BOUNCE_DIFFUSE)) != 0u)
-                        ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
-                }
-#endif
-#else
                 for (uint k = entry.y; k < entry.y + entry.x; ++k) {
                     uint p = hash_sorted[k];
                     vec3 x = photons[3 * p + 0].xyz;
                     vec3 d = x - point.xyz;
-#ifdef HAS_MICROFACET
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
@@ -192,16 +167,6 @@ void main() {
                                                                  eye_bounces, photon_bounces(p))) *
                                           photons[3 * p + 2].xyz);
                     }
-#else
-                    if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
-                        dot(photons[3 * p + 1].xyz, n) > 0.0 &&
-                        photon_on_side(p, d, r, side, both_sides)) {
-                        m += 1.0;
-                        if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
-                             (1u << BOUNCE_DIFFUSE)) != 0u)
-                            ADD_PHOTON(p, photons[3 * p + 2].xyz);
-                    }
-#endif
                 }
 #endif
             }

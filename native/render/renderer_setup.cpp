@@ -156,8 +156,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             g.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
 
             const std::size_t px = g.pixels, ph = g.photon_threads;
-            const std::size_t point_vec4s =
-                visible_point_vec4s(prepared.microfacet, prepared.vertex_colors);
+            const std::size_t point_vec4s = kVisiblePointVec4;
             g.require_fits(px * point_vec4s * 16, "visible points", true);
             g.require_fits(ph * 3 * 16, "photons");
             g.require_fits(std::size_t(g.hash_cells) * 16, "hash cells");

@@ -368,18 +368,8 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     bool absorption = false;
     for (const Material& m : geometry.materials) absorption |= m.absorption != glm::vec3(0.0f);
     feature(absorption, "HAS_ABSORPTION", "absorption");
-    // Microfacet lobes, layers, mixes: every material of the table counts (mixes reach
-    // materials no triangle names). Not part of the full variant: these lobes replace the
-    // closed model's code, with its own random numbers, rather than add branches to it.
-    bool microfacet = false;
-    for (const Material& m : geometry.materials) microfacet |= needs_microfacet(m);
-    if (microfacet) {
-        p.defines.push_back({"HAS_MICROFACET", "1"});
-        features.push_back("microfacet");
-    }
-    p.microfacet = microfacet;
     p.material_records = material_records(geometry.materials, geometry.flags, use.materials,
-                                          p.microfacet, colors_uploaded);
+                                          colors_uploaded);
     // An environment map replaces the constant world rather than adding code beside it:
     // compiled only where the scene has one, in the full variant too (with it, a scene lit by
     // a constant world rendered black there).
@@ -419,8 +409,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
     bool glossy = false;
     for (const Material& m : geometry.materials)
         glossy |= (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Plastic) &&
-                  (m.roughness >= settings.glossy_threshold || m.roughness_texture >= 0);
-    if (settings.direct_light == DirectLight::Sampled && p.microfacet && glossy &&
+                  ((m.roughness >= settings.glossy_threshold && m.roughness > 0.0f) ||
+                   m.roughness_texture >= 0);
+    if (settings.direct_light == DirectLight::Sampled && glossy &&
         p.emitters.has[static_cast<int>(EmitterKind::Triangle)] && !two_level) {
         append_triangle_map(p.emitters);
         p.defines.push_back({"HAS_EMITTER_MIS", "1"});

@@ -1,6 +1,6 @@
-// The material model's lobes (HAS_MICROFACET): Lambert, GGX conductor, GGX rough dielectric,
-// a dielectric layer over Lambert ("plastic"), translucent and transparent, chosen between by
-// Mix materials. Each lobe has f (bsdf_f), its sampling density (bsdf_pdf) and a sampler
+// The material model's lobes: Lambert, GGX conductor (a mirror at roughness 0), GGX rough
+// dielectric (smooth glass at roughness 0), a dielectric layer over Lambert ("plastic"),
+// translucent and transparent, chosen between by Mix materials. Each lobe has f (bsdf_f), its sampling density (bsdf_pdf) and a sampler
 // (bsdf_sample) whose weight is f cos / pdf; every stage evaluates materials here.
 //
 // Directions point away from the surface. A Shading's frame has its z axis on the side wo
@@ -17,8 +17,6 @@
 #include "common/bsdf.glsl"
 #include "common/sampling.glsl"
 #include "common/bounces.glsl"
-
-#ifdef HAS_MICROFACET
 
 float material_roughness(int m) { return materials[MATERIAL_STRIDE * m + 2].z; }
 int material_roughness_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].w); }
@@ -476,14 +474,15 @@ float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
 }
 
 // ---- The material: dispatch on the leaf's kind. A lobe is smooth when its roughness is
-// below the threshold (Frame's glossy_threshold): eye paths then follow it by sampling,
+// below the threshold (Frame's glossy_threshold) or 0 (a mirror, whatever the threshold: its
+// f is a delta no visible point can evaluate): eye paths then follow it by sampling,
 // and visible points hold only the rough lobes ("rough_only"). Rough dielectrics are
 // followed at every roughness, as pbrt-v4's SPPM follows glossy lobes: a visible point on
 // frosted glass gathers photons through a narrow transmission lobe, whose estimate is far
 // noisier than that of the surfaces seen through it.
 
 bool lobe_smooth(Shading sh) {
-    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold;
+    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold || sh.roughness == 0.0;
 }
 
 // Whether photons landing here can be gathered: the material has a lobe that visible points
@@ -513,7 +512,8 @@ bool material_has_rough_leaf(int m) {
             stack[top++] = ab.x;
             stack[top++] = ab.y;
         } else if (kind == MATERIAL_CONDUCTOR) {
-            if (material_roughness_texture(k) >= 0 || material_roughness(k) >= glossy_threshold)
+            if (material_roughness_texture(k) >= 0 ||
+                (material_roughness(k) >= glossy_threshold && material_roughness(k) > 0.0))
                 return true;
         } else if (kind != MATERIAL_TRANSPARENT && kind != MATERIAL_DIELECTRIC) {
             return true;  // Lambert, plastic (its diffuse base), translucent
@@ -748,5 +748,4 @@ bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, ou
     return true;
 }
 
-#endif
 #endif
