@@ -149,7 +149,7 @@ void main() {
                 bounces = -1.0;
             } else {
                 w *= mix_weight;
-                float q = min(1.0, max_component(w));
+                float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
                 if (rng_next(rng) >= q) {
                     bounces = -1.0;
                 } else {
