@@ -112,8 +112,12 @@ void main() {
             // sample's weight.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
+#ifdef HAS_ROUGH_LOBES
             bool store = material_kind(s.material) == MATERIAL_MIX
                              ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
+#else
+            bool store = bsdf_has_rough_lobe(sh);
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
 #endif
@@ -137,9 +141,11 @@ void main() {
             // Where the photon goes on: a leaf chosen by what the mix's parts scatter (its own
             // draw; the leaf above decided only whether it is stored).
             float mix_weight = 1.0;
+#ifdef HAS_ROUGH_LOBES
             if (material_kind(s.material) == MATERIAL_MIX)
                 sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, texture_point(s),
                                            s.vertex_color, -dir, rng_next(rng), mix_weight);
+#endif
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);

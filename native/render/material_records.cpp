@@ -25,6 +25,22 @@ std::uint32_t normal_map_word(const Material& m) {
            glm::packHalf1x16(bump ? m.bump_strength : m.normal_strength) << 16;
 }
 
+// Whether a material has a lobe beyond Lambert, the mirror (a conductor of roughness 0 and
+// Fresnel its colour) and smooth glass (untinted reflection): shaders/common/lobes.glsl
+// compiles those lobes' code only then (HAS_ROUGH_LOBES).
+bool needs_rough_lobes(const Material& m) {
+    // The lobes bend a normal-mapped shading normal towards the surface (shading_at).
+    if (m.normal_texture >= 0 || m.bump_texture >= 0) return true;
+    switch (m.kind) {
+        case MaterialKind::Diffuse: return false;
+        case MaterialKind::Conductor:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.schlick;
+        case MaterialKind::Dielectric:
+            return m.roughness > 0.0f || m.roughness_texture >= 0 || m.tint_reflection;
+        default: return true;
+    }
+}
+
 std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         const std::vector<std::uint32_t>& flags, bool textures,
                                         bool vertex_colors) {

@@ -66,6 +66,9 @@ struct PreparedScene {
 // GpuMaterial::normal_map for a material (render/gpu_layout.h).
 std::uint32_t normal_map_word(const Material& m);
 
+// Whether a material needs the lobes beyond Lambert, mirror and smooth glass (HAS_ROUGH_LOBES).
+bool needs_rough_lobes(const Material& m);
+
 // The Materials buffer: GpuMaterial records (flags: one per material), then the albedo
 // tables the rough lobes need (one shared by every conductor, one per dielectric or plastic
 // index), as vec4s. `textures`: the texture indices are kept; `vertex_colors`: materials that

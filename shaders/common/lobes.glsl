@@ -473,7 +473,10 @@ float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
     return ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h));
 }
 
-// ---- The material: dispatch on the leaf's kind. A lobe is smooth when its roughness is
+// ---- The material: dispatch on the leaf's kind. Only scenes with a lobe beyond Lambert, the
+// mirror and smooth glass (a roughness, a layer, a mix, translucency, a cut-out) compile the
+// others' cases (HAS_ROUGH_LOBES): llvmpipe runs every case of a switch, masked per lane, and
+// those cases cost a Lambert-only scene a third of its pass there (see docs/materials.md). A lobe is smooth when its roughness is
 // below the threshold (Frame's glossy_threshold) or 0 (a mirror, whatever the threshold: its
 // f is a delta no visible point can evaluate): eye paths then follow it by sampling,
 // and visible points hold only the rough lobes ("rough_only"). Rough dielectrics are
@@ -528,8 +531,10 @@ float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
         case MATERIAL_TRANSPARENT: return 1.0;
         case MATERIAL_CONDUCTOR:
         case MATERIAL_DIELECTRIC: return lobe_smooth(sh) ? 1.0 : 0.0;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC:
             return lobe_smooth(sh) ? plastic_layer_probability(sh, to_local(sh, wo_world)) : 0.0;
+#endif
         default: return 0.0;
     }
 }
@@ -571,6 +576,7 @@ vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjo
         case MATERIAL_DIFFUSE:
             return wo.z > 0.0 && wi.z > 0.0 ? sh.color / PI * bump_shadowing(sh, wi_world)
                                             : vec3(0.0);
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_TRANSLUCENT:
             return wo.z > 0.0 && wi.z < 0.0 ? sh.color / PI : vec3(0.0);
         case MATERIAL_CONDUCTOR:
@@ -582,6 +588,7 @@ vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjo
             if (!(rough_only && lobe_smooth(sh))) f += plastic_layer_f(sh, wo, wi);
             return f;
         }
+#endif
         default: return vec3(0.0);
     }
 }
@@ -603,6 +610,7 @@ vec3 bsdf_f_of_kinds(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, 
         case MATERIAL_TRANSLUCENT: kind = BOUNCE_TRANSMISSION; break;
         case MATERIAL_CONDUCTOR: kind = BOUNCE_GLOSSY; break;
         case MATERIAL_DIELECTRIC: kind = wi.z > 0.0 ? BOUNCE_GLOSSY : BOUNCE_TRANSMISSION; break;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: {
             vec3 f = vec3(0.0);
             if ((kinds & (1u << BOUNCE_DIFFUSE)) != 0u)
@@ -611,6 +619,7 @@ vec3 bsdf_f_of_kinds(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, 
                 f += plastic_layer_f(sh, wo, wi);
             return f;
         }
+#endif
         default: return vec3(0.0);
     }
     return (kinds & (1u << kind)) != 0u ? bsdf_f(sh, wo_world, wi_world, rough_only, adjoint)
@@ -622,6 +631,7 @@ float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
     vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
     switch (sh.kind) {
         case MATERIAL_DIFFUSE: return wo.z > 0.0 && wi.z > 0.0 ? wi.z / PI : 0.0;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_TRANSLUCENT: return wo.z > 0.0 && wi.z < 0.0 ? -wi.z / PI : 0.0;
         case MATERIAL_CONDUCTOR: return sh.roughness > 0.0 ? conductor_pdf(sh, wo, wi) : 0.0;
         case MATERIAL_DIELECTRIC: return sh.roughness > 0.0 ? dielectric_pdf(sh, wo, wi) : 0.0;
@@ -630,6 +640,7 @@ float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
             float p = plastic_layer_probability(sh, wo);
             return p * plastic_layer_pdf(sh, wo, wi) + (1.0 - p) * wi.z / PI;
         }
+#endif
         default: return 0.0;
     }
 }
@@ -683,10 +694,15 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
                 wi_world = to_world(sh, wi);
                 return true;
             }
+#ifdef HAS_ROUGH_LOBES
             if (sh.kind == MATERIAL_CONDUCTOR ? !conductor_sample(sh, wo, u, wi)
                                               : !dielectric_sample(sh, wo, u, wi))
                 return false;
             break;
+#else
+            return false;
+#endif
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: {
             if (u.z < plastic_layer_probability(sh, wo)) {
                 vec3 h = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
@@ -698,6 +714,7 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
             if (wi.z <= 0.0) return false;
             break;
         }
+#endif
         default: return false;
     }
     wi_world = to_world(sh, wi);
@@ -725,8 +742,10 @@ bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
     switch (sh.kind) {
         case MATERIAL_CONDUCTOR:
         case MATERIAL_DIELECTRIC: return lobe_smooth(sh);
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC:
             return lobe_smooth(sh) && u.z < plastic_layer_probability(sh, to_local(sh, wo_world));
+#endif
         default: return false;
     }
 }
@@ -736,7 +755,9 @@ bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
 bool bsdf_sample_is_diffuse(Shading sh, vec3 wo_world, vec3 u) {
     switch (sh.kind) {
         case MATERIAL_DIFFUSE: return true;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: return u.z >= plastic_layer_probability(sh, to_local(sh, wo_world));
+#endif
         default: return false;
     }
 }
@@ -745,6 +766,9 @@ bool bsdf_sample_is_diffuse(Shading sh, vec3 wo_world, vec3 u) {
 // material where every lobe is smooth, the layer alone for plastic; weight = f cos / pdf of
 // that part.
 bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, out vec3 weight) {
+#ifndef HAS_ROUGH_LOBES
+    return bsdf_sample(sh, wo_world, u, false, wi_world, weight);
+#else
     if (sh.kind != MATERIAL_PLASTIC) return bsdf_sample(sh, wo_world, u, false, wi_world, weight);
     vec3 wo = to_local(sh, wo_world);
     weight = vec3(0.0);
@@ -758,6 +782,7 @@ bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, ou
     weight = plastic_layer_f(sh, wo, wi) * (wi.z / pdf);
     wi_world = to_world(sh, wi);
     return true;
+#endif
 }
 
 #endif

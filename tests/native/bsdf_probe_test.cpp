@@ -75,7 +75,7 @@ class Probe {
              std::uint32_t count, std::uint32_t seed, bool adjoint, void* out,
              std::size_t out_bytes) const {
         gl_thread().call([&] {
-            static ComputeProgram program("tests/bsdf_probe.comp", {});
+            static ComputeProgram program("tests/bsdf_probe.comp", {{"HAS_ROUGH_LOBES", "1"}});
             FrameBlock frame{};
             frame.glossy_threshold = 0.0f;
             GLuint ubo = 0, buffers[3];
