@@ -27,6 +27,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/environment.glsl"
 #include "common/camera.glsl"
+#include "common/visible_points.glsl"
 // The include splicer takes a file once, wherever it first appears, #ifdef or not: the
 // emitter table's functions come first, outside either feature's block.
 #ifdef USES_EMITTERS
@@ -95,9 +96,9 @@ void main() {
     vec3 throughput = vec3(1.0);
     vec3 direct = vec3(0.0);
     vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
-    vec3 normal = vec3(0.0);
+    vec3 normal = vec3(0.0, 0.0, 1.0);  // any unit vector where there is no point
     vec3 weight = vec3(0.0);
-    vec4 view = vec4(0.0);
+    vec4 view = vec4(0.0, 0.0, 1.0, 0.0);
     vec2 uv = vec2(0.0);
     uint point_flags = 0u;
 #ifdef HAS_VERTEX_COLORS
@@ -267,15 +268,11 @@ void main() {
         seen_by_camera = false;
     }
 
-    visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
-    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, uv.x);
-    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(view.xyz, uv.y);
-    visible_points[VISIBLE_POINT_VEC4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
-#ifdef HAS_VERTEX_COLORS
-    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vertex_color, float(eye_bounces));
-#else
-    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vec3(1.0), float(eye_bounces));
+#ifndef HAS_VERTEX_COLORS
+    vec3 vertex_color = vec3(1.0);
 #endif
+    store_visible_point(i, VisiblePoint(point.xyz, point.w, weight, point_flags, uv, normal,
+                                        view.xyz, vertex_color, eye_bounces));
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];
 #ifdef FILM_TRANSPARENT

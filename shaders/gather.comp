@@ -16,6 +16,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/sppm_buffers.glsl"
 #include "common/hash_grid.glsl"
 #include "common/lobes.glsl"
+#include "common/visible_points.glsl"
 #include "common/pass_films.glsl"
 #include "common/bounces.glsl"
 
@@ -175,27 +176,21 @@ void main() {
         float r = pixel_stats[2 * i + 1].x;
 #endif
         radius_after = r;
-        vec4 point = visible_points[VISIBLE_POINT_VEC4 * i + 0];
+        vec4 point = visible_point_position(i);
         if (point.w >= 0.0) {
             // The visible point's material, to weigh each photon by f(wo, wi).
-            vec4 n_u = visible_points[VISIBLE_POINT_VEC4 * i + 1];
-            vec4 wo_v = visible_points[VISIBLE_POINT_VEC4 * i + 2];
-            vec4 w_flags = visible_points[VISIBLE_POINT_VEC4 * i + 3];
-            uint point_flags = floatBitsToUint(w_flags.w);
-            vec4 color_bounces = visible_points[VISIBLE_POINT_VEC4 * i + 4];
-            vec3 vertex_color = color_bounces.rgb;
-            uint eye_bounces = uint(color_bounces.w);
-            Shading sh = shading_of_leaf(int(point.w), n_u.xyz,
-                                         TexturePoint(vec2(n_u.w, wo_v.w), point.xyz), vertex_color,
-                                         (point_flags & VISIBLE_POINT_ENTERING) != 0u);
-            bool rough_only = (point_flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
+            VisiblePoint vp = load_visible_point(i);
+            uint eye_bounces = vp.bounces;
+            Shading sh = shading_of_leaf(int(point.w), vp.normal, TexturePoint(vp.uv, point.xyz),
+                                         vp.vertex_color, (vp.flags & VISIBLE_POINT_ENTERING) != 0u);
+            bool rough_only = (vp.flags & VISIBLE_POINT_ROUGH_ONLY) != 0u;
             // The true surface's normal on the point's side (eye_trace.comp).
-            vec3 side = unpack_octahedral(point_flags >> VISIBLE_POINT_NORMAL_SHIFT);
+            vec3 side = unpack_octahedral(vp.flags >> VISIBLE_POINT_NORMAL_SHIFT);
 #ifdef HAS_NORMAL_MAP
             sh.ng = side;
 #endif
-            vec3 wo = wo_v.xyz;
-            vec3 weight = w_flags.xyz;
+            vec3 wo = vp.wo;
+            vec3 weight = vp.weight;
             float m = 0.0;
             vec3 phi = vec3(0.0);
 #ifdef PASS_PHOTON_SPLIT

@@ -48,7 +48,7 @@ TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
 TilePlan plan_tiles([[maybe_unused]] const Scene& scene, const RenderSettings& settings) {
     validate(settings);
     const std::size_t point_vec4s = kVisiblePointVec4;
-    // Visible points (5 vec4), pixel statistics (2), direct light (2), film (1):
+    // Visible points (4 vec4), pixel statistics (2), direct light (2), film (1):
     // native/render/renderer.cpp allocates them.
     // With render passes, their films (render/render_passes.h) too: the largest block may be
     // theirs.
