@@ -27,6 +27,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/environment.glsl"
 #include "common/camera.glsl"
+#include "common/visible_points.glsl"
 // The include splicer takes a file once, wherever it first appears, #ifdef or not: the
 // emitter table's functions come first, outside either feature's block.
 #ifdef USES_EMITTERS
@@ -95,18 +96,13 @@ void main() {
     vec3 throughput = vec3(1.0);
     vec3 direct = vec3(0.0);
     vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
-    vec3 normal = vec3(0.0);
+    vec3 normal = vec3(0.0, 0.0, 1.0);  // any unit vector where there is no point
     vec3 weight = vec3(0.0);
-#ifndef HAS_MICROFACET
-    vec3 true_normal = vec3(0.0, 0.0, 1.0);  // the geometric normal on the point's side
-#endif
-#ifdef HAS_MICROFACET
-    vec4 view = vec4(0.0);
+    vec4 view = vec4(0.0, 0.0, 1.0, 0.0);
     vec2 uv = vec2(0.0);
     uint point_flags = 0u;
 #ifdef HAS_VERTEX_COLORS
     vec3 vertex_color = vec3(1.0);
-#endif
 #endif
     uint rays = 0u;
     bool seen_by_camera = true;  // until the first specular bounce
@@ -201,8 +197,9 @@ void main() {
             first_normal = front ? s.normal : -s.normal;
         }
 #endif
-#ifdef HAS_MICROFACET
-        // The material as this ray sees it (mixes resolved to one leaf).
+        // The material as this ray sees it (mixes resolved to one leaf). Meshes emit from both
+        // sides, as in Cycles, unless the material says front only (area lights, above, from
+        // the front).
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
@@ -259,46 +256,6 @@ void main() {
         int kind = sh.kind;
         uint bounce = kind == MATERIAL_TRANSPARENT
                           ? BOUNCE_NONE : bounce_kind(wo, dir, s.geometric_normal, false);
-#else
-        // Meshes emit from both sides, as in Cycles, unless the material says front only
-        // (area lights, above, from the front).
-        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
-            vec3 emission = material_emission_at(s.material, s.material, texture_point(s));
-            ADD_LIGHT(emitted, throughput * emission);
-#ifdef DENOISING_FEATURES
-            add_feature_light(features, emission);
-#endif
-        }
-        int kind = material_kind(s.material);
-        vec3 color = surface_color(s);
-#ifdef DENOISING_FEATURES
-        if (features.pending)
-            add_feature_surface(features, surface_features_closed(s.material, color, -ray.dir,
-                                                                  s.normal, front),
-                                front ? s.normal : -s.normal);
-#endif
-        if (last_surface) break;
-        if (kind == MATERIAL_DIFFUSE) {
-            point = vec4(s.position, float(s.material));
-            normal = front ? s.normal : -s.normal;
-            true_normal = front ? s.geometric_normal : -s.geometric_normal;
-            weight = throughput * color / PI;
-#ifdef DIRECT_LIGHT_SAMPLED
-            // Direct light by one light sample; photons bring only the rest. The eye path
-            // ends here, so no BSDF-sampled ray can also reach a light from this point and
-            // light sampling needs no MIS weight: emission seen directly or through specular
-            // chains (above) is the only other way eye paths meet lights, as before.
-            ADD_LIGHT(sampled, throughput * direct_light_sampled(
-                                   s.position, normal,
-                                   front ? s.geometric_normal : -s.geometric_normal, -ray.dir,
-                                   s.material, color, light_pick, light_u, rays));
-#endif
-            break;
-        }
-        vec3 dir = scatter_specular(s.material, color, ray.dir, s.normal, s.geometric_normal,
-                                    rng_next(rng), true, throughput);
-        uint bounce = bounce_kind(-ray.dir, dir, s.geometric_normal, false);
-#endif
         eye_bounces = bounces_add(eye_bounces, bounce);
         last_surface = !bounces_within(eye_bounces);
 #ifdef FILM_TRANSPARENT
@@ -306,29 +263,16 @@ void main() {
                         dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
 #endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
-#ifdef HAS_MICROFACET
         // Through a cut-out (transparent) the camera still sees what lies behind.
         if (kind == MATERIAL_TRANSPARENT) continue;
-#endif
         seen_by_camera = false;
     }
 
-#ifdef HAS_MICROFACET
-    visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
-    visible_points[VISIBLE_POINT_VEC4 * i + 1] = vec4(normal, uv.x);
-    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(view.xyz, uv.y);
-    visible_points[VISIBLE_POINT_VEC4 * i + 3] = vec4(weight, uintBitsToFloat(point_flags));
-#ifdef HAS_VERTEX_COLORS
-    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vertex_color, float(eye_bounces));
-#else
-    visible_points[VISIBLE_POINT_VEC4 * i + 4] = vec4(vec3(1.0), float(eye_bounces));
+#ifndef HAS_VERTEX_COLORS
+    vec3 vertex_color = vec3(1.0);
 #endif
-#else
-    visible_points[VISIBLE_POINT_VEC4 * i + 0] = point;
-    visible_points[VISIBLE_POINT_VEC4 * i + 1] =
-        vec4(normal, uintBitsToFloat(pack_octahedral(true_normal)));
-    visible_points[VISIBLE_POINT_VEC4 * i + 2] = vec4(weight, float(eye_bounces));
-#endif
+    store_visible_point(i, VisiblePoint(point.xyz, point.w, weight, point_flags, uv, normal,
+                                        view.xyz, vertex_color, eye_bounces));
     vec4 sum = direct_light[2 * i + 0];
     vec4 comp = direct_light[2 * i + 1];
 #ifdef FILM_TRANSPARENT

@@ -106,15 +106,18 @@ void main() {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces > float(max_bounces)) bounces = -1.0;
-#ifdef HAS_MICROFACET
         } else {
             // Stored wherever a visible point can gather it (a lobe rougher than the
             // threshold), then on by sampling the whole material, Russian roulette on the
             // sample's weight.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
+#ifdef HAS_ROUGH_LOBES
             bool store = material_kind(s.material) == MATERIAL_MIX
                              ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
+#else
+            bool store = bsdf_has_rough_lobe(sh);
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
 #endif
@@ -138,9 +141,11 @@ void main() {
             // Where the photon goes on: a leaf chosen by what the mix's parts scatter (its own
             // draw; the leaf above decided only whether it is stored).
             float mix_weight = 1.0;
+#ifdef HAS_ROUGH_LOBES
             if (material_kind(s.material) == MATERIAL_MIX)
                 sh = shading_at_by_scatter(s.material, s.normal, s.geometric_normal, texture_point(s),
                                            s.vertex_color, -dir, rng_next(rng), mix_weight);
+#endif
             if (shadowless) {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
@@ -150,7 +155,7 @@ void main() {
                 bounces = -1.0;
             } else {
                 w *= mix_weight;
-                float q = min(1.0, max_component(w));
+                float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
                 if (rng_next(rng) >= q) {
                     bounces = -1.0;
                 } else {
@@ -184,61 +189,6 @@ void main() {
                 }
             }
         }
-#else
-        } else if (kind == MATERIAL_DIFFUSE) {
-            // Store, then continue by Russian roulette on the albedo.
-#ifdef DIRECT_LIGHT_SAMPLED
-            // Not the first hit from the light: light sampling covers that. Caustics (light,
-            // specular, then here) have scattered and are stored.
-            bool store = (path_bounces & BOUNCES_SCATTERED) != 0u;
-            if (store) {
-#endif
-            uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
-            position_key = vec4(s.position, uintBitsToFloat(key));
-            incoming = -dir;
-            stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                     ? s.geometric_normal : -s.geometric_normal));
-#ifdef DIRECT_LIGHT_SAMPLED
-            }
-#endif
-            vec3 albedo = surface_color(s);
-            float q = min(1.0, max(albedo.r, max(albedo.g, albedo.b)));
-            bool front = dot(dir, s.geometric_normal) < 0.0;
-            vec3 n = front ? s.normal : -s.normal;
-            vec3 ng = front ? s.geometric_normal : -s.geometric_normal;
-            if (shadowless) {
-                // Casting no shadow: lit where the photon lands, which then goes on unchanged.
-                origin = offset_origin(s.position, s.geometric_normal, dir);
-                if (bounces > float(max_bounces)) bounces = -1.0;
-            } else if (bounces > float(max_bounces) || rng_next(rng) >= q) {
-                bounces = -1.0;
-            } else {
-                flux *= albedo / q;
-                PATH_SCATTERED(false);
-                // Through a surface that casts no shadow (above) the photon goes on
-                // unscattered: still direct light where it lands next.
-                path_bounces = photon_bounces_scattered(path_bounces, BOUNCE_DIFFUSE);
-                if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
-                dir = sample_cosine_hemisphere(n, rng_next(rng), rng_next(rng));
-                // About a smooth shading normal the bounce may point into the surface: mirror
-                // it back out across the true surface, or it would leave a closed mesh.
-                float below = dot(dir, ng);
-                if (below <= 0.0) dir = normalize(dir - 2.0 * below * ng);
-                origin = offset_origin(s.position, s.geometric_normal, dir);
-            }
-        } else if (bounces > float(max_bounces)) {
-            bounces = -1.0;
-        } else {
-            vec3 wi = scatter_specular(s.material, surface_color(s), dir, s.normal,
-                                       s.geometric_normal, rng_next(rng), false, flux);
-            PATH_SCATTERED(true);
-            path_bounces = photon_bounces_scattered(
-                path_bounces, bounce_kind(-dir, wi, s.geometric_normal, false));
-            if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
-            dir = wi;
-            origin = offset_origin(s.position, s.geometric_normal, dir);
-        }
-#endif
     }
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);

@@ -7,9 +7,9 @@ instead of failing minutes later with a black full-size result.
 
 import os
 
-# GPU bytes per pixel: visible points (3 vec4), statistics (2), direct light (2), film (1)
-# and a generator state (1).
-GPU_PER_PIXEL = (3 + 2 + 2 + 1 + 1) * 16
+# GPU bytes per pixel: visible points (4 vec4, kVisiblePointVec4 in native/render/
+# gpu_layout.h), statistics (2), direct light (2), film (1) and a generator state (1).
+GPU_PER_PIXEL = (4 + 2 + 2 + 1 + 1) * 16
 # GPU bytes per photon thread: paths (3 vec4), photons (3), generator state (1), the sorted
 # indices of the exact hash (1 uint); hash cells come on top (next power of two >= 2x).
 GPU_PER_PHOTON = (3 + 3 + 1) * 16 + 4

@@ -121,11 +121,9 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 // (render/render_passes.h), which also names the offsets' defines.
 
 // `buffer VisiblePoints` (shaders/common/sppm_buffers.glsl): vec4s per pixel, as its
-// VISIBLE_POINT_VEC4 counts them: 3 for the closed model, 5 with microfacet lobes (the fifth
-// holds the vertex colour the gather's f(wo, wi) reads, and the eye subpath's bounce counts).
-inline constexpr std::size_t visible_point_vec4s(bool microfacet, bool /*vertex_colors*/) {
-    return microfacet ? 5 : 3;
-}
+// VISIBLE_POINT_VEC4 counts them: what the gather needs to evaluate the lobes' f(wo, wi)
+// (shaders/common/visible_points.glsl names the fields).
+inline constexpr std::size_t kVisiblePointVec4 = 4;
 
 // `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.
 struct GpuTexture {

@@ -1,5 +1,5 @@
 // The material table as the shaders read it (GpuMaterial records, then the microfacet albedo
-// tables), and what a material asks of the programs; declared in scene_preparation.h.
+// tables); declared in scene_preparation.h.
 #include "render/scene_preparation.h"
 
 #include <algorithm>
@@ -25,9 +25,10 @@ std::uint32_t normal_map_word(const Material& m) {
            glm::packHalf1x16(bump ? m.bump_strength : m.normal_strength) << 16;
 }
 
-// Whether a material needs the lobes of shaders/common/lobes.glsl rather than the closed
-// model (Lambert, a mirror of constant colour, smooth glass tinting what it transmits).
-bool needs_microfacet(const Material& m) {
+// Whether a material has a lobe beyond Lambert, the mirror (a conductor of roughness 0 and
+// Fresnel its colour) and smooth glass (untinted reflection): shaders/common/lobes.glsl
+// compiles those lobes' code only then (HAS_ROUGH_LOBES).
+bool needs_rough_lobes(const Material& m) {
     // The lobes bend a normal-mapped shading normal towards the surface (shading_at).
     if (m.normal_texture >= 0 || m.bump_texture >= 0) return true;
     switch (m.kind) {
@@ -42,7 +43,7 @@ bool needs_microfacet(const Material& m) {
 
 std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         const std::vector<std::uint32_t>& flags, bool textures,
-                                        bool microfacet, bool vertex_colors) {
+                                        bool vertex_colors) {
     std::vector<GpuMaterial> records;
     std::vector<glm::vec4> tables;
     const std::int32_t tables_base = static_cast<std::int32_t>(materials.size() * kGpuMaterialVec4);
@@ -93,12 +94,12 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
         if (textures && m.bump_texture >= 0)
             g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;
-        if (microfacet && m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
+        if (m.kind == MaterialKind::Conductor && rough && m.multiscatter) {
             if (conductor_table < 0) conductor_table = add_table(AlbedoLobe::WhiteConductor, 1.0f);
             g.table = conductor_table;
-        } else if (microfacet && m.kind == MaterialKind::Dielectric && rough && m.multiscatter) {
+        } else if (m.kind == MaterialKind::Dielectric && rough && m.multiscatter) {
             g.table = table_for(dielectric_tables, AlbedoLobe::DielectricOutside, m.ior);
-        } else if (microfacet && m.kind == MaterialKind::Plastic) {
+        } else if (m.kind == MaterialKind::Plastic) {
             g.table = table_for(layer_tables, AlbedoLobe::DielectricLayer, m.ior);
         }
         records.push_back(g);

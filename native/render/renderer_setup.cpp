@@ -137,8 +137,7 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     const bool exact = settings.hash == HashMode::Exact;
     const std::size_t px = g.scene.pixels, ph = g.scene.photon_threads;
     const std::size_t hash_cells = g.scene.hash_cells;
-    const std::size_t point_vec4s =
-        visible_point_vec4s(prepared.microfacet, prepared.vertex_colors);
+    const std::size_t point_vec4s = kVisiblePointVec4;
     g.require_fits(px * point_vec4s * 16, "visible points", true);
     g.require_fits(ph * 3 * 16, "photons");
     g.require_fits(hash_cells * 16, "hash cells");

@@ -33,7 +33,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings, 
     throw_if_cancelled(cancel);
     choose_features(scene, settings, local_size, bvh, p);
     p.material_records = material_records(p.geometry.materials, p.geometry.flags,
-                                          p.textures.materials, p.microfacet, p.vertex_colors);
+                                          p.textures.materials, p.vertex_colors);
     // Materials read colours only where meshes have them; the full variant's programs (and
     // visible points) are laid out for them all the same.
     p.vertex_colors |= settings.full_variant;

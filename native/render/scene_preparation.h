@@ -46,10 +46,8 @@ struct PipelineScene {
     // The programs' #defines and the variant's name (stats()["variant"]).
     std::vector<std::pair<std::string, std::string>> defines;
     std::string variant;
-    // HAS_MICROFACET: the lobes of shaders/common/lobes.glsl, visible points of 4 vec4.
-    bool microfacet = false;
     // HAS_VERTEX_COLORS: a material multiplies in the meshes' vertex colours (uploaded with
-    // the BVH); with HAS_MICROFACET a visible point holds its colour in a fifth vec4.
+    // the BVH); a visible point holds its colour in its fifth vec4.
     bool vertex_colors = false;
     PassLayout pass_layout;  // the render passes' records in the pass films
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
@@ -79,16 +77,16 @@ struct PreparedScene : PipelineScene {
 // GpuMaterial::normal_map for a material (render/gpu_layout.h).
 std::uint32_t normal_map_word(const Material& m);
 
-// Whether a material needs the lobes of shaders/common/lobes.glsl (HAS_MICROFACET).
-bool needs_microfacet(const Material& m);
+// Whether a material needs the lobes beyond Lambert, mirror and smooth glass (HAS_ROUGH_LOBES).
+bool needs_rough_lobes(const Material& m);
 
 // The Materials buffer: GpuMaterial records (flags: one per material), then the albedo
 // tables the rough lobes need (one shared by every conductor, one per dielectric or plastic
-// index), as vec4s. `textures`: the texture indices are kept; `microfacet`: tables are made;
-// `vertex_colors`: materials that ask for vertex colours get kMaterialVertexColor.
+// index), as vec4s. `textures`: the texture indices are kept; `vertex_colors`: materials that
+// ask for vertex colours get kMaterialVertexColor.
 std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
                                         const std::vector<std::uint32_t>& flags, bool textures,
-                                        bool microfacet, bool vertex_colors = false);
+                                        bool vertex_colors = false);
 
 // Throws SceneError / std::invalid_argument naming what is wrong, Cancelled when `cancel` is
 // set. local_size is the stages' work-group size (a #define of every program). `built`, when

@@ -45,17 +45,10 @@ TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
     return plan;
 }
 
-TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
+TilePlan plan_tiles([[maybe_unused]] const Scene& scene, const RenderSettings& settings) {
     validate(settings);
-    bool microfacet = false, material_colors = false;
-    for (const Material& m : scene.materials) {
-        microfacet |= needs_microfacet(m);
-        material_colors |= m.vertex_color;
-    }
-    bool mesh_colors = !scene.mesh.colors.empty();
-    for (const MeshView& m : scene.instance_meshes) mesh_colors |= !m.colors.empty();
-    const std::size_t point_vec4s = visible_point_vec4s(microfacet, material_colors && mesh_colors);
-    // Visible points (3 to 5 vec4), pixel statistics (2), direct light (2), film (1):
+    const std::size_t point_vec4s = kVisiblePointVec4;
+    // Visible points (4 vec4), pixel statistics (2), direct light (2), film (1):
     // native/render/renderer.cpp allocates them.
     // With render passes, their films (render/render_passes.h) too: the largest block may be
     // theirs.

@@ -1,6 +1,5 @@
-// Materials at a surface point. Scenes whose materials are all Lambert, mirror or smooth
-// glass compile the closed model below (bsdf_eval, scatter_specular); the others compile the
-// lobes of common/lobes.glsl (HAS_MICROFACET).
+// A material record's fields and a material's colour at a surface point; the lobes that
+// scatter light are common/lobes.glsl's.
 #ifndef BSDF_GLSL
 #define BSDF_GLSL
 
@@ -54,41 +53,5 @@ vec3 material_color_at(int m, TexturePoint at, vec3 vertex_color) {
 
 // The surface's colour: its material's at the hit.
 vec3 surface_color(Surface s) { return material_color_at(s.material, texture_point(s), s.vertex_color); }
-
-// f(wo, wi) of the material's non-delta lobes at a surface point, without the cosine:
-// what light sampling weighs a light's radiance by. `n` is the shading normal on the side
-// wo leaves from; wi points away from the surface too. Lambert is the only such lobe so
-// far (wo unused; the photon gather likewise tests only the incoming side); glossy lobes
-// add their terms here.
-vec3 bsdf_eval(int m, vec3 color, vec3 n, vec3 wo, vec3 wi) {
-    if (material_kind(m) != MATERIAL_DIFFUSE || dot(n, wi) <= 0.0) return vec3(0.0);
-    return color / PI;
-}
-
-// Scatters `dir` off a specular surface (conductor or dielectric), choosing reflection or
-// refraction by Fresnel with probability equal to the reflectance, so the weight is the
-// colour alone on eye paths (Cycles' convention: no factor for the change of solid angle, so
-// a window of one plane or a camera inside water renders as in Cycles) and, for photons,
-// times eta^2, that kernel's adjoint (Veach's thesis, section 5.2; through a closed solid
-// the factors cancel). `n` is the shading normal on the geometric normal's side; returns the
-// new direction and multiplies `weight`.
-vec3 scatter_specular(int m, vec3 color, vec3 dir, vec3 n, vec3 ng, float u, bool radiance,
-                      inout vec3 weight) {
-#ifdef HAS_DIELECTRIC
-    if (material_kind(m) == MATERIAL_DIELECTRIC) {
-        bool entering = dot(dir, ng) < 0.0;
-        vec3 nn = entering ? n : -n;
-        float eta = entering ? 1.0 / material_ior(m) : material_ior(m);
-        float cos_i = min(1.0, -dot(dir, nn));
-        float cos_t;
-        float f = fresnel_dielectric(cos_i, eta, cos_t);
-        if (u < f) return reflect(dir, nn);
-        weight *= radiance ? color : color * (eta * eta);
-        return normalize(eta * dir + (eta * cos_i - cos_t) * nn);
-    }
-#endif
-    weight *= color;
-    return reflect(dir, dot(dir, n) < 0.0 ? n : -n);
-}
 
 #endif

@@ -45,7 +45,6 @@ vec3 dielectric_feature_albedo(float c, float ior, bool entering, vec3 color, ve
     return f * reflection + (1.0 - f) * color;
 }
 
-#ifdef HAS_MICROFACET
 void add_leaf_features(inout SurfaceFeatures f, Shading sh, vec3 wo_world, float weight) {
     float mu = clamp(dot(wo_world, sh.n), 0.0, 1.0);
     bool rough = sh.alpha > DENOISING_SPECULAR_ALPHA;
@@ -109,23 +108,6 @@ SurfaceFeatures surface_features(int material, vec3 n, TexturePoint at, vec3 ver
     }
     return f;
 }
-#else
-// The closed model: Lambert, a mirror of its colour, smooth glass (bsdf.glsl's
-// scatter_specular: reflection white, transmission through the colour).
-SurfaceFeatures surface_features_closed(int m, vec3 color, vec3 wo, vec3 n, bool front) {
-    SurfaceFeatures f = SurfaceFeatures(vec3(0.0), vec3(0.0), 0.0, 0.0);
-    int kind = material_kind(m);
-    if (kind == MATERIAL_DIFFUSE) {
-        add_feature_lobe(f, color, true);
-    } else if (kind == MATERIAL_DIELECTRIC) {
-        add_feature_lobe(f, dielectric_feature_albedo(abs(dot(wo, n)), material_ior(m), front,
-                                                      color, vec3(1.0)), false);
-    } else {
-        add_feature_lobe(f, color, false);
-    }
-    return f;
-}
-#endif
 
 // A world direction in Cycles' camera space: x right, y up, z along the view (the camera
 // looks down its local -z in Blender; Cycles' camera matrices carry no scale).

@@ -12,7 +12,7 @@
 #ifndef LIGHT_SAMPLING_GLSL
 #define LIGHT_SAMPLING_GLSL
 
-#include "common/bsdf.glsl"
+#include "common/lobes.glsl"
 #include "common/emitters.glsl"
 
 #ifdef BVH_ANY_HIT_FILTER
@@ -27,7 +27,6 @@ uint shadow_ray_seed = 0u;
 bool shadow_passes(int m, int triangle, float u, float v) {
     int flags = material_flags(m);
     if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0) return true;
-#ifdef HAS_MICROFACET
     if ((flags & MATERIAL_MAY_BE_TRANSPARENT) != 0) {
         vec2 uv = vec2(0.0);
 #ifdef HAS_TEXTURES
@@ -46,7 +45,6 @@ bool shadow_passes(int m, int triangle, float u, float v) {
         float r = float(((h >> 22u) ^ h) >> 8) * (1.0 / 16777216.0);
         return material_kind(resolve_mix(m, TexturePoint(uv, position), 1.0, true, r)) == MATERIAL_TRANSPARENT;
     }
-#endif
     return false;
 }
 bool bvh_any_hit_passes(int triangle, float u, float v) {
@@ -186,29 +184,6 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     return ls;
 }
 
-// The direct light reflected towards wo at a visible point: one light sample, one shadow
-// ray. n: shading normal and ng: geometric normal, both on wo's side; pick and u: the
-// sample's random numbers (sample_light). `rays` counts the shadow ray.
-vec3 direct_light_sampled(vec3 p, vec3 n, vec3 ng, vec3 wo, int material, vec3 color,
-                          float pick, vec4 u, inout uint rays) {
-    LightSample ls = sample_light(p, ng, pick, u);
-    // The cosine of the true surface, as the photons' density estimate has it (photons per
-    // area of the surface they land on), so that both estimates meet without a seam; the
-    // shading normal only decides, in bsdf_eval, which side is lit, as in the gather.
-    float cos_theta = dot(ng, ls.wi);
-    if (cos_theta <= 0.0 || ls.distance <= 0.0 ||
-        all(equal(ls.radiance_over_pdf, vec3(0.0))))
-        return vec3(0.0);
-    vec3 f = bsdf_eval(material, color, n, wo, ls.wi);
-    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
-    // Stop short of the sampled point so that the light's own triangle does not shadow it.
-    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
-    ++rays;
-    if (any_hit(shadow)) return vec3(0.0);
-    return f * ls.radiance_over_pdf * cos_theta;
-}
-
-#ifdef HAS_MICROFACET
 #ifdef HAS_ENVIRONMENT
 // The density per solid angle with which light sampling (below) draws wi from the world:
 // its pick probability times the map's density, or the cosine density about `side`, halved
@@ -421,6 +396,4 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
 #endif
     return result;
 }
-#endif
-
 #endif

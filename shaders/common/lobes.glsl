@@ -1,6 +1,6 @@
-// The material model's lobes (HAS_MICROFACET): Lambert, GGX conductor, GGX rough dielectric,
-// a dielectric layer over Lambert ("plastic"), translucent and transparent, chosen between by
-// Mix materials. Each lobe has f (bsdf_f), its sampling density (bsdf_pdf) and a sampler
+// The material model's lobes: Lambert, GGX conductor (a mirror at roughness 0), GGX rough
+// dielectric (smooth glass at roughness 0), a dielectric layer over Lambert ("plastic"),
+// translucent and transparent, chosen between by Mix materials. Each lobe has f (bsdf_f), its sampling density (bsdf_pdf) and a sampler
 // (bsdf_sample) whose weight is f cos / pdf; every stage evaluates materials here.
 //
 // Directions point away from the surface. A Shading's frame has its z axis on the side wo
@@ -17,8 +17,6 @@
 #include "common/bsdf.glsl"
 #include "common/sampling.glsl"
 #include "common/bounces.glsl"
-
-#ifdef HAS_MICROFACET
 
 float material_roughness(int m) { return materials[MATERIAL_STRIDE * m + 2].z; }
 int material_roughness_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].w); }
@@ -104,6 +102,11 @@ float mix_factor(int m, TexturePoint at, float c, bool front) {
 // Walks from a triangle's material down its Mix materials to one leaf: each mix picks its
 // second material with probability equal to its factor (mix_factor), reusing the rest of `u`.
 int resolve_mix(int m, TexturePoint at, float c, bool front, float u) {
+#ifndef HAS_ROUGH_LOBES
+    // A mix makes a scene need the rough lobes (needs_rough_lobes): without them there is
+    // none to resolve, and the loop's code left the photon stage 15% slower on the H100.
+    return m;
+#endif
     for (int level = 0; level < MAX_MIX_DEPTH && material_kind(m) == MATERIAL_MIX; ++level) {
         float f = mix_factor(m, at, c, front);
         ivec2 ab = material_mix(m);
@@ -208,11 +211,20 @@ Shading shading_of_leaf(int m, vec3 n, TexturePoint at, vec3 vertex_color, bool 
     sh.kind = material_kind(m);
     sh.options = material_options(m);
     sh.color = material_color_at(m, at, vertex_color);
+#ifdef HAS_ROUGH_LOBES
     sh.roughness = clamp(material_scalar(material_roughness(m), material_roughness_texture(m),
                                          sh.options & OPTION_ROUGHNESS_CHANNEL, at), 0.0, 1.0);
     sh.alpha = ggx_alpha(sh.roughness);
     sh.ior = material_ior(m);
     sh.table = material_table(m);
+#else
+    // Lambert, the mirror and smooth glass: roughness 0 and no albedo table
+    // (needs_rough_lobes), without reading the record's roughness and texture fields.
+    sh.roughness = 0.0;
+    sh.alpha = 0.0;
+    sh.ior = material_ior(m);
+    sh.table = -1;
+#endif
 #ifdef HAS_F82_TINT
     // Blender 4.x's F82 tint (Cycles' fresnel_f82tint): F = Schlick - b mu (1 - mu)^6 with b
     // chosen so that F at mu = 1/7 (about 82 degrees) is Schlick's there times the tint:
@@ -475,15 +487,19 @@ float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
     return ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h));
 }
 
-// ---- The material: dispatch on the leaf's kind. A lobe is smooth when its roughness is
-// below the threshold (Frame's glossy_threshold): eye paths then follow it by sampling,
+// ---- The material: dispatch on the leaf's kind. Only scenes with a lobe beyond Lambert, the
+// mirror and smooth glass (a roughness, a layer, a mix, translucency, a cut-out) compile the
+// others' cases (HAS_ROUGH_LOBES): llvmpipe runs every case of a switch, masked per lane, and
+// those cases cost a Lambert-only scene a third of its pass there (see docs/materials.md). A lobe is smooth when its roughness is
+// below the threshold (Frame's glossy_threshold) or 0 (a mirror, whatever the threshold: its
+// f is a delta no visible point can evaluate): eye paths then follow it by sampling,
 // and visible points hold only the rough lobes ("rough_only"). Rough dielectrics are
 // followed at every roughness, as pbrt-v4's SPPM follows glossy lobes: a visible point on
 // frosted glass gathers photons through a narrow transmission lobe, whose estimate is far
 // noisier than that of the surfaces seen through it.
 
 bool lobe_smooth(Shading sh) {
-    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold;
+    return sh.kind == MATERIAL_DIELECTRIC || sh.roughness < glossy_threshold || sh.roughness == 0.0;
 }
 
 // Whether photons landing here can be gathered: the material has a lobe that visible points
@@ -513,7 +529,8 @@ bool material_has_rough_leaf(int m) {
             stack[top++] = ab.x;
             stack[top++] = ab.y;
         } else if (kind == MATERIAL_CONDUCTOR) {
-            if (material_roughness_texture(k) >= 0 || material_roughness(k) >= glossy_threshold)
+            if (material_roughness_texture(k) >= 0 ||
+                (material_roughness(k) >= glossy_threshold && material_roughness(k) > 0.0))
                 return true;
         } else if (kind != MATERIAL_TRANSPARENT && kind != MATERIAL_DIELECTRIC) {
             return true;  // Lambert, plastic (its diffuse base), translucent
@@ -528,8 +545,10 @@ float bsdf_smooth_probability(Shading sh, vec3 wo_world) {
         case MATERIAL_TRANSPARENT: return 1.0;
         case MATERIAL_CONDUCTOR:
         case MATERIAL_DIELECTRIC: return lobe_smooth(sh) ? 1.0 : 0.0;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC:
             return lobe_smooth(sh) ? plastic_layer_probability(sh, to_local(sh, wo_world)) : 0.0;
+#endif
         default: return 0.0;
     }
 }
@@ -571,6 +590,7 @@ vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjo
         case MATERIAL_DIFFUSE:
             return wo.z > 0.0 && wi.z > 0.0 ? sh.color / PI * bump_shadowing(sh, wi_world)
                                             : vec3(0.0);
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_TRANSLUCENT:
             return wo.z > 0.0 && wi.z < 0.0 ? sh.color / PI : vec3(0.0);
         case MATERIAL_CONDUCTOR:
@@ -582,6 +602,7 @@ vec3 bsdf_f(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, bool adjo
             if (!(rough_only && lobe_smooth(sh))) f += plastic_layer_f(sh, wo, wi);
             return f;
         }
+#endif
         default: return vec3(0.0);
     }
 }
@@ -603,6 +624,7 @@ vec3 bsdf_f_of_kinds(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, 
         case MATERIAL_TRANSLUCENT: kind = BOUNCE_TRANSMISSION; break;
         case MATERIAL_CONDUCTOR: kind = BOUNCE_GLOSSY; break;
         case MATERIAL_DIELECTRIC: kind = wi.z > 0.0 ? BOUNCE_GLOSSY : BOUNCE_TRANSMISSION; break;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: {
             vec3 f = vec3(0.0);
             if ((kinds & (1u << BOUNCE_DIFFUSE)) != 0u)
@@ -611,6 +633,7 @@ vec3 bsdf_f_of_kinds(Shading sh, vec3 wo_world, vec3 wi_world, bool rough_only, 
                 f += plastic_layer_f(sh, wo, wi);
             return f;
         }
+#endif
         default: return vec3(0.0);
     }
     return (kinds & (1u << kind)) != 0u ? bsdf_f(sh, wo_world, wi_world, rough_only, adjoint)
@@ -622,6 +645,7 @@ float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
     vec3 wo = to_local(sh, wo_world), wi = to_local(sh, wi_world);
     switch (sh.kind) {
         case MATERIAL_DIFFUSE: return wo.z > 0.0 && wi.z > 0.0 ? wi.z / PI : 0.0;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_TRANSLUCENT: return wo.z > 0.0 && wi.z < 0.0 ? -wi.z / PI : 0.0;
         case MATERIAL_CONDUCTOR: return sh.roughness > 0.0 ? conductor_pdf(sh, wo, wi) : 0.0;
         case MATERIAL_DIELECTRIC: return sh.roughness > 0.0 ? dielectric_pdf(sh, wo, wi) : 0.0;
@@ -630,6 +654,7 @@ float bsdf_pdf(Shading sh, vec3 wo_world, vec3 wi_world) {
             float p = plastic_layer_probability(sh, wo);
             return p * plastic_layer_pdf(sh, wo, wi) + (1.0 - p) * wi.z / PI;
         }
+#endif
         default: return 0.0;
     }
 }
@@ -683,10 +708,15 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
                 wi_world = to_world(sh, wi);
                 return true;
             }
+#ifdef HAS_ROUGH_LOBES
             if (sh.kind == MATERIAL_CONDUCTOR ? !conductor_sample(sh, wo, u, wi)
                                               : !dielectric_sample(sh, wo, u, wi))
                 return false;
             break;
+#else
+            return false;
+#endif
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: {
             if (u.z < plastic_layer_probability(sh, wo)) {
                 vec3 h = ggx_sample_visible(wo, sh.alpha, u.x, u.y);
@@ -698,6 +728,7 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
             if (wi.z <= 0.0) return false;
             break;
         }
+#endif
         default: return false;
     }
     wi_world = to_world(sh, wi);
@@ -707,14 +738,28 @@ bool bsdf_sample(Shading sh, vec3 wo_world, vec3 u, bool adjoint, out vec3 wi_wo
     return true;
 }
 
+// The factor 1 / eta^2 that a photon's weight carries through a refraction into wi (the
+// adjoint's, see the top of this file), 1 for every other scatter: Russian roulette leaves it
+// out, for it only compresses the flux going into the denser medium and expands it coming
+// out (through a closed solid the two cancel). A roulette on it dropped 56% of the photons
+// entering glass of index 1.5, where a caustic's photons come from: the same flux on fewer
+// photons (test_caustic_flux's count through the ball), as the closed model never did.
+float photon_refraction_factor(Shading sh, vec3 wi_world) {
+    if (sh.kind != MATERIAL_DIELECTRIC || dot(wi_world, sh.n) >= 0.0) return 1.0;
+    float etap = dielectric_eta(sh);
+    return 1.0 / (etap * etap);
+}
+
 // Whether the bounce bsdf_sample(sh, wo_world, u, ...) draws goes through a lobe that eye
 // paths follow (lobe_smooth): a photon that took one before landing is a caustic.
 bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
     switch (sh.kind) {
         case MATERIAL_CONDUCTOR:
         case MATERIAL_DIELECTRIC: return lobe_smooth(sh);
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC:
             return lobe_smooth(sh) && u.z < plastic_layer_probability(sh, to_local(sh, wo_world));
+#endif
         default: return false;
     }
 }
@@ -724,7 +769,9 @@ bool bsdf_sample_is_smooth(Shading sh, vec3 wo_world, vec3 u) {
 bool bsdf_sample_is_diffuse(Shading sh, vec3 wo_world, vec3 u) {
     switch (sh.kind) {
         case MATERIAL_DIFFUSE: return true;
+#ifdef HAS_ROUGH_LOBES
         case MATERIAL_PLASTIC: return u.z >= plastic_layer_probability(sh, to_local(sh, wo_world));
+#endif
         default: return false;
     }
 }
@@ -733,6 +780,9 @@ bool bsdf_sample_is_diffuse(Shading sh, vec3 wo_world, vec3 u) {
 // material where every lobe is smooth, the layer alone for plastic; weight = f cos / pdf of
 // that part.
 bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, out vec3 weight) {
+#ifndef HAS_ROUGH_LOBES
+    return bsdf_sample(sh, wo_world, u, false, wi_world, weight);
+#else
     if (sh.kind != MATERIAL_PLASTIC) return bsdf_sample(sh, wo_world, u, false, wi_world, weight);
     vec3 wo = to_local(sh, wo_world);
     weight = vec3(0.0);
@@ -746,7 +796,7 @@ bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, ou
     weight = plastic_layer_f(sh, wo, wi) * (wi.z / pdf);
     wi_world = to_world(sh, wi);
     return true;
+#endif
 }
 
-#endif
 #endif

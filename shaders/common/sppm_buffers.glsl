@@ -23,26 +23,10 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 // USES_PHOTONS, USES_HASH (and USES_EMITTERS in common/scene_buffers.glsl).
 
 #ifdef USES_PIXEL_STATE
-// Visible points, 3 per pixel: (position, material id or -1), (normal facing the eye,
-// the geometric normal facing it as pack_octahedral's bits), (eye-path weight =
-// throughput * albedo / pi, the eye subpath's bounce word). With HAS_MICROFACET, 5 per pixel,
-// what the gather needs to evaluate f(wo, wi): (position, leaf material id or -1), (shading
-// normal on wo's side, u), (wo, v), (eye-path throughput, flag bits below, the geometric
-// normal among them), (the vertex colour at the point or 1, the eye subpath's bounce word).
-// The bounce word (common/bounces.glsl) counts the eye path's scatters before the point, as
-// a float (exact: below 2^22).
+// Visible points, 4 vec4 per pixel: what the gather needs to evaluate f(wo, wi), written by
+// eye_trace.comp and read by gather.comp (common/visible_points.glsl names the fields).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
-#ifndef HAS_MICROFACET
-#define VISIBLE_POINT_VEC4 3u
-#else
-#define VISIBLE_POINT_VEC4 5u
-#endif
-
-const uint VISIBLE_POINT_ROUGH_ONLY = 1u;  // the smooth lobes were followed: leave them out
-const uint VISIBLE_POINT_ENTERING = 2u;   // wo is on the geometric front (a dielectric's outside)
-// Bits 2-31 hold the geometric normal on wo's side (pack_octahedral), which the side test and
-// with HAS_NORMAL_MAP the diffuse lobes read (bump_shadowing in common/lobes.glsl).
-const uint VISIBLE_POINT_NORMAL_SHIFT = 2u;
+#define VISIBLE_POINT_VEC4 4u
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
 layout(std430, binding = BINDING_PIXEL_STATS) buffer PixelStats { vec4 pixel_stats[]; };

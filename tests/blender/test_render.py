@@ -371,7 +371,7 @@ def test_presets_size_photons_from_the_measured_device_speed():
 
 def test_tiles_stream_into_the_result_without_seams():
     """A frame past the largest pixel buffer (capped here to 12 rows of 48 pixels of
-    visible points, 3 x 16 bytes each) renders as three bands of rows, each written into
+    visible points, 4 x 16 bytes each) renders as three bands of rows, each written into
     the result as it finishes. Every band traces the whole frame's photons and eye paths
     with the whole frame's radius, so the tiled image equals the untiled one up to float
     rounding of the gathered sums (1e-4 relative; a seam would differ by the noise, tens
@@ -379,7 +379,7 @@ def test_tiles_stream_into_the_result_without_seams():
     small_lit_scene(passes=4)
     whole, error = render("untiled")
     assert error is None, error
-    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 4 * 16
     engine = helpers.recording_engine()
     tiled, error = render("tiled", engine)
     assert error is None, error
@@ -398,7 +398,7 @@ def test_cancel_during_a_tile_keeps_it_and_starts_no_other():
     """Esc in the first of three tiles: that tile's passes so far are written into the
     result and the other two never start."""
     small_lit_scene(passes=100000)
-    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 3 * 16
+    bpy.context.scene.glslppm.max_block_bytes = SIZE[0] * 12 * 4 * 16
     engine = helpers.recording_engine()
     engine.break_after_passes = 3
     began = time.perf_counter()

@@ -46,7 +46,7 @@ struct Evaluation {
 class Probe {
   public:
     explicit Probe(const Material& m) {
-        records_ = material_records({m}, {0u}, false, true);
+        records_ = material_records({m}, {0u}, false);
     }
 
     std::vector<Sample> sample(glm::vec3 wo, std::uint32_t count, std::uint32_t seed,
@@ -75,7 +75,7 @@ class Probe {
              std::uint32_t count, std::uint32_t seed, bool adjoint, void* out,
              std::size_t out_bytes) const {
         gl_thread().call([&] {
-            static ComputeProgram program("tests/bsdf_probe.comp", {{"HAS_MICROFACET", "1"}});
+            static ComputeProgram program("tests/bsdf_probe.comp", {{"HAS_ROUGH_LOBES", "1"}});
             FrameBlock frame{};
             frame.glossy_threshold = 0.0f;
             GLuint ubo = 0, buffers[3];

@@ -68,7 +68,7 @@ def test_eye_path_through_index_one_slab_keeps_exp_minus_sigma_d(glslppm, thickn
     np.testing.assert_allclose(measured, expected, rtol=1e-4)
 
 
-@pytest.mark.parametrize("tint_reflection", [False, True])  # closed model, microfacet lobes
+@pytest.mark.parametrize("tint_reflection", [False, True])
 def test_eye_path_through_glass_slab_sums_absorbed_internal_reflections(glslppm,
                                                                         tint_reflection):
     """Index 1.5, thickness 0.5: (1 - R)^2 tau / (1 - R^2 tau^2) of the emitter, R = 0.04. Each
@@ -79,7 +79,6 @@ def test_eye_path_through_glass_slab_sums_absorbed_internal_reflections(glslppm,
     glass = g.Material("dielectric", color=(1, 1, 1), ior=ior, absorption=tuple(SIGMA),
                        tint_reflection=tint_reflection)
     measured, samples, stats = emitter_through_slab(g, d, glass, size=64, passes=64)
-    assert ("microfacet" in stats["variant"].split(",")) == tint_reflection
     r = ((ior - 1) / (ior + 1)) ** 2
     tau = np.exp(-SIGMA * d)
     expected = (1 - r) ** 2 * tau / (1 - r * r * tau * tau)

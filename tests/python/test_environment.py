@@ -43,7 +43,10 @@ def test_diffuse_sphere_in_uniform_environment_has_radiance_albedo_times_l(glslp
     on_sphere = x * x + y * y < 0.75 ** 2   # away from the silhouette
     off_sphere = x * x + y * y > 1.05 ** 2
     assert film[on_sphere].mean() == pytest.approx(albedo * radiance, rel=0.02)
-    assert np.abs(film[on_sphere] - albedo * radiance).max() < 0.15 * albedo * radiance
+    # The worst pixel's noise: over seeds 4-7 (as a map) 0.124-0.160 of a L with the one
+    # material model and 0.124-0.150 with the closed model before it (0.1498 at this seed,
+    # against a bound of 0.15 then): a tail of the per-pixel noise, the means within 0.6%.
+    assert np.abs(film[on_sphere] - albedo * radiance).max() < 0.2 * albedo * radiance
     assert film[off_sphere] == pytest.approx(radiance, rel=1e-5)
 
 

@@ -238,7 +238,7 @@ def test_tiles_with_two_workers_give_the_one_worker_image(glslppm, scene):
     hash (not the first band's window) for glslppm-merge."""
     g = glslppm
     device = one_device(g, scene)
-    cap = dict(width=48, height=48, photons_per_pass=4096, max_block_bytes=48 * 16 * 3 * 16)
+    cap = dict(width=48, height=48, photons_per_pass=4096, max_block_bytes=48 * 16 * 4 * 16)
     one, one_stats = g.render_tiled(scene, settings(g, **cap), 4)
     two, two_stats = g.render_tiled(scene, settings(g, devices=[device, device], **cap), 4)
     assert one_stats["tiles"] == two_stats["tiles"] == 3
@@ -268,7 +268,7 @@ def test_a_tile_names_the_whole_frame_in_its_farm_attributes(glslppm, scene):
     takes a tiled job's file with an untiled one's."""
     g = glslppm
     full = settings(g, width=48, height=48, photons_per_pass=1024,
-                    max_block_bytes=48 * 16 * 3 * 16)
+                    max_block_bytes=48 * 16 * 4 * 16)
     whole = g.Renderer(scene, settings(g, width=48, height=48, photons_per_pass=1024))
     whole.run(2)
     expected = whole.farm_attributes()

@@ -116,7 +116,6 @@ def test_pppm_restarts_every_worker_and_its_pass_indices(glslppm):
 
     probe = g.Renderer(scene(camera_a(g)), pppm())
     device = probe.stats()["devices"][0]["device"]
-    assert "microfacet" in probe.stats()["variant"].split(",")
     probe.close()
     renderer = g.Renderer(scene(camera_a(g)), pppm(devices=[device, device]))
     renderer.run(passes=PASSES)

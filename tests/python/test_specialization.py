@@ -13,11 +13,11 @@ def test_plain_scene_variant_leaves_out_what_it_does_not_use(glslppm):
     r = cornell(glslppm)
     variant = r.stats()["variant"].split(",")
     for feature in ("textures", "dielectric", "conductor", "environment-map", "spot-lights",
-                    "sun-lights", "depth-of-field"):
+                    "sun-lights", "depth-of-field", "rough-lobes"):
         assert feature not in variant, variant
     full = cornell(glslppm, full_variant=True).stats()["variant"].split(",")
     for feature in ("textures", "dielectric", "conductor", "spot-lights", "sun-lights",
-                    "depth-of-field", "normals"):
+                    "depth-of-field", "normals", "rough-lobes"):
         assert feature in full, full
     # An environment map replaces the constant world: never compiled without one.
     assert "environment-map" not in full, full

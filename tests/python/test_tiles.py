@@ -13,12 +13,12 @@ from conftest import BUILD, quad
 
 RENDER = os.path.join(BUILD, "glslppm-render")
 SIZE = 48
-ROWS = 16  # the cap below: 16 rows of visible points (3 vec4 per pixel)
+ROWS = 16  # the cap below: 16 rows of visible points (4 vec4 per pixel)
 
 
 def capped(g, hash="stochastic", rows=ROWS, **kwargs):
     return g.Settings(width=SIZE, height=SIZE, photons_per_pass=4096, hash=hash,
-                      max_block_bytes=SIZE * rows * 3 * 16, **kwargs)
+                      max_block_bytes=SIZE * rows * 4 * 16, **kwargs)
 
 
 def test_plan_bands_rows_by_the_largest_buffer(glslppm):
@@ -26,31 +26,31 @@ def test_plan_bands_rows_by_the_largest_buffer(glslppm):
     box = g.cornell_box(sphere_rings=8)
     plan = g.plan_tiles(box, capped(g))
     assert plan["tiles"] == [(0, 0, 48, 16), (0, 16, 48, 16), (0, 32, 48, 16)]
-    # Visible points 3 vec4, pixel statistics 2, direct light 2, film 1.
-    assert plan["block_bytes_per_pixel"] == 48 and plan["gpu_bytes_per_pixel"] == 128
+    # Visible points 4 vec4, pixel statistics 2, direct light 2, film 1.
+    assert plan["block_bytes_per_pixel"] == 64 and plan["gpu_bytes_per_pixel"] == 144
     # 17 rows fit twice in 48: three bands as equal as rows allow.
     plan = g.plan_tiles(box, capped(g, rows=17))
     assert [t[3] for t in plan["tiles"]] == [16, 16, 16]
     plan = g.plan_tiles(box, capped(g, rows=47))
     assert [t[1:] for t in plan["tiles"]] == [(0, 48, 24), (24, 48, 24)]
     assert len(g.plan_tiles(box, g.Settings(width=SIZE, height=SIZE))["tiles"]) == 1
-    # Microfacet lobes add two vec4s to every visible point (what the gather's f(wo, wi)
-    # reads, and the point's colour with the eye subpath's bounce word: docs/bounces.md).
+    # Every material model has the same visible point (what the gather's f(wo, wi) reads,
+    # and the point's colour with the eye subpath's bounce word: docs/bounces.md).
     p, t = quad((-1, -1, -3), (1, -1, -3), (1, 1, -3), (-1, 1, -3))
     plastic = g.Scene(p, t, materials=[g.Material("plastic", roughness=0.3)])
     plan = g.plan_tiles(plastic, capped(g))
-    assert plan["block_bytes_per_pixel"] == 80 and plan["gpu_bytes_per_pixel"] == 160
-    assert len(plan["tiles"]) == math.ceil(SIZE / (SIZE * ROWS * 48 // (SIZE * 80)))
-    # Vertex colours read by a material fill the colour of that fifth vec4, as the renderer
+    assert plan["block_bytes_per_pixel"] == 64 and plan["gpu_bytes_per_pixel"] == 144
+    assert len(plan["tiles"]) == math.ceil(SIZE / ROWS)
+    # Vertex colours read by a material fill the colour of its fourth vec4, as the renderer
     # allocates (its gpu_bytes_per_pixel).
     colors = np.ones((4, 3), np.float32)
     painted = g.Scene(p, t, colors=colors,
                       materials=[g.Material("plastic", roughness=0.3, vertex_color=True)],
                       environment=(1, 1, 1))
     plan = g.plan_tiles(painted, capped(g))
-    assert plan["block_bytes_per_pixel"] == 80 and plan["gpu_bytes_per_pixel"] == 160
+    assert plan["block_bytes_per_pixel"] == 64 and plan["gpu_bytes_per_pixel"] == 144
     r = g.Renderer(painted, g.Settings(width=8, height=8, photons_per_pass=64))
-    assert r.stats()["gpu_bytes_per_pixel"] == 160
+    assert r.stats()["gpu_bytes_per_pixel"] == 144
 
 
 def untiled(g, scene, settings, passes):
@@ -77,7 +77,7 @@ def test_tiled_render_equals_the_untiled_render(glslppm, hash):
     settings = capped(g, hash)
     whole, stats = untiled(g, box, g.Settings(width=SIZE, height=SIZE, photons_per_pass=4096,
                                               hash=hash), 8)
-    assert stats["tiles"] == 1 and stats["gpu_bytes_per_pixel"] == 128
+    assert stats["tiles"] == 1 and stats["gpu_bytes_per_pixel"] == 144
     # Per photon of a pass: its path and its stored photon (48 bytes each), 2 hash cells of
     # 16 bytes (8192 for 4096 photons), and for the exact hash the sorted index of 4 bytes
     # plus the scan's 8 block sums.
@@ -90,7 +90,7 @@ def test_tiled_render_equals_the_untiled_render(glslppm, hash):
     assert seen == [(0, (0, 0, 48, 16), (16, 48, 4)), (1, (0, 16, 48, 16), (16, 48, 4)),
                     (2, (0, 32, 48, 16), (16, 48, 4))]
     assert tiled_stats["tiles"] == 3 and tiled_stats["passes"] == 8
-    assert tiled_stats["gpu_bytes_per_pixel"] == 128
+    assert tiled_stats["gpu_bytes_per_pixel"] == 144
     assert tiled_stats["initial_radius"] == stats["initial_radius"]
     # Each band emits the frame's photons again: three times the photon paths.
     assert tiled_stats["photons_emitted"] == 3 * stats["photons_emitted"]
@@ -134,15 +134,15 @@ def test_a_tile_callback_that_returns_false_stops_the_render(glslppm):
 
 @pytest.mark.slow("a 3840 x 2160 render, the size that needs tiles on llvmpipe")
 def test_4k_renders_in_tiles_where_one_buffer_cannot_hold_it(glslppm, tmp_path):
-    """3840 x 2160: 8.3 Mpixels of 48-byte visible points (380 MiB) are refused as one
+    """3840 x 2160: 8.3 Mpixels of 64-byte visible points (506 MiB) are refused as one
     renderer on llvmpipe (128 MiB per buffer) and render as bands of rows instead."""
     g = glslppm
     largest = g.device_limits()["max_storage_buffer_bytes"]
-    rows = largest // (3840 * 48)
+    rows = largest // (3840 * 64)
     expected = math.ceil(2160 / rows)
     box = g.cornell_box(sphere_rings=16)
     if expected > 1:
-        with pytest.raises(g.GlslppmError, match="visible points needs 379 MiB"):
+        with pytest.raises(g.GlslppmError, match="visible points needs 506 MiB"):
             g.Renderer(box, g.Settings(width=3840, height=2160, photons_per_pass=4096))
     out = tmp_path / "4k.exr"
     result = subprocess.run(
@@ -150,7 +150,7 @@ def test_4k_renders_in_tiles_where_one_buffer_cannot_hold_it(glslppm, tmp_path):
          "--out", str(out), "--json"], capture_output=True, text=True, timeout=600, cwd="/")
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout)
-    assert stats["tiles"] == expected and stats["gpu_bytes_per_pixel"] == 128
+    assert stats["tiles"] == expected and stats["gpu_bytes_per_pixel"] == 144
     assert stats["passes"] == 1
     assert result.stderr.count("done (rows") == (expected if expected > 1 else 0)
     image, _ = g.read_exr(str(out))
