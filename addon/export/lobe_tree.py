@@ -22,7 +22,8 @@ class Mix:
     factor: float = 0.5
     texture: int = -1
     channel: str = "luminance"
-    mode: str = "constant"      # "constant", "fresnel" (IOR ior), "facing" (blend ior)
+    mode: str = "constant"      # "constant", "fresnel" or "layer_fresnel" (IOR ior),
+                                # "facing" (blend ior)
     ior: float = 1.5
     mean_texel: float = 0.5     # the texture's mean channel value (for the mean emission)
 

@@ -26,6 +26,11 @@ The node is a tree of Mix materials, as Cycles composes its closures:
   quarter of Clearcoat at IOR 1.5, as Cycles 3.x scales it). Tint and the coat's
   darkening of the base are not modelled: a warning says so.
 
+The Fresnel weights of the v1 specular and of the coat are "layer_fresnel": their index seen
+from the front on both sides, as Cycles sets up those closures, where a Fresnel node inverts it
+behind. Inverted, the inside of a closed mesh reflected totally beyond 42 degrees, and v1's
+doubled specular made it a furnace of albedo near 1.8 (tests/python/test_layer_fresnel.py).
+
 Sheen, subsurface, anisotropy, thin film and the coat's own normal have no counterpart yet:
 each is left out with a warning naming the material and the node (the Normal input is read by
 normal_map.py). Emission is added to every lobe below the alpha (Principled's emission is
@@ -93,7 +98,7 @@ def convert_principled(node, context):
                                color_texture=base_texture, vertex_color=base_vertex)
         specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
                                 **roughness)
-        plastic = Mix(diffuse, Mix(BLACK, specular, mode="fresnel", ior=layer_ior))
+        plastic = Mix(diffuse, Mix(BLACK, specular, mode="layer_fresnel", ior=layer_ior))
     glass = lobe("dielectric", ior=glass_ior, tint_reflection=not v2)
     if not v2:
         glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)
@@ -144,7 +149,7 @@ def _coat(node, context, v2, tree, multiscatter, warn):
          "of the layers below" + (" and its tint are" if tinted else " is") + " not rendered")
     coat = MaterialData("conductor", (1.0, 1.0, 1.0), multiscatter=multiscatter,
                         **coat_roughness)
-    return Mix(tree, mix(tree, coat, min(weight, 1.0)), mode="fresnel", ior=coat_ior)
+    return Mix(tree, mix(tree, coat, min(weight, 1.0)), mode="layer_fresnel", ior=coat_ior)
 
 
 def _warn_unmodelled(node, context, v2, warn):

@@ -34,7 +34,8 @@ class MaterialData:
     mix_factor: float = 0.5
     mix_texture: int = -1            # factor x the texture's channel
     mix_channel: str = "luminance"
-    mix_mode: str = "constant"       # "constant", "fresnel" (IOR mix_ior), "facing" (blend)
+    mix_mode: str = "constant"       # "constant", "fresnel" / "layer_fresnel" (IOR mix_ior),
+                                     # "facing" (blend)
     mix_ior: float = 1.5
     normal_texture: int = -1         # tangent-space Normal Map image (the whole material's)
     normal_strength: float = 1.0     # the Normal Map node's Strength

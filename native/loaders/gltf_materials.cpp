@@ -413,7 +413,7 @@ Material Converter::material(const tinygltf::Material& m, const std::string& ele
         const Material coated = mix_of(under, part(coat), std::min(clearcoat, 1.0f), -1,
                                        TextureChannel::Luminance);
         out = mix_of(under, part(coated), 0.5f, -1, TextureChannel::Luminance);
-        out.mix_mode = MixFactor::Fresnel;
+        out.mix_mode = MixFactor::LayerFresnel;
         out.mix_ior = 1.5f;
     }
 

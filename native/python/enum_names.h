@@ -16,7 +16,7 @@ inline constexpr const char* kMaterialKinds[] = {"diffuse",     "conductor",   "
                                                  "plastic",     "translucent", "transparent",
                                                  "mix"};
 inline constexpr const char* kTextureChannels[] = {"red", "green", "blue", "alpha", "luminance"};
-inline constexpr const char* kMixModes[] = {"constant", "fresnel", "facing"};
+inline constexpr const char* kMixModes[] = {"constant", "fresnel", "facing", "layer_fresnel"};
 inline constexpr const char* kTextureWraps[] = {"repeat", "clip", "extend", "mirror"};
 inline constexpr const char* kLightKinds[] = {"point", "spot", "sun", "area"};
 inline constexpr const char* kAreaShapes[] = {"square", "rectangle", "disk", "ellipse"};
@@ -24,7 +24,7 @@ inline constexpr const char* kProjections[] = {"perspective", "orthographic"};
 
 static_assert(std::size(kMaterialKinds) == std::size_t(MaterialKind::Mix) + 1);
 static_assert(std::size(kTextureChannels) == std::size_t(TextureChannel::Luminance) + 1);
-static_assert(std::size(kMixModes) == std::size_t(MixFactor::Facing) + 1);
+static_assert(std::size(kMixModes) == std::size_t(MixFactor::LayerFresnel) + 1);
 static_assert(std::size(kTextureWraps) == std::size_t(TextureWrap::Mirror) + 1);
 static_assert(std::size(kLightKinds) == std::size_t(LightKind::Area) + 1);
 static_assert(std::size(kAreaShapes) == std::size_t(AreaShape::Ellipse) + 1);

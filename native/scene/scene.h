@@ -41,8 +41,11 @@ enum class MaterialKind : std::uint32_t {
 };
 
 // What a Mix's factor is: a constant (times its texture), Fresnel of index mix_ior at the
-// view direction (Blender's Fresnel node), or Layer Weight's facing output with blend mix_ior.
-enum class MixFactor : std::uint32_t { Constant = 0, Fresnel = 1, Facing = 2 };
+// view direction (Blender's Fresnel node, whose index is inverted on back faces), Layer
+// Weight's facing output with blend mix_ior, or the Fresnel of a BSDF's own reflective layer
+// (Principled's specular and coat, glTF's clearcoat): index mix_ior on both sides, as Cycles
+// sets up those layers (never inverted, so never total internal reflection from behind).
+enum class MixFactor : std::uint32_t { Constant = 0, Fresnel = 1, Facing = 2, LayerFresnel = 3 };
 
 // Which number of a texel a scalar input reads: Blender's colour-to-float conversion is the
 // luminance (Rec. 709 weights); glTF's metallicRoughness reads green and blue.

@@ -91,7 +91,8 @@ void validate_material(const Material& m, const std::string& name, std::size_t t
                                             std::to_string(materials) + " materials");
     Checker::in_range(name + ".mix_factor", m.mix_factor, 0.0f, 1.0f, false, false, "[0, 1]");
     Checker::texture_index(name + ".mix_texture", m.mix_texture, textures);
-    if (m.mix_mode == MixFactor::Fresnel) Checker::positive(name + ".mix_ior", m.mix_ior);
+    if (m.mix_mode == MixFactor::Fresnel || m.mix_mode == MixFactor::LayerFresnel)
+        Checker::positive(name + ".mix_ior", m.mix_ior);
     if (m.mix_mode == MixFactor::Facing)
         Checker::in_range(name + ".mix_ior", m.mix_ior, 0.0f, 1.0f, false, false, "[0, 1]");
 }

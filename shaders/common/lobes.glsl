@@ -30,7 +30,7 @@ int material_table(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m 
 // GpuMaterial's option bits (native/render/gpu_layout.h).
 const uint OPTION_ROUGHNESS_CHANNEL = 7u;     // bits 0-2: TextureChannel
 const uint OPTION_MIX_CHANNEL_SHIFT = 4u;     // bits 4-6
-const uint OPTION_MIX_MODE_SHIFT = 8u;        // bits 8-9: MixFactor
+const uint OPTION_MIX_MODE_SHIFT = 8u;        // bits 8-9: MixFactor (native/scene/scene.h)
 const uint OPTION_MULTISCATTER = 4096u;       // energy compensation on
 const uint OPTION_SCHLICK = 8192u;            // conductor: Schlick Fresnel from the colour
 const uint OPTION_TINT_REFLECTION = 16384u;   // dielectric: the colour tints reflection too
@@ -87,9 +87,15 @@ float mix_factor(int m, TexturePoint at, float c, bool front) {
     if (mode == 0u) {
         f = material_scalar(material_mix_factor(m), material_mix_texture(m),
                             (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, at);
-    } else if (mode == 1u) {
+    } else if (mode == 1u || mode == 3u) {
+        // Blender's Fresnel node inverts the index on back faces (1); a BSDF's own layer (3:
+        // Principled's specular and coat) reflects as from the front on both sides, as Cycles
+        // sets it up. Inverted there, a closed mesh's inside reflected totally beyond 42
+        // degrees: Principled v1's doubled specular took photons inside emissive letters to
+        // an albedo near 1.8, a furnace whose few escaping photons made the text 1.09x to
+        // 1.50x Cycles (tests/python/test_layer_fresnel.py).
         float ior = material_mix_ior(m), cos_t;
-        f = fresnel_dielectric(c, front ? 1.0 / ior : ior, cos_t);
+        f = fresnel_dielectric(c, front || mode == 3u ? 1.0 / ior : ior, cos_t);
     } else {
         // Layer Weight's Facing: 1 - c^b, the blend b mapped as Blender maps it.
         float blend = min(material_mix_ior(m), 1.0 - 1.0e-5);
@@ -160,9 +166,10 @@ int resolve_mix_by_scatter(int m, TexturePoint at, float c, bool front, float u,
         float pb = ea + eb > 0.0 ? eb / (ea + eb) : f;
         // A part with a non-zero factor keeps its factor's chance where the other's estimate
         // takes all: Principled v1's Fresnel mix of black and a doubled specular then picks
-        // black (1 - F) as before. Without this the weights stay at the albedo, but the
-        // emissive Principled text under 3.4 measured 1.77x Cycles against 1.37x with it;
-        // why is open (4.3's Principled, which has no such mixes, matches: 0.9987).
+        // black (1 - F) as before. Without this the weights stay at the albedo; the text
+        // under 3.4 measured 1.77x Cycles against 1.37x with it while the layer's Fresnel
+        // reflected totally inside closed meshes (mix_factor), and the same since (1.0174x
+        // against 1.0179x at 128 passes).
         if (f > 0.0 && pb <= 0.0) pb = f;
         if (f < 1.0 && pb >= 1.0) pb = f;
         if (u < pb) {

@@ -182,7 +182,8 @@ def _check_plastic(materials, index, base, ior):
     diffuse, specular = materials[material.mix_a], materials[material.mix_b]
     assert diffuse.kind == "diffuse", diffuse
     assert_close(diffuse.color, [2 * c for c in base], 1e-6, "doubled base colour")
-    assert specular.mix_mode == "fresnel" and abs(specular.mix_ior - ior) < 1e-4, specular
+    # The layer's Fresnel: index ior on both sides (never inverted behind, as Cycles 3.x).
+    assert specular.mix_mode == "layer_fresnel" and abs(specular.mix_ior - ior) < 1e-4, specular
     assert materials[specular.mix_a].color == (0.0, 0.0, 0.0)
     reflector = materials[specular.mix_b]
     assert reflector.kind == "conductor" and reflector.color == (2.0, 2.0, 2.0), reflector
@@ -264,7 +265,7 @@ def test_principled_unmodelled_parts_warn_once_each():
     assert "sheen" in data.warnings[1] and "coat" in data.warnings[0], data.warnings
     root = _material_of(data)
     # The coat: Fresnel of its index between the base and Mix(weight, base, white GGX).
-    assert root.kind == "mix" and root.mix_mode == "fresnel" and root.mix_ior == 1.5, root
+    assert root.kind == "mix" and root.mix_mode == "layer_fresnel" and root.mix_ior == 1.5, root
     inner = data.materials[root.mix_b]
     assert inner.mix_a == root.mix_a, (inner, root)
     coat = data.materials[inner.mix_b]

@@ -595,12 +595,21 @@ def test_emissive_principled_text_matches_cycles():
     an outside photon's), and the gather's side test let it out: it read shading normals,
     and its exception for normals within 26 degrees (a tessellated sphere's facets) kept the
     inside of every stroke's far wall. It now reads the true surfaces' normals
-    (tests/python/test_photon_sides.py, exact): 1.101x, brightest 23.2 against 2.65 (4.3:
-    1.009x before, 1.003x after). NOT YET RIGHT: the rest is a few fireflies (seeds and
-    variants measured 1.06x to 1.10x at 128 passes, 1.05x to 1.09x at 512), from outside
-    photons of fluxes up to 57 times the median near where 'x' touches 't'; open. The bounds
-    hold the gain (the mean within 15%, the brightest pixel within 12x Cycles'); the cube
-    test above holds the closed form to 0.1%."""
+    (tests/python/test_photon_sides.py, exact): 1.090x, brightest 21.5 against 2.65, and it
+    did not converge (other seeds, against Cycles at 256 samples: 1.075x, 1.117x, 1.496x;
+    1.072x at 512 passes, 1.113x at 2048; 4.3: 1.003x). Its cause: Principled v1's specular
+    is a Fresnel-weighted mix whose index was inverted on back faces, as a Fresnel node's
+    is, so inside the closed letters it reflected totally beyond 42 degrees, an albedo near
+    1.8 (the letters' meshes are the same in 3.4 and 4.3, whose Principled has no such mix;
+    Specular 0 measured 1.004x-1.010x, photons stopped at the specular 0.99x-1.01x). Cycles
+    never inverts the specular's index (tests/python/test_layer_fresnel.py); now 1.017x,
+    brightest 9.9 against 2.65 (seeds 0-3 against Cycles at 256 samples: 1.018x, 1.008x,
+    1.014x, 0.998x, brightest 4.5 to 10.3; 1.006x at 512 and 2048 passes, brightest 3.3, 2.9).
+    That pixel is light sampled on the specular seen edge-on (with photons for direct light the
+    brightest is 3.6; 0.99x): no BSDF sample is weighed against area lights yet. Bounds: the
+    mean within 5% (before 1.07x at best), the brightest pixel within 6x Cycles' (after at
+    most 4.1x; before 8.1x with this seed); the cube test above holds the closed form to
+    0.1%."""
     _emissive_text()
     ours, error, engine = helpers.render_recorded("emissive_text")
     assert error is None, error
@@ -610,8 +619,8 @@ def test_emissive_principled_text_matches_cycles():
     brightest = float(reference[..., :3].mean(axis=2).max())
     print(f"  emissive text: mean ratio {mean_ratio:.4f}; brightest pixel GLSLPPM {worst:.3f} "
           f"Cycles {brightest:.3f}")
-    assert 0.96 < mean_ratio < 1.15, mean_ratio
-    assert worst < 12.0 * brightest, (worst, brightest)
+    assert 0.97 < mean_ratio < 1.05, mean_ratio
+    assert worst < 6.0 * brightest, (worst, brightest)
 
 
 # What Cycles shows where something is wrong

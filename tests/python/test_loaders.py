@@ -423,7 +423,7 @@ def test_gltf_clearcoat_is_a_fresnel_mix_with_a_warning(glslppm, tmp_path):
     _, c, warnings = load(glslppm, g.write(tmp_path / "coat.gltf"))
     mats = c["materials"]
     root = mats[0]
-    assert root["mix_mode"] == "fresnel" and root["mix_ior"] == pytest.approx(1.5)
+    assert root["mix_mode"] == "layer_fresnel" and root["mix_ior"] == pytest.approx(1.5)
     inner = mats[root["mix_b"]]
     assert inner["mix_a"] == root["mix_a"] and inner["mix_factor"] == pytest.approx(0.7)
     coat = mats[inner["mix_b"]]

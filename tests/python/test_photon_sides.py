@@ -59,7 +59,7 @@ def principled_v1(g, emission):
     e = dict(emission=emission)
     return [g.Material("mix", mix_a=1, mix_b=2, mix_factor=0.5, **e),
             g.Material("diffuse", color=(1.6,) * 3, **e),
-            g.Material("mix", mix_a=3, mix_b=4, mix_mode="fresnel", mix_ior=1.5, **e),
+            g.Material("mix", mix_a=3, mix_b=4, mix_mode="layer_fresnel", mix_ior=1.5, **e),
             g.Material("diffuse", color=(0.0,) * 3, **e),
             g.Material("conductor", color=(2.0,) * 3, roughness=0.5, **e)]
 
