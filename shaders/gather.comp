@@ -18,6 +18,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/lobes.glsl"
 #include "common/pass_films.glsl"
 #include "common/bounces.glsl"
+#ifdef HAS_LIGHT_TRACING
+#include "common/light_splats.glsl"
+#endif
 
 shared float group_max_radius[LOCAL_SIZE];
 
@@ -28,6 +31,14 @@ shared float group_max_radius[LOCAL_SIZE];
     { vec3 light_ = (value); phi += light_; phi_class[photon_class(p)] += light_; }
 #else
 #define ADD_PHOTON(p, value) phi += (value)
+#endif
+
+// Whether the gather takes photon p at this visible point: not where light tracing splats
+// it (common/light_splats.glsl, light_traced).
+#ifdef HAS_LIGHT_TRACING
+#define GATHERED(p) !light_traced(p, eye_bounces)
+#else
+#define GATHERED(p) true
 #endif
 
 // Whether photon p, at offset d from the visible point, lit the point's side of its surface
@@ -174,7 +185,7 @@ void main() {
                     float count = float(entry.y);
                     m += count;
                     if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
-                         (1u << BOUNCE_DIFFUSE)) != 0u)
+                         (1u << BOUNCE_DIFFUSE)) != 0u && GATHERED(p))
                         ADD_PHOTON(p, count * photons[3 * p + 2].xyz);
                 }
 #endif
@@ -198,7 +209,7 @@ void main() {
                         photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
                         if ((gather_bounce_kinds(eye_bounces, photon_bounces(p)) &
-                             (1u << BOUNCE_DIFFUSE)) != 0u)
+                             (1u << BOUNCE_DIFFUSE)) != 0u && GATHERED(p))
                             ADD_PHOTON(p, photons[3 * p + 2].xyz);
                     }
 #endif

@@ -22,10 +22,22 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef HAS_ABSORPTION
 #include "common/absorption.glsl"
 #endif
+#ifdef HAS_LIGHT_TRACING
+#include "common/light_tracing.glsl"
+#endif
+
+// The path's class rides in its flux.w for the light split's passes or for light tracing
+// (the two are never on together: scene_features.cpp).
+#if defined(PASS_PHOTON_SPLIT) || defined(HAS_LIGHT_TRACING)
+#define TRACKS_PATH_CLASS
+#endif
 
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
-// one, a smooth bounce makes one.
-#ifdef PASS_PHOTON_SPLIT
+// one, a smooth bounce makes one. Light tracing's classes: common/light_splats.glsl.
+#if defined(HAS_LIGHT_TRACING)
+#define PATH_SCATTERED(smooth_bounce) \
+    path_class = light_path_after_scatter(path_class, smooth_bounce)
+#elif defined(PASS_PHOTON_SPLIT)
 #define PATH_SCATTERED(smooth_bounce) \
     path_class = max(path_class, (smooth_bounce) ? PHOTON_PATH_CAUSTIC : PHOTON_PATH_INDIRECT)
 #else
@@ -54,7 +66,7 @@ void main() {
     // which light sampling counts instead), and its later scatters by kind.
     uint path_bounces = uint(photon_paths[3 * i + 1].w);
     vec3 flux = photon_paths[3 * i + 2].xyz;
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     float path_class = photon_paths[3 * i + 2].w;
 #endif
 #ifdef ESTIMATOR_PPPM
@@ -71,8 +83,8 @@ void main() {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;
         path_bounces = 0u;
-#ifdef PASS_PHOTON_SPLIT
-        path_class = PHOTON_PATH_DIRECT;
+#ifdef TRACKS_PATH_CLASS
+        path_class = 0.0;  // PHOTON_PATH_DIRECT, LIGHT_PATH_UNSCATTERED
 #endif
         atomicAdd(pass_emitted, 1u);
     }
@@ -80,7 +92,7 @@ void main() {
     vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     float stored_class = path_class;  // the class the photon arrives with
 #else
     float stored_class = 0.0;
@@ -198,6 +210,9 @@ void main() {
             incoming = -dir;
             stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
                                                      ? s.geometric_normal : -s.geometric_normal));
+#ifdef HAS_LIGHT_TRACING
+            if (path_class == LIGHT_PATH_SPECULAR_CHAIN) splat_to_camera(s, dir, flux, path_bounces);
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
             }
 #endif
@@ -243,7 +258,7 @@ void main() {
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);
     photon_paths[3 * i + 1] = vec4(dir, float(path_bounces));
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     photon_paths[3 * i + 2] = vec4(flux, path_class);
 #else
     photon_paths[3 * i + 2] = vec4(flux, 0.0);

@@ -63,7 +63,9 @@ struct FrameBlock {
     std::uint32_t max_diffuse_bounces = 0;
     std::uint32_t max_glossy_bounces = 0;
     std::uint32_t max_transmission_bounces = 0;
-    std::uint32_t frame_padding = 0;
+    // Light tracing's fixed-point unit (common/light_splats.glsl): a splat's value per unit
+    // of its 64-bit integer sum.
+    float light_splat_unit = 0.0f;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);

@@ -14,6 +14,7 @@ struct Features {
     const RenderSettings& settings;
     PreparedScene& p;
     std::vector<std::string> names;
+    bool smooth_specular = false;  // a mirror or glass is traced (closed model: always smooth)
 
     // A scene feature: compiled where the scene uses it, and in the full variant.
     void feature(bool on, const char* define, const char* name) {
@@ -55,6 +56,7 @@ void geometry_and_light_features(const Scene& scene, const PackedBvh& bvh, Featu
     const PreparedScene& p = f.p;
     bool conductor = false, dielectric = false;
     traced_material_kinds(scene, bvh, p, conductor, dielectric);
+    f.smooth_specular = conductor || dielectric;
     f.feature(!(p.instancing.two_level ? p.two_level->normals : bvh.normals).empty(), "HAS_NORMALS",
               "normals");
     f.feature(
@@ -184,6 +186,22 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     p.pass_layout = passes;
 }
 
+// Light tracing of caustics seen directly (shaders/common/light_tracing.glsl): where the
+// setting is on and the scene has L S+ D E paths to trace, a smooth mirror or glass. Left out
+// (the gather keeps those paths, as before) where it is not supported yet: the microfacet
+// lobes (the connection evaluates the closed model's Lambert), depth of field (no lens
+// sampling), the light split's passes (its Caustics pass would miss the splats), and the full
+// variant (a material edit must not switch the film's buffers).
+void light_tracing_feature(const Scene& scene, Features& f) {
+    PreparedScene& p = f.p;
+    const RenderSettings& settings = f.settings;
+    const bool depth_of_field =
+        scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f;
+    p.light_tracing = settings.light_tracing && f.smooth_specular && !p.microfacet &&
+                      !depth_of_field && !p.pass_layout.photon_split && !settings.full_variant;
+    if (p.light_tracing) f.add("HAS_LIGHT_TRACING", "light-tracing");
+}
+
 }  // namespace
 
 void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
@@ -198,6 +216,7 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     }
     direct_light_features(f);
     output_and_method_defines(local_size, f);
+    light_tracing_feature(scene, f);
     for (const std::string& name : f.names) p.variant += (p.variant.empty() ? "" : ",") + name;
 }
 

@@ -1,0 +1,26 @@
+// Light tracing's end of pass (HAS_LIGHT_TRACING), one thread per pixel: the pass's
+// fixed-point splats (common/light_splats.glsl) into the pixel's compensated float sum, the
+// integers cleared for the next pass. The film adds sum / N_emitted (resolve_film.comp), the
+// same normalisation as SPPM's tau: photon paths span passes, so the passes' splats are
+// divided by every path started, not averaged pass by pass.
+layout(local_size_x = LOCAL_SIZE) in;
+
+#define USES_LIGHT_SPLATS
+
+#include "common/frame.glsl"
+#include "common/compensated_sum.glsl"
+#include "common/light_splats.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= image_width * image_height) return;
+    uint k = i * LIGHT_SPLAT_WORDS;
+    vec4 sum = light_splat_word4(k + LIGHT_SPLAT_SUM);
+    vec4 compensation = light_splat_word4(k + LIGHT_SPLAT_COMPENSATION);
+    kahan_add(sum, compensation, vec4(light_splat_pass(i), 0.0));
+    for (uint w = 0u; w < 4u; ++w) {
+        light_splats[k + LIGHT_SPLAT_SUM + w] = floatBitsToUint(sum[w]);
+        light_splats[k + LIGHT_SPLAT_COMPENSATION + w] = floatBitsToUint(compensation[w]);
+    }
+    for (uint w = 0u; w < 6u; ++w) light_splats[k + w] = 0u;
+}
