@@ -3,6 +3,7 @@
 // order (the program cache's key): geometry and lights, materials, outputs, sizes.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "render/scene_preparation.h"
 
@@ -191,14 +192,27 @@ void output_and_method_defines(unsigned local_size, Features& f) {
 // (the gather keeps those paths, as before) where it is not supported yet: the microfacet
 // lobes (the connection evaluates the closed model's Lambert), depth of field (no lens
 // sampling), the light split's passes (its Caustics pass would miss the splats), and the full
-// variant (a material edit must not switch the film's buffers).
+// variant (a material edit must not switch the film's buffers). The connection inverts the
+// camera's frame by its transpose, so a frame with scale or shear (the add-on drops scale; a
+// module user may not) is left to the gather too.
+bool rigid_frame(const glm::mat4& m) {
+    const glm::mat3 r(m);
+    const glm::mat3 gram = glm::transpose(r) * r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f) return false;
+    return true;
+}
+
 void light_tracing_feature(const Scene& scene, Features& f) {
     PreparedScene& p = f.p;
     const RenderSettings& settings = f.settings;
+    const Camera& camera = scene.camera;
     const bool depth_of_field =
-        scene.camera.projection == Projection::Perspective && scene.camera.aperture_radius > 0.0f;
+        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
     p.light_tracing = settings.light_tracing && f.smooth_specular && !p.microfacet &&
-                      !depth_of_field && !p.pass_layout.photon_split && !settings.full_variant;
+                      !depth_of_field && rigid_frame(camera.to_world) &&
+                      !p.pass_layout.photon_split && !settings.full_variant;
     if (p.light_tracing) f.add("HAS_LIGHT_TRACING", "light-tracing");
 }
 

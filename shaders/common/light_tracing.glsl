@@ -45,9 +45,9 @@ bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance) {
 void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces) {
     if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
     if ((gather_bounce_kinds(0u, path_bounces) & (1u << BOUNCE_DIFFUSE)) == 0u) return;
-    // The camera's frame is rigid (the exporters drop its scale): camera-space distances and
-    // angles are the world's.
-    vec3 local = (inverse(camera_to_world) * vec4(s.position, 1.0)).xyz;
+    // The camera's frame is rigid (scene_features.cpp checks it): its inverse is the
+    // transpose, and camera-space distances and angles are the world's.
+    vec3 local = transpose(mat3(camera_to_world)) * (s.position - camera_to_world[3].xyz);
     if (local.z >= 0.0) return;  // behind the camera (or its film plane)
     vec2 film;
     vec3 to_camera;
