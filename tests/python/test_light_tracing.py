@@ -11,6 +11,7 @@ the same film whatever order the threads add them in.
 import math
 
 import numpy as np
+import pytest
 
 from conftest import look_at, merge, quad
 from scene_builders import floor_footprints, glass_ball_beam, grow, lamp_over_floor, pixel_of
@@ -19,7 +20,7 @@ CEILING, SPOT_HEIGHT, ALBEDO, POWER = 1.0, 0.5, 0.5, 10.0
 EYE_HEIGHT, FOV = 0.25, math.radians(90.0)
 
 
-def mirrored_spot(g):
+def mirrored_spot(g, orthographic=False):
     """A spot light SPOT_HEIGHT above a perfect mirror (a conductor of colour 1: Schlick's
     Fresnel is then 1 at every angle), pointing down with a 90 degree cone, under a diffuse
     ceiling at height CEILING facing down; the camera between them looks straight up. The
@@ -37,15 +38,25 @@ def mirrored_spot(g):
                  g.Material("diffuse", color=(ALBEDO,) * 3)]
     spot = g.Light("spot", power=POWER, position=(0, SPOT_HEIGHT, 0), direction=(0, -1, 0),
                    spot_size=math.pi / 2, spot_blend=0.0)
-    camera = g.Camera(look_at((0, EYE_HEIGHT, 0), (0, CEILING, 0), up=(0, 0, -1)), fov_x=FOV)
+    to_world = look_at((0, EYE_HEIGHT, 0), (0, CEILING, 0), up=(0, 0, -1))
+    if orthographic:  # the same square of the ceiling
+        camera = g.Camera(to_world, projection="orthographic", ortho_scale=2.0 * half_view())
+    else:
+        camera = g.Camera(to_world, fov_x=FOV)
     return g.Scene(positions, indices, material_ids=ids, materials=materials, lights=[spot],
                    camera=camera)
 
 
+def half_view():
+    """Half the side of the ceiling's square the camera sees."""
+    return (CEILING - EYE_HEIGHT) * math.tan(0.5 * FOV)
+
+
 def mirrored_spot_radiance(size, sub=4):
-    """Each pixel's mean of the closed form over sub x sub points (the box filter)."""
-    extent = (CEILING - EYE_HEIGHT) * math.tan(0.5 * FOV)
-    u = ((np.arange(size * sub) + 0.5) / (size * sub) * 2.0 - 1.0) * extent
+    """Each pixel's mean of the closed form over sub x sub points (the box filter): a pixel
+    covers a square of the ceiling, perspective (the ceiling parallel to the film) and
+    orthographic alike."""
+    u = ((np.arange(size * sub) + 0.5) / (size * sub) * 2.0 - 1.0) * half_view()
     x, z = np.meshgrid(u, u)
     h = CEILING + SPOT_HEIGHT
     d2 = x * x + z * z + h * h
@@ -61,17 +72,22 @@ def render_luminance(g, scene, passes, **settings):
     return film.mean(axis=2), stats
 
 
-def test_mirrored_spot_matches_closed_form(glslppm):
+@pytest.mark.parametrize("estimator,projection", [("sppm", "perspective"), ("pppm", "perspective"),
+                                                  ("sppm", "orthographic")])
+def test_mirrored_spot_matches_closed_form(glslppm, estimator, projection):
     """Light tracing alone lights the ceiling here (the gather leaves the L S photons out at
     the points the camera sees directly), so the image is the splats' sum. Each pixel's
     ratio to the closed form is an independent sample (a photon splats into one pixel): their
     mean's standard error, from their spread, is the noise bound. Measured (seed 1, 64
-    passes): mean within 0.1% of the closed form, standard error 0.1%. The test asks for
-    4 standard errors and a standard error below 0.2%, so a 1% bias fails."""
+    passes): mean within 0.1% of the closed form, standard error 0.1%, each estimator and
+    camera (PPPM: the film divides the splats by the paths emitted, as SPPM's; each of its
+    passes starts them all). The test asks for 4 standard errors and a standard error below
+    0.2%, so a 1% bias fails."""
     g = glslppm
     size = 64
-    luminance, stats = render_luminance(g, mirrored_spot(g), 64, width=size, height=size,
-                                        max_bounces=1, seed=1)
+    scene = mirrored_spot(g, orthographic=projection == "orthographic")
+    luminance, stats = render_luminance(g, scene, 64, width=size, height=size, max_bounces=1,
+                                        seed=1, estimator=estimator)
     assert "light-tracing" in stats["variant"].split(",")
     ratio = luminance / mirrored_spot_radiance(size)
     mean, standard_error = ratio.mean(), ratio.std() / math.sqrt(ratio.size)
