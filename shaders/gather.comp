@@ -177,7 +177,7 @@ void main() {
                                              gather_bounce_kinds(eye_bounces, photon_bounces(p)));
                     float count = float(entry.y);
                     m += count;
-                    ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
+                    if (GATHERED(p)) ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
                 }
 #else
                 if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
@@ -198,7 +198,7 @@ void main() {
                     if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                         photon_on_side(p, d, r, side, both_sides)) {
                         m += 1.0;
-                        ADD_PHOTON(p, bsdf_f_of_kinds(sh, wo, photons[3 * p + 1].xyz, rough_only,
+                        if (GATHERED(p)) ADD_PHOTON(p, bsdf_f_of_kinds(sh, wo, photons[3 * p + 1].xyz, rough_only,
                                                       false, gather_bounce_kinds(
                                                                  eye_bounces, photon_bounces(p))) *
                                           photons[3 * p + 2].xyz);

@@ -32,6 +32,14 @@ layout(local_size_x = LOCAL_SIZE) in;
 #define TRACKS_PATH_CLASS
 #endif
 
+// A stored photon of an L S+ path goes to the camera where light tracing takes its surface;
+// elsewhere it is stored as scattered light, for the gather.
+#define LIGHT_TRACE(s, dir, flux, path_bounces)                          \
+    if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                       \
+        if (light_traceable(s)) splat_to_camera(s, dir, flux, path_bounces); \
+        else stored_class = LIGHT_PATH_SCATTERED;                        \
+    }
+
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
 // one, a smooth bounce makes one. Light tracing's classes: common/light_splats.glsl.
 #if defined(HAS_LIGHT_TRACING)
@@ -144,6 +152,9 @@ void main() {
                 // folded into the stored flux, since the gather multiplies the two.
                 stored.xyz *= shading_cosine_ratio(incoming, sh.n, s.geometric_normal);
 #endif
+#ifdef HAS_LIGHT_TRACING
+                LIGHT_TRACE(s, dir, flux, path_bounces);
+#endif
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             vec3 wi, w;
@@ -211,7 +222,7 @@ void main() {
             stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
                                                      ? s.geometric_normal : -s.geometric_normal));
 #ifdef HAS_LIGHT_TRACING
-            if (path_class == LIGHT_PATH_SPECULAR_CHAIN) splat_to_camera(s, dir, flux, path_bounces);
+            LIGHT_TRACE(s, dir, flux, path_bounces);
 #endif
 #ifdef DIRECT_LIGHT_SAMPLED
             }

@@ -188,11 +188,12 @@ void output_and_method_defines(unsigned local_size, Features& f) {
 }
 
 // Light tracing of caustics seen directly (shaders/common/light_tracing.glsl): where the
-// setting is on and the scene has L S+ D E paths to trace, a smooth mirror or glass. Left out
-// (the gather keeps those paths, as before) where it is not supported yet: the microfacet
-// lobes (the connection evaluates the closed model's Lambert), depth of field (no lens
+// setting is on and the scene has L S+ D E paths to trace, a mirror or glass. Left out (the
+// gather keeps those paths, as before) where it is not supported yet: cut-outs (camera rays
+// see through them, the connection's shadow ray would not), depth of field (no lens
 // sampling), the light split's passes (its Caustics pass would miss the splats), and the full
-// variant (a material edit must not switch the film's buffers). The connection inverts the
+// variant (a material edit must not switch the film's buffers). The shader takes only
+// Lambert surfaces (light_traceable) and leaves photons on the others to the gather. The connection inverts the
 // camera's frame by its transpose, so a frame with scale or shear (the add-on drops scale; a
 // module user may not) is left to the gather too.
 bool rigid_frame(const glm::mat4& m) {
@@ -210,7 +211,9 @@ void light_tracing_feature(const Scene& scene, Features& f) {
     const Camera& camera = scene.camera;
     const bool depth_of_field =
         camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
-    p.light_tracing = settings.light_tracing && f.smooth_specular && !p.microfacet &&
+    bool cut_outs = false;
+    for (std::uint32_t flags : p.geometry.flags) cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
+    p.light_tracing = settings.light_tracing && f.smooth_specular && !cut_outs &&
                       !depth_of_field && rigid_frame(camera.to_world) &&
                       !p.pass_layout.photon_split && !settings.full_variant;
     if (p.light_tracing) f.add("HAS_LIGHT_TRACING", "light-tracing");

@@ -3,7 +3,8 @@
 // and is connected to the camera, a caustic seen directly. The gather leaves these photons
 // out at visible points seen directly (light_traced in common/light_splats.glsl), so the two
 // techniques partition the paths with no MIS: unbiased, not yet the lower variance of VCM's
-// weights. Closed material model, pinhole and orthographic cameras only (scene_features.cpp).
+// weights. Lambert surfaces, pinhole and orthographic cameras only (light_traceable below,
+// native/render/scene_features.cpp).
 //
 // A pixel j's value is the mean radiance over its area A on the film plane (the box filter
 // of the eye's jittered rays). For a photon of flux Phi (one of N_emitted paths) at x, seen
@@ -36,6 +37,20 @@ bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance) {
         origin = offset_origin(s.position, s.geometric_normal, to_camera);
     }
     return false;
+}
+
+// Whether light tracing takes the L S+ photons that land on s's material (else they stay the
+// gather's, stored as scattered light): a Lambert surface, whose f the connection evaluates
+// as the gather would, albedo / pi. With the lobes, a single diffuse leaf (no mix, plastic or
+// translucent yet) and no normal maps (their cosine ratio is not in the connection yet).
+bool light_traceable(Surface s) {
+#if defined(HAS_NORMAL_MAP)
+    return false;
+#elif defined(HAS_MICROFACET)
+    return material_kind(s.material) == MATERIAL_DIFFUSE;
+#else
+    return true;  // the closed model stores photons on diffuse surfaces only
+#endif
 }
 
 // Splats the photon that just landed at s, arriving along dir with `flux` and the path's
@@ -81,7 +96,7 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces) {
     if (!camera_sees(s.position, s.geometric_normal, to_camera, distance)) return;
     uint i = min(uint(pixel.y), image_height - 1u) * image_width +
              min(uint(pixel.x), image_width - 1u);
-    vec3 f = surface_color(s) / PI;  // the closed model's Lambert, as the gather weighs it
+    vec3 f = surface_color(s) / PI;  // Lambert (light_traceable), as the gather weighs it
     light_splat_add(i, flux * f * (cos_surface * importance));
 }
 

@@ -20,7 +20,7 @@ CEILING, SPOT_HEIGHT, ALBEDO, POWER = 1.0, 0.5, 0.5, 10.0
 EYE_HEIGHT, FOV = 0.25, math.radians(90.0)
 
 
-def mirrored_spot(g, orthographic=False):
+def mirrored_spot(g, orthographic=False, lobes=False):
     """A spot light SPOT_HEIGHT above a perfect mirror (a conductor of colour 1: Schlick's
     Fresnel is then 1 at every angle), pointing down with a 90 degree cone, under a diffuse
     ceiling at height CEILING facing down; the camera between them looks straight up. The
@@ -29,12 +29,14 @@ def mirrored_spot(g, orthographic=False):
         L = albedo / pi * I cos(theta) / d^2,  I = P / (4 pi),  d^2 = x^2 + z^2 + h^2,
     h = CEILING + SPOT_HEIGHT, cos(theta) = h / d (inside the cone: all the camera sees).
     With max_bounces=1 a path scatters once before its last bounce: L S D E is all there is
-    (the ceiling's light going on by the mirror to the ceiling again is cut)."""
+    (the ceiling's light going on by the mirror to the ceiling again is cut). lobes: the
+    mirror as Blender's Glossy BSDF exports it (Schlick's Fresnel, still 1 at colour 1),
+    which compiles the microfacet lobes (HAS_MICROFACET) for the whole scene."""
     s = 20.0
     mirror = quad((-s, 0, -s), (-s, 0, s), (s, 0, s), (s, 0, -s))
     ceiling = quad((-s, CEILING, -s), (s, CEILING, -s), (s, CEILING, s), (-s, CEILING, s))
     positions, indices, ids = merge((*mirror, 0), (*ceiling, 1))
-    materials = [g.Material("conductor", color=(1.0, 1.0, 1.0)),
+    materials = [g.Material("conductor", color=(1.0, 1.0, 1.0), schlick=lobes),
                  g.Material("diffuse", color=(ALBEDO,) * 3)]
     spot = g.Light("spot", power=POWER, position=(0, SPOT_HEIGHT, 0), direction=(0, -1, 0),
                    spot_size=math.pi / 2, spot_blend=0.0)
@@ -72,9 +74,10 @@ def render_luminance(g, scene, passes, **settings):
     return film.mean(axis=2), stats
 
 
-@pytest.mark.parametrize("estimator,projection", [("sppm", "perspective"), ("pppm", "perspective"),
-                                                  ("sppm", "orthographic")])
-def test_mirrored_spot_matches_closed_form(glslppm, estimator, projection):
+@pytest.mark.parametrize("estimator,projection,lobes", [
+    ("sppm", "perspective", False), ("pppm", "perspective", False),
+    ("sppm", "orthographic", False), ("sppm", "perspective", True)])
+def test_mirrored_spot_matches_closed_form(glslppm, estimator, projection, lobes):
     """Light tracing alone lights the ceiling here (the gather leaves the L S photons out at
     the points the camera sees directly), so the image is the splats' sum. Each pixel's
     ratio to the closed form is an independent sample (a photon splats into one pixel): their
@@ -85,10 +88,11 @@ def test_mirrored_spot_matches_closed_form(glslppm, estimator, projection):
     0.2%, so a 1% bias fails."""
     g = glslppm
     size = 64
-    scene = mirrored_spot(g, orthographic=projection == "orthographic")
+    scene = mirrored_spot(g, orthographic=projection == "orthographic", lobes=lobes)
     luminance, stats = render_luminance(g, scene, 64, width=size, height=size, max_bounces=1,
                                         seed=1, estimator=estimator)
     assert "light-tracing" in stats["variant"].split(",")
+    assert ("microfacet" in stats["variant"].split(",")) == lobes
     ratio = luminance / mirrored_spot_radiance(size)
     mean, standard_error = ratio.mean(), ratio.std() / math.sqrt(ratio.size)
     print(f"mean ratio {mean:.5f}, standard error {standard_error:.5f}")
