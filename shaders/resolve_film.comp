@@ -26,8 +26,13 @@ void main() {
 #endif
     vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
 #ifdef HAS_LIGHT_TRACING
-    // Light tracing's splats over every photon path started, as SPPM's tau (light_splats.comp).
+    // Light tracing's splats over every photon path started, as SPPM's tau; PPPM: the mean
+    // of its passes' (light_splats.comp).
+#ifdef ESTIMATOR_PPPM
+    direct += light_splat_sum(i) * (inv_passes / light_splat_pixel_area());
+#else
     direct += light_splat_sum(i) * (inv_photons_emitted / light_splat_pixel_area());
+#endif
 #endif
 #ifdef FILM_TRANSPARENT
     float alpha = clamp(1.0 - direct_light[2 * i + 0].w * inv_passes, 0.0, 1.0);

@@ -146,6 +146,11 @@ static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
 // Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
 inline constexpr unsigned kRadiusStatsThreads = 256;
 
+// Light tracing's splat buffer per pixel (LIGHT_SPLAT_WORDS uints, common/light_splats.glsl):
+// no more than the smallest visible point (3 vec4), which image tiles are planned by.
+inline constexpr std::size_t kLightSplatBytes = 12 * 4;
+static_assert(kLightSplatBytes <= 3 * 16);
+
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
 // shaders/common/bsdf.glsl and lobes.glsl: six vec4 per material, then the albedo tables
 // (render/microfacet_tables.h) the materials' `table` fields point into.

@@ -179,11 +179,11 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     b.radius_stats =
         g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr, "radius statistics");
     if (g.scene.light_tracing) {
-        // 16 words a pixel (common/light_splats.glsl); zeroed by restart_film().
-        const std::size_t splat_bytes = px * 16 * 4;
+        // kLightSplatBytes a pixel (common/light_splats.glsl); zeroed by restart_film().
+        const std::size_t splat_bytes = px * kLightSplatBytes;
         g.require_fits(splat_bytes, "light tracing's splats", true);
         b.light_splats = g.make_buffer(BINDING_LIGHT_SPLATS, splat_bytes, nullptr, "light splats");
-        b.bytes_per_pixel += 16 * 4;
+        b.bytes_per_pixel += kLightSplatBytes;
     }
 }
 

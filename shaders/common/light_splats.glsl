@@ -6,8 +6,9 @@
 // a compensated float sum at the end of the pass; resolve_film.comp divides that by the
 // photon paths emitted, as it divides SPPM's tau.
 //
-// Per pixel, LIGHT_SPLAT_WORDS uints: the pass's (lo, hi) words for r, g and b and two
-// spare; then the float bits of the sum (vec4) and of its Kahan compensation (vec4). The
+// Per pixel, LIGHT_SPLAT_WORDS uints: the pass's (lo, hi) words for r, g and b; then the
+// float bits of the sum (rgb) and of its Kahan compensation (rgb). 48 bytes, no more than
+// the smallest visible point, so that image tiles planned by those fit this buffer too. The
 // buffer is declared where USES_LIGHT_SPLATS is defined (GL counts every declared block); the
 // path classes below are for every stage.
 #ifndef LIGHT_SPLATS_GLSL
@@ -18,9 +19,9 @@
 
 layout(std430, binding = BINDING_LIGHT_SPLATS) coherent buffer LightSplats { uint light_splats[]; };
 
-const uint LIGHT_SPLAT_WORDS = 16u;
-const uint LIGHT_SPLAT_SUM = 8u;           // the float sum's first word
-const uint LIGHT_SPLAT_COMPENSATION = 12u;  // its compensation's
+const uint LIGHT_SPLAT_WORDS = 12u;
+const uint LIGHT_SPLAT_SUM = 6u;           // the float sum's first word
+const uint LIGHT_SPLAT_COMPENSATION = 9u;  // its compensation's
 const float TWO_POW_32 = 4294967296.0;
 // A single splat is clamped below 2^62 units, so that a pass's sum of a pixel stays within
 // 64 bits for 2^30 splats even at the clamp (light_splat_unit in native/render/camera_frame.cpp
@@ -66,15 +67,14 @@ vec3 light_splat_pass(uint i) {
     return v * light_splat_unit;
 }
 
-vec4 light_splat_word4(uint k) {
-    return uintBitsToFloat(uvec4(light_splats[k], light_splats[k + 1u], light_splats[k + 2u],
-                                 light_splats[k + 3u]));
+vec3 light_splat_word3(uint k) {
+    return uintBitsToFloat(uvec3(light_splats[k], light_splats[k + 1u], light_splats[k + 2u]));
 }
 
 // The splats of every pass so far (radiance times pixel area), before the division by the
 // photons emitted.
 vec3 light_splat_sum(uint i) {
-    return light_splat_word4(i * LIGHT_SPLAT_WORDS + LIGHT_SPLAT_SUM).xyz;
+    return light_splat_word3(i * LIGHT_SPLAT_WORDS + LIGHT_SPLAT_SUM);
 }
 
 // The film's pixel area: on the z = -1 plane (perspective) or in world units (orthographic),
