@@ -8,12 +8,15 @@ with light tracing off), and for what must not change: a scene without mirrors o
 compiles nothing new and renders bit for bit as before, and the fixed-point splats sum to
 the same film whatever order the threads add them in.
 """
+import json
 import math
+import os
+import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import look_at, merge, quad
+from conftest import BUILD, look_at, merge, quad
 from scene_builders import floor_footprints, glass_ball_beam, grow, lamp_over_floor, pixel_of
 
 CEILING, SPOT_HEIGHT, ALBEDO, POWER = 1.0, 0.5, 0.5, 10.0
@@ -213,3 +216,20 @@ def test_splats_sum_in_any_order(glslppm):
                               photons_per_pass=16384, seed=5)[0] for _ in range(2)]
     assert films[0].max() > 0.0
     assert np.array_equal(films[0], films[1])
+
+
+def test_cli_flag_switches_it(glslppm):
+    """glslppm-render's built-in Cornell box (a mirror and a glass sphere): light tracing by
+    default, none with --light-tracing off, and a word other than on or off refused."""
+    render = os.path.join(BUILD, "glslppm-render")
+    variants = {}
+    for flag in ([], ["--light-tracing", "off"], ["--light-tracing", "on"]):
+        out = subprocess.run([render, "--width", "16", "--height", "16", "--passes", "1",
+                              "--photons", "1024", "--json", *flag],
+                             capture_output=True, text=True, timeout=300, check=True)
+        variants[" ".join(flag)] = json.loads(out.stdout)["variant"].split(",")
+    assert "light-tracing" in variants[""] and "light-tracing" in variants["--light-tracing on"]
+    assert "light-tracing" not in variants["--light-tracing off"]
+    refused = subprocess.run([render, "--light-tracing", "maybe"], capture_output=True,
+                             text=True, timeout=60)
+    assert refused.returncode != 0 and "is not on or off" in refused.stderr
