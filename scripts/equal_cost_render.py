@@ -99,8 +99,19 @@ def setup_glslppm(scene, estimator, settings, count, seed):
     options.time_limit = 0.0
     options.seed = seed
     for key, value in settings.items():
-        current = getattr(options, key)
-        setattr(options, key, type(current)(value) if not isinstance(current, str) else value)
+        setattr(options, key, _setting_value(getattr(options, key), value))
+
+
+def _setting_value(current, text):
+    """A method's setting (--methods sppm:light_tracing=off) as the property's type: bool("off")
+    would be True."""
+    if isinstance(current, str):
+        return text
+    if isinstance(current, bool):
+        if text.lower() not in ("1", "0", "true", "false", "on", "off", "yes", "no"):
+            raise SystemExit(f"equal_cost_render: '{text}' is not on or off")
+        return text.lower() in ("1", "true", "on", "yes")
+    return type(current)(text)
 
 
 def setup_cycles(scene, count, seed, mnee):

@@ -19,6 +19,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/visible_points.glsl"
 #include "common/pass_films.glsl"
 #include "common/bounces.glsl"
+#ifdef HAS_LIGHT_TRACING
+#include "common/light_splats.glsl"
+#endif
 
 shared float group_max_radius[LOCAL_SIZE];
 
@@ -29,6 +32,14 @@ shared float group_max_radius[LOCAL_SIZE];
     { vec3 light_ = (value); phi += light_; phi_class[photon_class(p)] += light_; }
 #else
 #define ADD_PHOTON(p, value) phi += (value)
+#endif
+
+// Whether the gather takes photon p at this visible point: not where light tracing splats
+// it (common/light_splats.glsl, light_traced).
+#ifdef HAS_LIGHT_TRACING
+#define GATHERED(p) !light_traced(p, eye_bounces)
+#else
+#define GATHERED(p) true
 #endif
 
 // Whether photon p, at offset d from the visible point, lit the point's side of its surface
@@ -145,7 +156,7 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
                               rough_only, gather_bounce_kinds(eye_bounces, photon_bounces(p)));
             float count = float(entry.y);
             m += count;
-            ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
+            if (GATHERED(p)) ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
         }
 #else
         for (uint k = entry.y; k < entry.y + entry.x; ++k) {
@@ -155,10 +166,11 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
             if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                 photon_on_side(p, d, r, side, both_sides)) {
                 m += 1.0;
-                ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo, photons[3 * p + 1].xyz,
-                                       rough_only, gather_bounce_kinds(
-                                                       eye_bounces, photon_bounces(p))) *
-                                  photons[3 * p + 2].xyz);
+                if (GATHERED(p))
+                    ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo, photons[3 * p + 1].xyz,
+                                           rough_only, gather_bounce_kinds(
+                                                           eye_bounces, photon_bounces(p))) *
+                                      photons[3 * p + 2].xyz);
             }
         }
 #endif

@@ -22,10 +22,30 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef HAS_ABSORPTION
 #include "common/absorption.glsl"
 #endif
+#ifdef HAS_LIGHT_TRACING
+#include "common/light_tracing.glsl"
+#endif
+
+// The path's class rides in its flux.w for the light split's passes or for light tracing
+// (the two are never on together: scene_features.cpp).
+#if defined(PASS_PHOTON_SPLIT) || defined(HAS_LIGHT_TRACING)
+#define TRACKS_PATH_CLASS
+#endif
+
+// A stored photon of an L S+ path goes to the camera where light tracing takes its surface;
+// elsewhere it is stored as scattered light, for the gather.
+#define LIGHT_TRACE(s, dir, flux, path_bounces)                          \
+    if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                       \
+        if (light_traceable(s)) splat_to_camera(s, dir, flux, path_bounces); \
+        else stored_class = LIGHT_PATH_SCATTERED;                        \
+    }
 
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
-// one, a smooth bounce makes one.
-#ifdef PASS_PHOTON_SPLIT
+// one, a smooth bounce makes one. Light tracing's classes: common/light_splats.glsl.
+#if defined(HAS_LIGHT_TRACING)
+#define PATH_SCATTERED(smooth_bounce) \
+    path_class = light_path_after_scatter(path_class, smooth_bounce)
+#elif defined(PASS_PHOTON_SPLIT)
 #define PATH_SCATTERED(smooth_bounce) \
     path_class = max(path_class, (smooth_bounce) ? PHOTON_PATH_CAUSTIC : PHOTON_PATH_INDIRECT)
 #else
@@ -54,7 +74,7 @@ void main() {
     // which light sampling counts instead), and its later scatters by kind.
     uint path_bounces = uint(photon_paths[3 * i + 1].w);
     vec3 flux = photon_paths[3 * i + 2].xyz;
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     float path_class = photon_paths[3 * i + 2].w;
 #endif
 #ifdef ESTIMATOR_PPPM
@@ -71,8 +91,8 @@ void main() {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;
         path_bounces = 0u;
-#ifdef PASS_PHOTON_SPLIT
-        path_class = PHOTON_PATH_DIRECT;
+#ifdef TRACKS_PATH_CLASS
+        path_class = 0.0;  // PHOTON_PATH_DIRECT, LIGHT_PATH_UNSCATTERED
 #endif
         atomicAdd(pass_emitted, 1u);
     }
@@ -80,7 +100,7 @@ void main() {
     vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     float stored_class = path_class;  // the class the photon arrives with
 #else
     float stored_class = 0.0;
@@ -134,6 +154,9 @@ void main() {
                 // density (per area of the true surface) into the shading normal's cosine:
                 // folded into the stored flux, since the gather multiplies the two.
                 stored.xyz *= shading_cosine_ratio(incoming, sh.n, s.geometric_normal);
+#endif
+#ifdef HAS_LIGHT_TRACING
+                LIGHT_TRACE(s, dir, flux, path_bounces);
 #endif
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
@@ -193,7 +216,7 @@ void main() {
 
     photon_paths[3 * i + 0] = vec4(origin, bounces);
     photon_paths[3 * i + 1] = vec4(dir, float(path_bounces));
-#ifdef PASS_PHOTON_SPLIT
+#ifdef TRACKS_PATH_CLASS
     photon_paths[3 * i + 2] = vec4(flux, path_class);
 #else
     photon_paths[3 * i + 2] = vec4(flux, 0.0);

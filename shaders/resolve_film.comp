@@ -6,6 +6,10 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/frame.glsl"
 #include "common/bindings.glsl"
 #include "common/sppm_buffers.glsl"
+#ifdef HAS_LIGHT_TRACING
+#define USES_LIGHT_SPLATS
+#include "common/light_splats.glsl"
+#endif
 
 layout(std430, binding = BINDING_FILM) writeonly buffer Film { vec4 film[]; };
 
@@ -21,6 +25,15 @@ void main() {
     vec3 photon_light = tau * (inv_photons_emitted / (PI * r * r));
 #endif
     vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
+#ifdef HAS_LIGHT_TRACING
+    // Light tracing's splats over every photon path started, as SPPM's tau; PPPM: the mean
+    // of its passes' (light_splats.comp).
+#ifdef ESTIMATOR_PPPM
+    direct += light_splat_sum(i) * (inv_passes / light_splat_pixel_area());
+#else
+    direct += light_splat_sum(i) * (inv_photons_emitted / light_splat_pixel_area());
+#endif
+#endif
 #ifdef FILM_TRANSPARENT
     float alpha = clamp(1.0 - direct_light[2 * i + 0].w * inv_passes, 0.0, 1.0);
     film[i] = vec4(photon_light + direct, alpha);

@@ -64,6 +64,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         hash=settings.hash_mode.lower(),
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
+        light_tracing=settings.light_tracing,
         glossy_threshold=settings.glossy_threshold,
         instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,

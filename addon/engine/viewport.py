@@ -450,7 +450,8 @@ def settings_signature(settings, film):
     return (settings.viewport_photons_per_pass, settings.alpha, settings.radius(),
             settings.radius_scale, tuple(bounce_limits(settings).items()), settings.hash_mode,
             settings.rng,
-            settings.direct_light, settings.seed, tuple(sorted(film.items())))
+            settings.direct_light, settings.light_tracing, settings.seed,
+            tuple(sorted(film.items())))
 
 
 def film_texture(film):

@@ -75,6 +75,13 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/direct_light.md)"),
                    ('PHOTONS', "Photons", "All light from photons, as in the paper: shadows "
                     "blurred by the gather radius"))),
+        "light_tracing": BoolProperty(
+            name="Light Tracing", default=True,
+            description="Caustics seen directly (light through mirrors and glass onto a "
+                        "diffuse surface) by connecting photons to the camera instead of "
+                        "gathering them: sharp and less noisy (docs/light_tracing.md). Used "
+                        "with mirrors and smooth glass on diffuse surfaces, pinhole or "
+                        "orthographic cameras"),
         "estimator": EnumProperty(
             name="Estimator", default='SPPM',
             items=(('SPPM', "SPPM", "Stochastic progressive photon mapping: each pixel's "

@@ -35,6 +35,7 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "time_limit", text="Time Limit (s)")
         draw_projected_time(column, context, settings)
         column.prop(settings, "direct_light")
+        column.prop(settings, "light_tracing")
         column.prop(settings, "glossy_threshold")
         column.prop(settings, "estimator")
         if settings.estimator == 'PPPM':

@@ -79,6 +79,8 @@ std::string usage() {
         "  --estimator sppm|pppm     progressive per-pixel radii (SPPM) or a radius per pass\n"
         "                            index whose passes merge anywhere (PPPM; default %s)\n"
         "  --first-pass K            pppm: run passes K, K+1, ... (a farm job's share)\n"
+        "  --light-tracing on|off    caustics seen directly by light tracing (default %s;\n"
+        "                            docs/light_tracing.md)\n"
         "  --seed N                  random seed (default %llu)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
         "                            camera gets one that frames the whole scene)\n"
@@ -101,7 +103,7 @@ std::string usage() {
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_bounces, d.max_diffuse_bounces, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
         to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
-        to_string(d.estimator).c_str(),
+        to_string(d.estimator).c_str(), d.light_tracing ? "on" : "off",
         static_cast<unsigned long long>(d.seed));
     return text;
 }
@@ -162,6 +164,12 @@ Options parse(int argc, char** argv) {
             o.settings.device = devices[0];
         }
         else if (a == "--estimator") o.settings.estimator = parse_estimator(value());
+        else if (a == "--light-tracing") {
+            const std::string v = value();
+            if (v != "on" && v != "off")
+                throw std::invalid_argument("--light-tracing: '" + v + "' is not on or off");
+            o.settings.light_tracing = v == "on";
+        }
         else if (a == "--first-pass") o.settings.first_pass = static_cast<std::uint64_t>(number());
         else if (a == "--seed") o.settings.seed = static_cast<std::uint64_t>(number());
         else if (a == "--max-block-bytes") o.settings.max_block_bytes = static_cast<std::uint64_t>(number());

@@ -132,6 +132,21 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
     return automatic_radius(cam, settings, f, film, bvh, bounds, two_level);
 }
 
+// Light tracing's fixed-point unit (shaders/common/light_splats.glsl): a photon of the mean
+// flux (the lights' total power) splatted from the scene's radius onto the axis, as a
+// perspective splat's Phi f cos / (d^2 cos^3) reads (Phi f cos alone, orthographic), lands
+// at 2^40 units. Splats 2^22 times larger fit in 2^62 and the 64-bit sums still hold 2^30 of
+// them a pixel and pass; splats 2^30 times smaller keep 10 bits. Only the precision
+// depends on it, never the mean.
+static float light_splat_unit(const Camera& camera, glm::vec3 total_power, float scene_radius) {
+    double reference = std::max({total_power.x, total_power.y, total_power.z}) / 3.14159265358979;
+    if (camera.projection == Projection::Perspective)
+        reference /= double(scene_radius) * double(scene_radius);
+    const double unit = reference * std::ldexp(1.0, -40);
+    if (!(std::isfinite(unit) && unit > 0.0)) return 1.0f;  // no light: nothing splats
+    return static_cast<float>(std::clamp(unit, 1e-30, 1e30));
+}
+
 void fill_frame(const Scene& scene, const RenderSettings& settings, const PackedBvh& bvh,
                 PreparedScene& p) {
     p.pixels =
@@ -165,6 +180,7 @@ void fill_frame(const Scene& scene, const RenderSettings& settings, const Packed
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;
+    f.light_splat_unit = light_splat_unit(scene.camera, p.emitters.total_power, f.scene_radius);
 }
 
 }  // namespace glslppm

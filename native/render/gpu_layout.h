@@ -63,7 +63,9 @@ struct FrameBlock {
     std::uint32_t max_diffuse_bounces = 0;
     std::uint32_t max_glossy_bounces = 0;
     std::uint32_t max_transmission_bounces = 0;
-    std::uint32_t frame_padding = 0;
+    // Light tracing's fixed-point unit (common/light_splats.glsl): a splat's value per unit
+    // of its 64-bit integer sum.
+    float light_splat_unit = 0.0f;
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -141,6 +143,11 @@ static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
 
 // Threads of radius_stats.comp: one (sum, max) pair each is read back by stats().
 inline constexpr unsigned kRadiusStatsThreads = 256;
+
+// Light tracing's splat buffer per pixel (LIGHT_SPLAT_WORDS uints, common/light_splats.glsl):
+// no more than the smallest visible point (3 vec4), which image tiles are planned by.
+inline constexpr std::size_t kLightSplatBytes = 12 * 4;
+static_assert(kLightSplatBytes <= 3 * 16);
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
 // shaders/common/bsdf.glsl and lobes.glsl: six vec4 per material, then the albedo tables

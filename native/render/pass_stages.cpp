@@ -115,8 +115,14 @@ void Renderer::Gpu::gather(bool mark_stage) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-// end_pass.comp: the pass's counts into the 64-bit totals.
+// end_pass.comp: the pass's counts into the 64-bit totals (with light tracing, the pass's
+// splats into the film's sums first).
 void Renderer::Gpu::end_pass() {
+    if (programs.light_splats) {
+        // light_splats.comp: the pass's fixed-point splats into each pixel's float sum.
+        dispatch(*programs.light_splats, scene.pixels);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     programs.end_pass->use();
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -137,12 +143,13 @@ void Renderer::Gpu::restart_film() {
     glUniform1ui(restart.uniform("u_photon_threads"), scene.photon_threads);
     glUniform1f(restart.uniform("u_initial_radius"), scene.initial_radius);
     dispatch(restart, std::max(scene.pixels, scene.photon_threads));
-    if (buffers.pass_films) {
-        // A clear after shader writes takes a buffer-update barrier: a restart is not a
-        // pass, so its host wait does not slow the passes.
+    // A clear after shader writes takes a buffer-update barrier: a restart is not a pass, so
+    // its host wait does not slow the passes.
+    for (GLuint buffer : {buffers.pass_films, buffers.light_splats}) {
+        if (!buffer) continue;
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         const GLuint zero[4] = {0u, 0u, 0u, 0u};
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.pass_films);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
         glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                           zero);
     }

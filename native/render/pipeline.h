@@ -58,6 +58,7 @@ struct StagePrograms {
     const gl::ComputeProgram* restart = nullptr;  // a film's first state
     const gl::ComputeProgram* resolve = nullptr;
     const gl::ComputeProgram* radius_reduce = nullptr;
+    const gl::ComputeProgram* light_splats = nullptr;  // HAS_LIGHT_TRACING: a pass's splats folded in
     int compiled = 0, reused = 0;  // from source, from an earlier renderer's binaries
     double compile_seconds = 0.0;
 };
@@ -69,6 +70,7 @@ struct PipelineBuffers {
     GLuint materials = 0, emitter_records = 0;  // replaced by update_tables
     GLuint film = 0, counters = 0, pixel_stats = 0, direct_light = 0, pass_films = 0;
     GLuint photon_paths = 0, photons = 0, hash = 0, radius_stats = 0;
+    GLuint light_splats = 0;  // HAS_LIGHT_TRACING (common/light_splats.glsl)
     GLuint atlases[2] = {0, 0};  // sRGB8 and float array textures
     std::vector<GLuint> ssbos;
     gl::BufferReader reader;  // film, passes and photons read back

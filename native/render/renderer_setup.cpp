@@ -19,7 +19,7 @@ std::size_t bytes(const std::vector<T>& v) {
 
 // The stage programs of the prepared variant, from the thread's program cache.
 void compile_programs(gl::ProgramCache& cache, const gl::Defines& defines, HashMode hash,
-                      const CancelFlag* cancel, StagePrograms& s) {
+                      bool light_tracing, const CancelFlag* cancel, StagePrograms& s) {
     const auto compile_start = std::chrono::steady_clock::now();
     auto program = [&](const char* file, const char* phase) -> const gl::ComputeProgram* {
         throw_if_cancelled(cancel);  // a compile on llvmpipe takes up to a second
@@ -43,9 +43,10 @@ void compile_programs(gl::ProgramCache& cache, const gl::Defines& defines, HashM
     s.restart = program("restart_film.comp", nullptr);
     s.resolve = program("resolve_film.comp", nullptr);
     s.radius_reduce = program("radius_stats.comp", nullptr);
+    if (light_tracing) s.light_splats = program("light_splats.comp", nullptr);
     for (const gl::ComputeProgram* p :
          {s.eye, s.photon, s.hash_clear, s.hash_a, s.hash_b, s.scan[0], s.scan[1], s.scan[2],
-          s.gather, s.end_pass, s.restart, s.resolve}) {
+          s.gather, s.end_pass, s.restart, s.resolve, s.light_splats}) {
         if (p) ++(p->reused() ? s.reused : s.compiled);
     }
     s.compile_seconds =
@@ -176,6 +177,13 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     }
     b.radius_stats =
         g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr, "radius statistics");
+    if (g.scene.light_tracing) {
+        // kLightSplatBytes a pixel (common/light_splats.glsl); zeroed by restart_film().
+        const std::size_t splat_bytes = px * kLightSplatBytes;
+        g.require_fits(splat_bytes, "light tracing's splats", true);
+        b.light_splats = g.make_buffer(BINDING_LIGHT_SPLATS, splat_bytes, nullptr, "light splats");
+        b.bytes_per_pixel += kLightSplatBytes;
+    }
 }
 
 }  // namespace
@@ -192,8 +200,8 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
     g.thread = std::make_unique<gl::GlThread>(g.device);
     g.thread->call([&] {
         try {
-            compile_programs(g.thread->context().programs(), g.scene.defines, settings.hash, cancel,
-                             g.programs);
+            compile_programs(g.thread->context().programs(), g.scene.defines, settings.hash,
+                             g.scene.light_tracing, cancel, g.programs);
             // The traversal's node count, in every program that traces rays.
             const std::uint32_t node_count =
                 g.two_level ? g.two_level->top_node_count : g.bvh->node_count;

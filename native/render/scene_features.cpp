@@ -3,6 +3,7 @@
 // order (the program cache's key): geometry and lights, materials, outputs, sizes.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "render/scene_preparation.h"
 
@@ -14,6 +15,7 @@ struct Features {
     const RenderSettings& settings;
     PreparedScene& p;
     std::vector<std::string> names;
+    bool smooth_specular = false;  // a mirror or glass is traced (closed model: always smooth)
 
     // A scene feature: compiled where the scene uses it, and in the full variant.
     void feature(bool on, const char* define, const char* name) {
@@ -55,6 +57,7 @@ void geometry_and_light_features(const Scene& scene, const PackedBvh& bvh, Featu
     const PreparedScene& p = f.p;
     bool conductor = false, dielectric = false;
     traced_material_kinds(scene, bvh, p, conductor, dielectric);
+    f.smooth_specular = conductor || dielectric;
     f.feature(!(p.instancing.two_level ? p.two_level->normals : bvh.normals).empty(), "HAS_NORMALS",
               "normals");
     f.feature(
@@ -185,6 +188,38 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     p.pass_layout = passes;
 }
 
+// Light tracing of caustics seen directly (shaders/common/light_tracing.glsl): where the
+// setting is on and the scene has L S+ D E paths to trace, a mirror or glass. Left out (the
+// gather keeps those paths, as before) where it is not supported yet: cut-outs (camera rays
+// see through them, the connection's shadow ray would not), depth of field (no lens
+// sampling), the light split's passes (its Caustics pass would miss the splats), and the full
+// variant (a material edit must not switch the film's buffers). The shader takes only
+// Lambert surfaces (light_traceable) and leaves photons on the others to the gather. The connection inverts the
+// camera's frame by its transpose, so a frame with scale or shear (the add-on drops scale; a
+// module user may not) is left to the gather too.
+bool rigid_frame(const glm::mat4& m) {
+    const glm::mat3 r(m);
+    const glm::mat3 gram = glm::transpose(r) * r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f) return false;
+    return true;
+}
+
+void light_tracing_feature(const Scene& scene, Features& f) {
+    PreparedScene& p = f.p;
+    const RenderSettings& settings = f.settings;
+    const Camera& camera = scene.camera;
+    const bool depth_of_field =
+        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
+    bool cut_outs = false;
+    for (std::uint32_t flags : p.geometry.flags) cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
+    p.light_tracing = settings.light_tracing && f.smooth_specular && !cut_outs &&
+                      !depth_of_field && rigid_frame(camera.to_world) &&
+                      !p.pass_layout.photon_split && !settings.full_variant;
+    if (p.light_tracing) f.add("HAS_LIGHT_TRACING", "light-tracing");
+}
+
 }  // namespace
 
 void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
@@ -199,6 +234,7 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     }
     direct_light_features(f);
     output_and_method_defines(local_size, f);
+    light_tracing_feature(scene, f);
     for (const std::string& name : f.names) p.variant += (p.variant.empty() ? "" : ",") + name;
 }
 

@@ -49,6 +49,9 @@ struct PipelineScene {
     // HAS_VERTEX_COLORS: a material multiplies in the meshes' vertex colours (uploaded with
     // the BVH); a visible point holds its colour in its fifth vec4.
     bool vertex_colors = false;
+    // HAS_LIGHT_TRACING: photons of L S+ paths splat to the camera (common/light_tracing.glsl)
+    // into the light splat buffer, folded in at the end of every pass.
+    bool light_tracing = false;
     PassLayout pass_layout;  // the render passes' records in the pass films
     std::uint32_t pixels = 0, photon_threads = 0, hash_cells = 0;
     FrameBlock frame{};

@@ -67,6 +67,12 @@ struct RenderSettings {
     // Several EGL devices, one worker each (pppm only); empty: `device` alone.
     std::vector<int> devices;
     Estimator estimator = Estimator::Sppm;
+    // Light tracing of caustics seen directly (L S+ D E paths: shaders/common/light_tracing.glsl,
+    // docs/light_tracing.md): photons of pure mirror and glass chains are connected to the
+    // camera instead of gathered there. Compiled only where the scene has smooth specular
+    // surfaces and the closed material model, with a pinhole or orthographic camera and no
+    // light-split passes (native/render/scene_features.cpp).
+    bool light_tracing = true;
     std::uint64_t first_pass = 0;  // pppm: run() continues from this pass index
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)

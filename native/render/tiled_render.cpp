@@ -56,7 +56,14 @@ TilePlan plan_tiles([[maybe_unused]] const Scene& scene, const RenderSettings& s
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
     const std::size_t pass_bytes = std::size_t(passes.stride) * 16;
     const std::size_t point_bytes = std::max<std::size_t>(point_vec4s * 16, pass_bytes);
-    const std::size_t pixel_bytes = point_vec4s * 16 + (2 + 2 + 1) * 16 + pass_bytes;
+    // Light tracing's splats (kLightSplatBytes, no more than the smallest visible point) where
+    // the scene has a mirror or glass to trace (render/scene_features.cpp decides for good).
+    bool specular = false;
+    for (const Material& m : scene.materials)
+        specular |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric;
+    const std::size_t splat_bytes = settings.light_tracing && specular ? kLightSplatBytes : 0;
+    const std::size_t pixel_bytes =
+        point_vec4s * 16 + (2 + 2 + 1) * 16 + pass_bytes + splat_bytes;
     // With several workers (settings.devices) every device holds the whole tile: the
     // smallest of their limits.
     const std::vector<int> devices =

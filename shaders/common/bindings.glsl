@@ -28,6 +28,7 @@
 #define BINDING_INSTANCES 20       // two-level MTBVH instance records (common/mtbvh_instances.glsl)
 #define BINDING_PASS_FILMS 21      // render passes beside Combined (common/pass_films.glsl)
 #define BINDING_VERTEX_COLORS 22   // vertex colours per packed triangle (common/scene_buffers.glsl)
+#define BINDING_LIGHT_SPLATS 23    // light tracing's splats and their sums (common/light_splats.glsl)
 
 // Uniform block and texture units.
 #define BINDING_FRAME 0            // uniform Frame (common/frame.glsl)

@@ -46,7 +46,7 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     uint max_diffuse_bounces;     // Cycles' per-kind limits (common/bounces.glsl)
     uint max_glossy_bounces;
     uint max_transmission_bounces;
-    uint frame_padding;
+    float light_splat_unit;       // light tracing's fixed-point unit (common/light_splats.glsl)
 };
 
 const float PI = 3.14159265358979;

@@ -1,6 +1,7 @@
 """Scenes several test files share, built from numpy arrays as the built-in ones are in C++
 (native/procedural/): the Cornell box replica, a closed box furnace, a lamp over a floor, a
-glass ball focusing a beam onto a floor, an axis-aligned box, an instanced scene (mirrored
+glass ball focusing a beam onto a floor (with each pixel's floor area and the pixel a
+point projects into), an axis-aligned box, an instanced scene (mirrored
 and scaled instances of a ball and a cube), Blender's equirectangular texel directions, and
 a render helper that returns film, stats and photons. Test files import from here, never
 from each other."""
@@ -157,6 +158,59 @@ def glass_ball_beam(g, albedo=0.8, ior=1.5, rings=64):
     scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
                     lights=[light], camera=g.Camera(to_world, fov_x=fov_x))
     return GlassBall(scene, to_world, fov_x, centre, radius, albedo)
+
+
+def floor_footprints(to_world, fov_x, size, ball_centre, ball_radius):
+    """For a square perspective image of the floor y = 0: each pixel's area on the floor (its
+    four corner rays' quadrilateral: a plane maps the pixel square projectively, so the
+    quadrilateral is exact) and whether its rays see the floor directly (centre ray clear of
+    the ball by a margin, the floor in front of the camera)."""
+    rotation, eye = to_world[:3, :3].astype(np.float64), to_world[:3, 3].astype(np.float64)
+    tan_half = math.tan(0.5 * fov_x)
+
+    def rays(cols, rows):
+        film = np.stack([(2.0 * cols / size - 1.0) * tan_half, (1.0 - 2.0 * rows / size) * tan_half,
+                         -np.ones_like(cols)], axis=-1)
+        d = film @ rotation.T
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    corner = np.arange(size + 1.0)
+    d = rays(*np.meshgrid(corner, corner))
+    hit = eye - (eye[1] / d[..., 1])[..., None] * d
+    x, z = hit[..., 0], hit[..., 2]
+    # Shoelace over each pixel's corners in order around it.
+    corners = [(x[:-1, :-1], z[:-1, :-1]), (x[:-1, 1:], z[:-1, 1:]),
+               (x[1:, 1:], z[1:, 1:]), (x[1:, :-1], z[1:, :-1])]
+    twice = sum(xa * zb - xb * za for (xa, za), (xb, zb) in zip(corners, corners[1:] + corners[:1]))
+    area = 0.5 * np.abs(twice)
+    centre = np.arange(size) + 0.5
+    d = rays(*np.meshgrid(centre, centre))
+    oc = eye - np.asarray(ball_centre)
+    b = d @ oc
+    disc = b * b - (oc @ oc - (1.04 * ball_radius) ** 2)
+    clear = (disc < 0.0) | (-b - np.sqrt(np.maximum(disc, 0.0)) < 0.0)
+    visible = (d[..., 1] < 0.0) & clear
+    return area, visible
+
+
+def pixel_of(points, to_world, fov_x, size):
+    """The pixel (row * size + col) a world point projects into; -1 outside the image."""
+    rotation, eye = to_world[:3, :3].astype(np.float64), to_world[:3, 3].astype(np.float64)
+    q = (points - eye) @ rotation
+    tan_half = math.tan(0.5 * fov_x)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        col = np.floor((q[:, 0] / -q[:, 2] / tan_half + 1.0) * 0.5 * size)
+        row = np.floor((1.0 - q[:, 1] / -q[:, 2] / tan_half) * 0.5 * size)
+    ok = (q[:, 2] < 0.0) & (col >= 0) & (col < size) & (row >= 0) & (row < size)
+    return np.where(ok, row * size + col, -1).astype(np.int64)
+
+
+def grow(mask, pixels):
+    """The mask grown by `pixels` (4-neighbour steps)."""
+    for _ in range(pixels):
+        p = np.pad(mask, 1)
+        mask = mask | p[:-2, 1:-1] | p[2:, 1:-1] | p[1:-1, :-2] | p[1:-1, 2:]
+    return mask
 
 
 def render(g, scene, passes, **settings):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import look_at, merge, quad, sphere
-from scene_builders import glass_ball_beam
+from scene_builders import floor_footprints, glass_ball_beam, grow, pixel_of
 
 IOR = 1.5
 
@@ -163,59 +163,6 @@ def test_glass_ball_photon_flux_matches_fresnel_closed_form(glslppm):
     assert np.all(bound < 0.0075), bound
     error = measured / expected - 1.0
     assert np.all(np.abs(error) <= bound), (measured, expected, error, bound)
-
-
-def floor_footprints(to_world, fov_x, size, ball_centre, ball_radius):
-    """For a square perspective image of the floor y = 0: each pixel's area on the floor (its
-    four corner rays' quadrilateral: a plane maps the pixel square projectively, so the
-    quadrilateral is exact) and whether its rays see the floor directly (centre ray clear of
-    the ball by a margin, the floor in front of the camera)."""
-    rotation, eye = to_world[:3, :3].astype(np.float64), to_world[:3, 3].astype(np.float64)
-    tan_half = math.tan(0.5 * fov_x)
-
-    def rays(cols, rows):
-        film = np.stack([(2.0 * cols / size - 1.0) * tan_half, (1.0 - 2.0 * rows / size) * tan_half,
-                         -np.ones_like(cols)], axis=-1)
-        d = film @ rotation.T
-        return d / np.linalg.norm(d, axis=-1, keepdims=True)
-
-    corner = np.arange(size + 1.0)
-    d = rays(*np.meshgrid(corner, corner))
-    hit = eye - (eye[1] / d[..., 1])[..., None] * d
-    x, z = hit[..., 0], hit[..., 2]
-    # Shoelace over each pixel's corners in order around it.
-    corners = [(x[:-1, :-1], z[:-1, :-1]), (x[:-1, 1:], z[:-1, 1:]),
-               (x[1:, 1:], z[1:, 1:]), (x[1:, :-1], z[1:, :-1])]
-    twice = sum(xa * zb - xb * za for (xa, za), (xb, zb) in zip(corners, corners[1:] + corners[:1]))
-    area = 0.5 * np.abs(twice)
-    centre = np.arange(size) + 0.5
-    d = rays(*np.meshgrid(centre, centre))
-    oc = eye - np.asarray(ball_centre)
-    b = d @ oc
-    disc = b * b - (oc @ oc - (1.04 * ball_radius) ** 2)
-    clear = (disc < 0.0) | (-b - np.sqrt(np.maximum(disc, 0.0)) < 0.0)
-    visible = (d[..., 1] < 0.0) & clear
-    return area, visible
-
-
-def pixel_of(points, to_world, fov_x, size):
-    """The pixel (row * size + col) a world point projects into; -1 outside the image."""
-    rotation, eye = to_world[:3, :3].astype(np.float64), to_world[:3, 3].astype(np.float64)
-    q = (points - eye) @ rotation
-    tan_half = math.tan(0.5 * fov_x)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        col = np.floor((q[:, 0] / -q[:, 2] / tan_half + 1.0) * 0.5 * size)
-        row = np.floor((1.0 - q[:, 1] / -q[:, 2] / tan_half) * 0.5 * size)
-    ok = (q[:, 2] < 0.0) & (col >= 0) & (col < size) & (row >= 0) & (row < size)
-    return np.where(ok, row * size + col, -1).astype(np.int64)
-
-
-def grow(mask, pixels):
-    """The mask grown by `pixels` (4-neighbour steps)."""
-    for _ in range(pixels):
-        p = np.pad(mask, 1)
-        mask = mask | p[:-2, 1:-1] | p[2:, 1:-1] | p[1:-1, :-2] | p[1:-1, 2:]
-    return mask
 
 
 def test_rendered_caustic_flux_equals_its_photons(glslppm):
