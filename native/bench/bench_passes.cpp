@@ -130,6 +130,7 @@ int bench_passes(int argc, char** argv) {
                 {"direct_light", to_string(settings.direct_light)},
                 {"glossy_threshold", settings.glossy_threshold},
                 {"estimator", to_string(settings.estimator)},
+                {"light_tracing", settings.light_tracing},
                 {"max_bounces", settings.max_bounces},
                 {"passes", passes},
                 {"seconds", seconds},

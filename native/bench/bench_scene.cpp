@@ -181,6 +181,12 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
         settings.device = devices[0];
     }
     else if (a == "--estimator") settings.estimator = parse_estimator(text());
+    else if (a == "--light-tracing") {
+        const std::string v = text();
+        if (v != "on" && v != "off")
+            throw std::invalid_argument("--light-tracing: '" + v + "' is not on or off");
+        settings.light_tracing = v == "on";
+    }
     else if (a == "--scene") scene_spec = text();
     else if (a == "--instancing") settings.instancing = parse_instancing(text());
     else return false;
