@@ -50,48 +50,12 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/denoising_features.glsl"
 #endif
 
-// One eye path while it is followed: its ray and throughput, the light it has met (Combined's
-// sum and, with render passes, its part of the light split: emission, the world, or light
-// sampled at the visible point), and the visible point it ends at.
-struct EyePath {
-    Ray ray;
-    vec3 throughput;
-    vec3 direct;
+// Light on the eye path goes into Combined's sum and, with render passes, into its part of
+// the light split as well: emission, the world, or light sampled at the visible point.
 #ifdef PASS_STRIDE
-    vec3 emitted, world, sampled;
-    // The first surface the camera sees (Depth, Normal): Cycles' z-depth along the view axis,
-    // 1e10 where the ray leaves the scene, and the normal facing the camera.
-    float first_depth;
-    vec3 first_normal;
-    bool first_found;
-#endif
-#ifdef DENOISING_FEATURES
-    DenoisingFeatures features;
-#endif
-#ifdef FILM_TRANSPARENT
-    // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
-    // The world is then not seen by such rays (Blender's Film > Transparent).
-    float transparent;
-    bool through_glass;  // every bounce so far a transmission through glass
-#endif
-#ifdef DIRECT_LIGHT_SAMPLED
-    float light_pick;
-    vec4 light_u;
-#endif
-    VisiblePoint point;  // material -1 until the path holds one
-    uint rays;
-    bool seen_by_camera;  // until the first specular bounce
-    // The eye subpath's scatters so far (common/bounces.glsl). One past a limit, the path
-    // still takes the emission (and the world) of the surface it meets next, as Cycles'
-    // PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and ends there: no visible point, no light sample.
-    uint bounces;
-    bool last_surface;
-};
-
-#ifdef PASS_STRIDE
-#define ADD_LIGHT(part, value) { vec3 light_ = (value); e.direct += light_; e.part += light_; }
+#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; part += light_; }
 #else
-#define ADD_LIGHT(part, value) e.direct += (value)
+#define ADD_LIGHT(part, value) direct += (value)
 #endif
 
 // A fresh jittered camera ray through pixel (x, y). The lens numbers are drawn only where
@@ -111,210 +75,6 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     return make_ray(origin, normalize(dir));
 }
 
-EyePath start_eye_path(uint i, inout RNG_STATE rng) {
-    EyePath e;
-#ifdef DIRECT_LIGHT_SAMPLED
-    // The light sample's numbers come first, so that draws only some variants make (the
-    // lens) do not change them: every variant of a scene renders the same image.
-    e.light_pick = rng_next(rng);
-    e.light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
-#endif
-    e.ray = camera_ray(i % image_width, i / image_width, rng);
-    e.throughput = vec3(1.0);
-    e.direct = vec3(0.0);
-#ifdef PASS_STRIDE
-    e.emitted = vec3(0.0);
-    e.world = vec3(0.0);
-    e.sampled = vec3(0.0);
-    e.first_depth = 1e10;
-    e.first_normal = vec3(0.0);
-    e.first_found = false;
-#endif
-#ifdef DENOISING_FEATURES
-    e.features = start_denoising_features();
-#endif
-#ifdef FILM_TRANSPARENT
-    e.transparent = 0.0;
-    e.through_glass = true;
-#endif
-    // No point: any unit vectors for the packed directions.
-    e.point = VisiblePoint(vec3(0.0), -1.0, vec3(0.0), 0u, vec2(0.0), vec3(0.0, 0.0, 1.0),
-                           vec3(0.0, 0.0, 1.0), vec3(1.0), 0u);
-    e.rays = 0u;
-    e.seen_by_camera = true;
-    e.bounces = 0u;
-    e.last_surface = false;
-    return e;
-}
-
-// The ray left the scene: the world's light, or the film's transparency.
-void leave_scene(inout EyePath e) {
-#ifdef FILM_TRANSPARENT
-    if (e.seen_by_camera) {
-        e.transparent = 1.0;
-        return;
-    }
-#ifdef FILM_TRANSPARENT_GLASS
-    if (e.through_glass) {
-        e.transparent = (e.throughput.r + e.throughput.g + e.throughput.b) / 3.0;
-        return;
-    }
-#endif
-#endif
-    vec3 sky = environment_radiance(e.ray.dir);
-    ADD_LIGHT(world, e.throughput * sky);
-#ifdef DENOISING_FEATURES
-    add_feature_light(e.features, sky);
-#endif
-}
-
-// Surfaces the camera's rays go through: those hidden from them, and area lights (seen from
-// the front unless hidden, then passed). Returns whether s was one.
-bool pass_through(inout EyePath e, Surface s, bool front, int flags) {
-    bool hidden = (flags & (e.seen_by_camera ? MATERIAL_HIDDEN_FROM_CAMERA
-                                             : MATERIAL_HIDDEN_FROM_REFLECTIONS)) != 0;
-    bool light = (flags & MATERIAL_LIGHT_SURFACE) != 0;
-    if (!hidden && !light) return false;
-#ifdef HAS_ABSORPTION
-    // The segment just traced ran inside an absorbing object if it left through its back.
-    // (Not for hidden surfaces: a ray passing an object it does not see is not inside.)
-    if (light) e.throughput *= segment_transmittance(s.material, front, e.ray.origin, s.position);
-#endif
-    if (light && front && !hidden) {
-        ADD_LIGHT(emitted, e.throughput * material_emission(s.material));
-#ifdef DENOISING_FEATURES
-        add_feature_light(e.features, material_emission(s.material));
-#endif
-    }
-    e.ray = make_ray(offset_origin(s.position, s.geometric_normal, e.ray.dir), e.ray.dir);
-    return true;
-}
-
-// The path holds its visible point at s: the lobes that are not followed, which the point
-// stands for with the probability 1 - p_smooth of not following, and with light sampling
-// the light they reflect.
-void hold_visible_point(inout EyePath e, Surface s, Shading sh, vec3 wo, float p_smooth,
-                        vec3 u_dir) {
-    e.throughput /= 1.0 - p_smooth;
-    vec3 vertex_color = vec3(1.0);
-#ifdef HAS_VERTEX_COLORS
-    vertex_color = s.vertex_color;
-#endif
-    // The true surface's normal on wo's side: the gather's side test reads it.
-    uint flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
-                 (sh.entering ? VISIBLE_POINT_ENTERING : 0u) |
-                 pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
-                     << VISIBLE_POINT_NORMAL_SHIFT;
-    e.point = VisiblePoint(s.position, float(sh.material), e.throughput, flags, s.uv, sh.n, wo,
-                           vertex_color, 0u);
-#ifdef DIRECT_LIGHT_SAMPLED
-    ADD_LIGHT(sampled, e.throughput * direct_light_sampled_lobes(
-                           s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
-                           e.light_pick, e.light_u, u_dir, e.rays));
-#endif
-}
-
-// A surface the path scatters at: its emission, then a visible point or a smooth lobe
-// followed. Returns whether the path goes on.
-bool scatter(inout EyePath e, Surface s, bool front, int flags, inout RNG_STATE rng) {
-#ifdef HAS_ABSORPTION
-    e.throughput *= segment_transmittance(s.material, front, e.ray.origin, s.position);
-#endif
-#ifdef PASS_STRIDE
-    if (!e.first_found) {
-        e.first_found = true;
-        e.first_depth = dot(s.position - camera_to_world[3].xyz, -camera_to_world[2].xyz);
-        e.first_normal = front ? s.normal : -s.normal;
-    }
-#endif
-    // The material as this ray sees it (mixes resolved to one leaf). Meshes emit from both
-    // sides, as in Cycles, unless the material says front only (area lights, from the front).
-    vec3 wo = -e.ray.dir;
-    Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
-                            s.vertex_color, wo, rng_next(rng));
-    if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
-        vec3 emission = material_emission_at(s.material, sh.material, texture_point(s));
-        ADD_LIGHT(emitted, e.throughput * emission);
-#ifdef DENOISING_FEATURES
-        add_feature_light(e.features, emission);
-#endif
-    }
-#ifdef DENOISING_FEATURES
-    if (e.features.pending)
-        add_feature_surface(e.features, surface_features(s.material, sh.n, texture_point(s),
-                                                         s.vertex_color, wo, sh.entering),
-                            sh.n);
-#endif
-    if (e.last_surface) return false;
-    // Smooth lobes are followed by sampling; the rest hold the visible point.
-    float p_smooth = bsdf_smooth_probability(sh, wo);
-    float u_lobe = rng_next(rng);
-    vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
-    if (u_lobe >= p_smooth) {
-        hold_visible_point(e, s, sh, wo, p_smooth, u_dir);
-        return false;
-    }
-    vec3 dir, weight;
-    if (!bsdf_sample_smooth(sh, wo, u_dir, dir, weight)) return false;
-    e.throughput *= weight / p_smooth;
-    // About a smooth shading normal the sample may cross the true surface to the other
-    // side than its lobe meant: mirror it back across the surface (as photons do).
-    vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
-    float meant = dot(dir, sh.n), got = dot(dir, ng_wo);
-    if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
-        dir = normalize(dir - 2.0 * got * ng_wo);
-    uint bounce = sh.kind == MATERIAL_TRANSPARENT
-                      ? BOUNCE_NONE : bounce_kind(wo, dir, s.geometric_normal, false);
-    e.bounces = bounces_add(e.bounces, bounce);
-    e.last_surface = !bounces_within(e.bounces);
-#ifdef FILM_TRANSPARENT
-    e.through_glass = e.through_glass && sh.kind == MATERIAL_DIELECTRIC &&
-                      dot(dir, s.geometric_normal) * dot(e.ray.dir, s.geometric_normal) > 0.0;
-#endif
-    e.ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
-    // Through a cut-out (transparent) the camera still sees what lies behind.
-    if (sh.kind != MATERIAL_TRANSPARENT) e.seen_by_camera = false;
-    return true;
-}
-
-// The pass's results for pixel i: its visible point, the light its path met, its passes.
-void finish_pixel(uint i, EyePath e) {
-    e.point.bounces = e.bounces;
-    store_visible_point(i, e.point);
-    vec4 sum = direct_light[2 * i + 0];
-    vec4 comp = direct_light[2 * i + 1];
-#ifdef FILM_TRANSPARENT
-    // The transparency's sum rides in w.
-    kahan_add(sum, comp, vec4(e.direct, e.transparent));
-#else
-    kahan_add(sum, comp, vec4(e.direct, 0.0));
-#endif
-    direct_light[2 * i + 0] = sum;
-    direct_light[2 * i + 1] = comp;
-#ifdef PASS_DEPTH
-    pass_add(i, PASS_DEPTH, vec4(e.first_depth, 0.0, 0.0, 0.0));
-#endif
-#ifdef PASS_NORMAL
-    pass_add(i, PASS_NORMAL, vec4(e.first_normal, 0.0));
-#endif
-#ifdef PASS_DENOISING_NORMAL
-    // Cycles' camera space; 0 where the path met no surface with features.
-    pass_add(i, PASS_DENOISING_NORMAL, vec4(e.features.normal, 0.0));
-#endif
-#ifdef PASS_DENOISING_ALBEDO
-    pass_add(i, PASS_DENOISING_ALBEDO, vec4(e.features.albedo, 0.0));
-#endif
-#ifdef PASS_EMISSION
-    pass_add(i, PASS_EMISSION, vec4(e.emitted, 0.0));
-#endif
-#ifdef PASS_ENVIRONMENT
-    pass_add(i, PASS_ENVIRONMENT, vec4(e.world, 0.0));
-#endif
-#ifdef PASS_DIRECT
-    pass_add(i, PASS_DIRECT, vec4(e.sampled, 0.0));
-#endif
-}
-
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
@@ -325,34 +85,226 @@ void main() {
 #else
     RNG_STATE rng = rng_load(i);
 #endif
-    EyePath e = start_eye_path(i, rng);
+#ifdef DIRECT_LIGHT_SAMPLED
+    // The light sample's numbers come first, so that draws only some variants make (the
+    // lens) do not change them: every variant of a scene renders the same image.
+    float light_pick = rng_next(rng);
+    vec4 light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
+#endif
+    Ray ray = camera_ray(i % image_width, i / image_width, rng);
+
+    vec3 throughput = vec3(1.0);
+    vec3 direct = vec3(0.0);
+    vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
+    vec3 normal = vec3(0.0, 0.0, 1.0);  // any unit vector where there is no point
+    vec3 weight = vec3(0.0);
+    vec4 view = vec4(0.0, 0.0, 1.0, 0.0);
+    vec2 uv = vec2(0.0);
+    uint point_flags = 0u;
+#ifdef HAS_VERTEX_COLORS
+    vec3 vertex_color = vec3(1.0);
+#endif
+    uint rays = 0u;
+    bool seen_by_camera = true;  // until the first specular bounce
+    // The eye subpath's scatters so far (common/bounces.glsl). One past a limit, the path
+    // still takes the emission (and the world) of the surface it meets next, as Cycles'
+    // PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and ends there: no visible point, no light sample.
+    uint eye_bounces = 0u;
+    bool last_surface = false;
+#ifdef PASS_STRIDE
+    vec3 emitted = vec3(0.0), world = vec3(0.0), sampled = vec3(0.0);
+    // The first surface the camera sees (Depth, Normal): Cycles' z-depth along the view axis,
+    // 1e10 where the ray leaves the scene, and the normal facing the camera.
+    float first_depth = 1e10;
+    vec3 first_normal = vec3(0.0);
+    bool first_found = false;
+#endif
+#ifdef DENOISING_FEATURES
+    DenoisingFeatures features = start_denoising_features();
+#endif
+#ifdef FILM_TRANSPARENT
+    // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
+    // The world is then not seen by such rays (Blender's Film > Transparent).
+    float transparent = 0.0;
+    bool through_glass = true;  // every bounce so far a transmission through glass
+#endif
     // At most max_bounces + 1 surfaces: max_bounces scatters, then the last surface's light.
     // Surfaces passed through (hidden, lights, cut-outs) count here too, where Cycles has a
     // separate transparent limit.
     for (uint depth = 0u; depth <= max_bounces; ++depth) {
-        ++e.rays;
-        Hit hit = closest_hit(e.ray);
+        ++rays;
+        Hit hit = closest_hit(ray);
 #ifdef SPHERE_LIGHT_RECORDS
         // After a mirror or glass, a point or spot light's sphere in front of the surface.
         vec3 sphere_radiance;
-        if (!e.seen_by_camera &&
-            hit_sphere_light(e.ray.origin, e.ray.dir, hit.triangle < 0 ? 1e30 : hit.t,
+        if (!seen_by_camera &&
+            hit_sphere_light(ray.origin, ray.dir, hit.triangle < 0 ? 1e30 : hit.t,
                              sphere_radiance)) {
-            ADD_LIGHT(emitted, e.throughput * sphere_radiance);
+            ADD_LIGHT(emitted, throughput * sphere_radiance);
             break;
         }
 #endif
         if (hit.triangle < 0) {
-            leave_scene(e);
+#ifdef FILM_TRANSPARENT
+            if (seen_by_camera) {
+                transparent = 1.0;
+                break;
+            }
+#ifdef FILM_TRANSPARENT_GLASS
+            if (through_glass) {
+                transparent = (throughput.r + throughput.g + throughput.b) / 3.0;
+                break;
+            }
+#endif
+#endif
+            vec3 sky = environment_radiance(ray.dir);
+            ADD_LIGHT(world, throughput * sky);
+#ifdef DENOISING_FEATURES
+            add_feature_light(features, sky);
+#endif
             break;
         }
-        Surface s = surface_at(e.ray, hit);
-        bool front = dot(e.ray.dir, s.geometric_normal) < 0.0;
+        Surface s = surface_at(ray, hit);
+        bool front = dot(ray.dir, s.geometric_normal) < 0.0;
         int flags = material_flags(s.material);
-        if (pass_through(e, s, front, flags)) continue;
-        if (!scatter(e, s, front, flags, rng)) break;
+        bool hidden = (flags & (seen_by_camera ? MATERIAL_HIDDEN_FROM_CAMERA
+                                               : MATERIAL_HIDDEN_FROM_REFLECTIONS)) != 0;
+        if (hidden && (flags & MATERIAL_LIGHT_SURFACE) == 0) {
+            // Not visible to the camera: camera rays go on as if it were not there.
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
+#ifdef HAS_ABSORPTION
+        // The segment just traced ran inside an absorbing object if it left through its back.
+        // (After the hidden surfaces: a ray passing an object it does not see is not inside.)
+        throughput *= segment_transmittance(s.material, front, ray.origin, s.position);
+#endif
+        if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
+            // An area light: seen (unless hidden from the camera), then passed through.
+            if (front && !hidden) {
+                ADD_LIGHT(emitted, throughput * material_emission(s.material));
+#ifdef DENOISING_FEATURES
+                add_feature_light(features, material_emission(s.material));
+#endif
+            }
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
+#ifdef PASS_STRIDE
+        if (!first_found) {
+            first_found = true;
+            first_depth = dot(s.position - camera_to_world[3].xyz, -camera_to_world[2].xyz);
+            first_normal = front ? s.normal : -s.normal;
+        }
+#endif
+        // The material as this ray sees it (mixes resolved to one leaf). Meshes emit from both
+        // sides, as in Cycles, unless the material says front only (area lights, above, from
+        // the front).
+        vec3 wo = -ray.dir;
+        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                                s.vertex_color, wo, rng_next(rng));
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
+            vec3 emission = material_emission_at(s.material, sh.material, texture_point(s));
+            ADD_LIGHT(emitted, throughput * emission);
+#ifdef DENOISING_FEATURES
+            add_feature_light(features, emission);
+#endif
+        }
+#ifdef DENOISING_FEATURES
+        if (features.pending)
+            add_feature_surface(features, surface_features(s.material, sh.n, texture_point(s),
+                                                           s.vertex_color, wo, sh.entering),
+                                sh.n);
+#endif
+        if (last_surface) break;
+        // Smooth lobes are followed by sampling; the rest hold the visible point, which
+        // stands for them with the probability of not following.
+        float p_smooth = bsdf_smooth_probability(sh, wo);
+        float u_lobe = rng_next(rng);
+        vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+        if (u_lobe >= p_smooth) {
+            throughput /= 1.0 - p_smooth;
+            point = vec4(s.position, float(sh.material));
+            normal = sh.n;
+            view = vec4(wo, 0.0);
+            uv = s.uv;
+#ifdef HAS_VERTEX_COLORS
+            vertex_color = s.vertex_color;
+#endif
+            weight = throughput;
+            // The true surface's normal on wo's side: the gather's side test reads it.
+            point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
+                          (sh.entering ? VISIBLE_POINT_ENTERING : 0u) |
+                          pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
+                              << VISIBLE_POINT_NORMAL_SHIFT;
+#ifdef DIRECT_LIGHT_SAMPLED
+            ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
+                                   s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
+                                   light_pick, light_u, u_dir, rays));
+#endif
+            break;
+        }
+        vec3 dir, sampled;
+        if (!bsdf_sample_smooth(sh, wo, u_dir, dir, sampled)) break;
+        throughput *= sampled / p_smooth;
+        // About a smooth shading normal the sample may cross the true surface to the other
+        // side than its lobe meant: mirror it back across the surface (as photons do).
+        vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
+        float meant = dot(dir, sh.n), got = dot(dir, ng_wo);
+        if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
+            dir = normalize(dir - 2.0 * got * ng_wo);
+        int kind = sh.kind;
+        uint bounce = kind == MATERIAL_TRANSPARENT
+                          ? BOUNCE_NONE : bounce_kind(wo, dir, s.geometric_normal, false);
+        eye_bounces = bounces_add(eye_bounces, bounce);
+        last_surface = !bounces_within(eye_bounces);
+#ifdef FILM_TRANSPARENT
+        through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&
+                        dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
+#endif
+        ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
+        // Through a cut-out (transparent) the camera still sees what lies behind.
+        if (kind == MATERIAL_TRANSPARENT) continue;
+        seen_by_camera = false;
     }
-    finish_pixel(i, e);
+
+#ifndef HAS_VERTEX_COLORS
+    vec3 vertex_color = vec3(1.0);
+#endif
+    store_visible_point(i, VisiblePoint(point.xyz, point.w, weight, point_flags, uv, normal,
+                                        view.xyz, vertex_color, eye_bounces));
+    vec4 sum = direct_light[2 * i + 0];
+    vec4 comp = direct_light[2 * i + 1];
+#ifdef FILM_TRANSPARENT
+    // The transparency's sum rides in w.
+    kahan_add(sum, comp, vec4(direct, transparent));
+#else
+    kahan_add(sum, comp, vec4(direct, 0.0));
+#endif
+    direct_light[2 * i + 0] = sum;
+    direct_light[2 * i + 1] = comp;
+#ifdef PASS_DEPTH
+    pass_add(i, PASS_DEPTH, vec4(first_depth, 0.0, 0.0, 0.0));
+#endif
+#ifdef PASS_NORMAL
+    pass_add(i, PASS_NORMAL, vec4(first_normal, 0.0));
+#endif
+#ifdef PASS_DENOISING_NORMAL
+    // Cycles' camera space; 0 where the path met no surface with features.
+    pass_add(i, PASS_DENOISING_NORMAL, vec4(features.normal, 0.0));
+#endif
+#ifdef PASS_DENOISING_ALBEDO
+    pass_add(i, PASS_DENOISING_ALBEDO, vec4(features.albedo, 0.0));
+#endif
+#ifdef PASS_EMISSION
+    pass_add(i, PASS_EMISSION, vec4(emitted, 0.0));
+#endif
+#ifdef PASS_ENVIRONMENT
+    pass_add(i, PASS_ENVIRONMENT, vec4(world, 0.0));
+#endif
+#ifdef PASS_DIRECT
+    pass_add(i, PASS_DIRECT, vec4(sampled, 0.0));
+#endif
     rng_store(i, rng);
-    atomicAdd(pass_rays, e.rays);
+    atomicAdd(pass_rays, rays);
 }
