@@ -1,11 +1,23 @@
 """Closed forms and reference scenes that several test files check the renderer against:
 a spot light's irradiance, an area light's by brute-force integration, a disk light's in
-closed form, and the closed diffuse furnace."""
+closed form, the closed diffuse furnace, and a dielectric's Fresnel reflectance."""
 import math
 
 import numpy as np
 
 from conftest import look_at, sphere
+
+
+def fresnel_dielectric(cos_i, eta):
+    """Unpolarised Fresnel reflectance (Born and Wolf 1999, section 1.5.3) and the cosine of
+    the refracted ray; eta = n_incident / n_transmitted; 1 under total internal reflection.
+    Scalars or numpy arrays."""
+    cos_i = np.asarray(cos_i, dtype=np.float64)
+    sin2_t = eta * eta * np.maximum(0.0, 1.0 - cos_i * cos_i)
+    cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))
+    rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t)
+    rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t)
+    return np.where(sin2_t >= 1.0, 1.0, 0.5 * (rs * rs + rp * rp)), cos_t
 
 
 def spot_expected(x, y, h, power, size, blend, cosine):

@@ -11,20 +11,11 @@ import math
 import numpy as np
 import pytest
 
+from closed_forms import fresnel_dielectric
 from conftest import look_at, merge, quad, sphere
 from scene_builders import floor_footprints, glass_ball_beam, grow, pixel_of
 
 IOR = 1.5
-
-
-def fresnel(cos_i, eta):
-    """Unpolarised Fresnel reflectance (Born and Wolf 1999, section 1.5.3) and the cosine of
-    the refracted ray; eta = n_incident / n_transmitted; 1 under total internal reflection."""
-    sin2_t = eta * eta * np.maximum(0.0, 1.0 - cos_i * cos_i)
-    cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))
-    rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t)
-    rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t)
-    return np.where(sin2_t >= 1.0, 1.0, 0.5 * (rs * rs + rp * rp)), cos_t
 
 
 def ball_floor_paths(b, radius, height, ior, max_internal):
@@ -47,7 +38,7 @@ def ball_floor_paths(b, radius, height, ior, max_internal):
     n = np.stack([b, y], axis=-1) / radius
     d = np.stack([np.zeros_like(b), -np.ones_like(b)], axis=-1)
     cos_i = n[:, 1]
-    f, cos_t = fresnel(cos_i, 1.0 / ior)
+    f, cos_t = fresnel_dielectric(cos_i, 1.0 / ior)
     paths.append(land(p, d + 2.0 * cos_i[:, None] * n, f))
     eta = 1.0 / ior
     d = eta * d + (eta * cos_i - cos_t)[:, None] * n
@@ -57,7 +48,7 @@ def ball_floor_paths(b, radius, height, ior, max_internal):
         p = p + (2.0 * radius * cos_t)[:, None] * d  # a chord of a circle at angle cos_t
         n = (p - centre) / radius
         c = np.clip(np.sum(d * n, axis=-1), 0.0, 1.0)
-        f_out, cos_out = fresnel(c, ior)
+        f_out, cos_out = fresnel_dielectric(c, ior)
         out = ior * d - (ior * c - cos_out)[:, None] * n
         paths.append(land(p, out, w * (1.0 - f_out)))
         w = w * f_out

@@ -24,21 +24,11 @@ import math
 import numpy as np
 import pytest
 
+from closed_forms import fresnel_dielectric
 from conftest import look_at
 from test_photon_sides import box, principled_v1
 
 IOR = 1.5
-
-
-def fresnel(c, eta):
-    """Unpolarised Fresnel reflectance from a medium into one eta times denser."""
-    s2 = (1.0 - c * c) / (eta * eta)
-    if s2 >= 1.0:
-        return 1.0
-    t = math.sqrt(1.0 - s2)
-    rs = (c - eta * t) / (c + eta * t)
-    rp = (eta * c - t) / (eta * c + t)
-    return 0.5 * (rs * rs + rp * rp)
 
 
 def tilted_quad(from_behind):
@@ -83,7 +73,7 @@ def test_layer_is_seen_with_the_front_fresnel_on_both_sides(glslppm, mode, from_
         for dx in (-1, 0, 1):
             inner &= np.roll(np.roll(covered, dy, axis=0), dx, axis=1)
     # Blender's Fresnel node (mode "fresnel") reflects totally from behind beyond 42 degrees.
-    expected = 1.0 if (mode == "fresnel" and from_behind) else fresnel(0.5, IOR)
+    expected = 1.0 if (mode == "fresnel" and from_behind) else float(fresnel_dielectric(0.5, 1.0 / IOR)[0])
     mean = image[inner].mean()
     print(f"  {mode}, {'behind' if from_behind else 'front'}: {int(inner.sum())} pixels, "
           f"mean {mean:.4f} (expected {expected:.4f})")
