@@ -227,6 +227,7 @@ def main():
     parser.add_argument("--engine", choices=("GLSLPPM", "CYCLES"), default="GLSLPPM")
     parser.add_argument("--samples", type=int, default=64, help="Cycles only")
     parser.add_argument("--save", default=None, help="also save the scene as .blend")
+    parser.add_argument("--light-tracing", choices=("on", "off"), default="on")
     args = parser.parse_args(argv)
 
     enable_addon()
@@ -242,6 +243,7 @@ def main():
     settings.time_limit = args.time_limit
     settings.radius_scale = args.radius_scale
     settings.hash_mode = 'EXACT'
+    settings.light_tracing = args.light_tracing == "on"
     out = os.path.abspath(args.out)
     os.makedirs(os.path.dirname(out), exist_ok=True)
     if args.save:
