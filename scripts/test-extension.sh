@@ -105,11 +105,7 @@ done
 #    chroot's must equal Debian 13's (the same Blender 4.3 and Mesa). A render is fixed by
 #    its seed and pass count up to the order of atomic float sums
 #    (tests/blender/extension_demo_compare.py states the bound).
-# Light tracing off: with it on, two renders of the showcase by one build differed in 3 of
-# 2,304 pixels (up to 0.0024) once in two tries on llvmpipe (not yet explained: its splats
-# are integer sums, exact in any order), and this check is of the zip's module against the
-# build's, to 1e-5.
-demo_args=(--size 48 --passes 8 --photons 16384 --light-tracing off)
+demo_args=(--size 48 --passes 8 --photons 16384)
 for entry in 4.3:trixie:build-trixie 5.2:sid:build-sid 4.3-minimal:minimal:; do
   IFS=: read -r version where build <<<"$entry"
   [ -d "$out/user-$version" ] || continue
