@@ -15,7 +15,7 @@ struct Features {
     const RenderSettings& settings;
     PreparedScene& p;
     std::vector<std::string> names;
-    bool smooth_specular = false;  // a mirror or glass is traced (closed model: always smooth)
+    bool smooth_specular = false;  // a conductor or dielectric is traced (rough ones too: light tracing then compiles but splats only after smooth bounces)
 
     // A scene feature: compiled where the scene uses it, and in the full variant.
     void feature(bool on, const char* define, const char* name) {
