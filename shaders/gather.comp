@@ -60,7 +60,7 @@ shared float group_max_radius[LOCAL_SIZE];
 // of either side, as before.
 bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
     if (both_sides) return true;
-    vec3 n = photon_side(photons[3u * p + 2u].w);
+    vec3 n = photon_side(photon_record(p, PHOTON_FLUX).w);
     float c = dot(n, side);
     float a = dot(d, side), b = -dot(d, n);
     // Slack for the side word's rounding where the normals agree, none across an edge.
@@ -146,31 +146,32 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
 #if defined(HASH_STOCHASTIC)
         if (entry.y == 0u) continue;
         uint p = entry.z;
-        vec3 x = photons[3 * p + 0].xyz;
+        vec3 x = photon_record(p, PHOTON_POSITION).xyz;
         vec3 d = x - x0;
         // Only from the cell it belongs to: cells sharing a table entry must not
         // count their survivor twice.
         if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
             photon_on_side(p, d, r, side, both_sides)) {
-            vec3 f = photon_f(sh, lambert, lambert_f, wo, photons[3 * p + 1].xyz,
+            vec3 f = photon_f(sh, lambert, lambert_f, wo, photon_record(p, PHOTON_INCOMING).xyz,
                               rough_only, gather_bounce_kinds(eye_bounces, photon_bounces(p)));
             float count = float(entry.y);
             m += count;
-            if (GATHERED(p)) ADD_PHOTON(p, count * f * photons[3 * p + 2].xyz);
+            if (GATHERED(p)) ADD_PHOTON(p, count * f * photon_record(p, PHOTON_FLUX).xyz);
         }
 #else
         for (uint k = entry.y; k < entry.y + entry.x; ++k) {
             uint p = hash_sorted[k];
-            vec3 x = photons[3 * p + 0].xyz;
+            vec3 x = photon_record(p, PHOTON_POSITION).xyz;
             vec3 d = x - x0;
             if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
                 photon_on_side(p, d, r, side, both_sides)) {
                 m += 1.0;
                 if (GATHERED(p))
-                    ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo, photons[3 * p + 1].xyz,
-                                           rough_only, gather_bounce_kinds(
-                                                           eye_bounces, photon_bounces(p))) *
-                                      photons[3 * p + 2].xyz);
+                    ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo,
+                                           photon_record(p, PHOTON_INCOMING).xyz, rough_only,
+                                           gather_bounce_kinds(eye_bounces,
+                                                               photon_bounces(p))) *
+                                      photon_record(p, PHOTON_FLUX).xyz);
             }
         }
 #endif

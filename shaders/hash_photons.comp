@@ -28,8 +28,8 @@ void main() {
 #else
 void main() {
     uint i = thread_index();
-    if (i >= photon_threads || photons[3 * i + 2].w == 0.0) return;
-    vec4 pk = photons[3 * i + 0];
+    if (i >= photon_threads || photon_record(i, PHOTON_FLUX).w == 0.0) return;
+    vec4 pk = photon_record(i, PHOTON_POSITION);
     uint h = grid_hash(grid_cell(pk.xyz, hash_cell_size()));
 #if defined(PHASE_INSERT)
     atomicMin(hash_cells[h].x, floatBitsToUint(pk.w));

@@ -63,19 +63,19 @@ void main() {
     RNG_STATE rng = rng_load(state_index);
 #endif
 
-    vec4 p0 = photon_paths[3 * i + 0];
+    vec4 p0 = photon_path_record(i, PHOTON_PATH_ORIGIN);
     vec3 origin = p0.xyz;
     // Surfaces met so far: a path ends at its (max_bounces + 1)th, the last that a path within
     // the total can store a photon on (its first scatter is not counted: common/bounces.glsl).
     float bounces = p0.w;
-    vec3 dir = photon_paths[3 * i + 1].xyz;
+    vec3 dir = photon_path_record(i, PHOTON_PATH_DIR).xyz;
     // The path's bounce word: BOUNCES_SCATTERED once the path has scattered (specular or
     // diffuse), not while it comes straight from the light (such photons are direct light,
     // which light sampling counts instead), and its later scatters by kind.
-    uint path_bounces = uint(photon_paths[3 * i + 1].w);
-    vec3 flux = photon_paths[3 * i + 2].xyz;
+    uint path_bounces = uint(photon_path_record(i, PHOTON_PATH_DIR).w);
+    vec3 flux = photon_path_record(i, PHOTON_PATH_FLUX).xyz;
 #ifdef TRACKS_PATH_CLASS
-    float path_class = photon_paths[3 * i + 2].w;
+    float path_class = photon_path_record(i, PHOTON_PATH_FLUX).w;
 #endif
 #ifdef ESTIMATOR_PPPM
     // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
@@ -83,7 +83,7 @@ void main() {
     if (photon_step == 0u) {
         bounces = -1.0;
     } else if (bounces < 0.0) {
-        photons[3 * i + 2] = vec4(0.0);
+        store_photon_record(i, PHOTON_FLUX, vec4(0.0));
         return;
     }
 #endif
@@ -214,16 +214,17 @@ void main() {
         }
     }
 
-    photon_paths[3 * i + 0] = vec4(origin, bounces);
-    photon_paths[3 * i + 1] = vec4(dir, float(path_bounces));
+    store_photon_path_record(i, PHOTON_PATH_ORIGIN, vec4(origin, bounces));
+    store_photon_path_record(i, PHOTON_PATH_DIR, vec4(dir, float(path_bounces)));
 #ifdef TRACKS_PATH_CLASS
-    photon_paths[3 * i + 2] = vec4(flux, path_class);
+    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, path_class));
 #else
-    photon_paths[3 * i + 2] = vec4(flux, 0.0);
+    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, 0.0));
 #endif
-    photons[3 * i + 1] = vec4(incoming, photon_record_word(stored_class, stored_bounces));
-    photons[3 * i + 0] = position_key;
-    photons[3 * i + 2] = stored;
+    store_photon_record(i, PHOTON_INCOMING,
+                        vec4(incoming, photon_record_word(stored_class, stored_bounces)));
+    store_photon_record(i, PHOTON_POSITION, position_key);
+    store_photon_record(i, PHOTON_FLUX, stored);
     rng_store(state_index, rng);
     atomicAdd(pass_rays, 1u);
 }

@@ -23,9 +23,10 @@ void main() {
         direct_light[2 * i + 1] = vec4(0.0);
     }
     if (i < u_photon_threads) {
-        photon_paths[3 * i + 0] = vec4(0.0, 0.0, 0.0, -1.0);  // start anew from a light
-        photon_paths[3 * i + 1] = vec4(0.0);
-        photon_paths[3 * i + 2] = vec4(0.0);
+        // Start anew from a light.
+        store_photon_path_record(i, PHOTON_PATH_ORIGIN, vec4(0.0, 0.0, 0.0, -1.0));
+        store_photon_path_record(i, PHOTON_PATH_DIR, vec4(0.0));
+        store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(0.0));
     }
     if (i == 0u) {
         cell_size_bits = floatBitsToUint(u_initial_radius);

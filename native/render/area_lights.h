@@ -12,15 +12,16 @@
 
 namespace glslppm {
 
-// Per-material flags beside the Material the GPU reads (shaders/common/bsdf.glsl).
+// Per-material flags beside the Material the GPU reads (GpuMaterial::flags).
 enum MaterialFlag : std::uint32_t {
-    kMaterialLightSurface = 1u,      // rays add its emission and continue through it
-    kMaterialHiddenFromCamera = 2u,  // camera rays pass it without adding emission
-    kMaterialOneSidedEmission = 4u,  // emits from its front face only
-    kMaterialCastsNoShadow = 8u,     // photons pass through (stored on diffuse ones)
-    kMaterialMayBeTransparent = 16u, // a Mix with a Transparent leaf: shadow rays may pass
-    kMaterialHiddenFromReflections = 32u,  // eye rays after a bounce pass it
-    kMaterialVertexColor = 64u,      // its colour times the hit's vertex colour
+    // The bits' values are shaders/common/records.glsl's (MATERIAL_LIGHT_SURFACE, ...).
+    kMaterialLightSurface = MATERIAL_LIGHT_SURFACE,    // rays add its emission and pass on
+    kMaterialHiddenFromCamera = MATERIAL_HIDDEN_FROM_CAMERA,  // camera rays pass it unlit
+    kMaterialOneSidedEmission = MATERIAL_ONE_SIDED_EMISSION,  // emits from its front only
+    kMaterialCastsNoShadow = MATERIAL_CASTS_NO_SHADOW,  // photons pass (stored on diffuse)
+    kMaterialMayBeTransparent = MATERIAL_MAY_BE_TRANSPARENT,  // a Mix with a Transparent leaf
+    kMaterialHiddenFromReflections = MATERIAL_HIDDEN_FROM_REFLECTIONS,  // later eye rays pass
+    kMaterialVertexColor = MATERIAL_VERTEX_COLOR,  // its colour times the vertex colour
 };
 
 // The mesh and material table the renderer builds its BVH from: the scene's own when it has

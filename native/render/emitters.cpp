@@ -1,5 +1,7 @@
 #include "render/emitters.h"
 
+#include "render/gpu_layout.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -96,7 +98,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                             const PackedBvh& bvh, const SceneBounds& bounds,
                             const EnvironmentMap* environment) {
     EmitterTable table;
-    std::vector<std::array<glm::vec4, 4>> list;
+    std::vector<GpuEmitter> list;
     std::vector<double> weights;  // what each emitter is picked by: its power
     // `power` is what the record holds (the shader's flux is power / pick probability);
     // `emitted`, where given, the power the emitter radiates on average (a textured one).
@@ -104,8 +106,8 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                    glm::vec3 emitted = glm::vec3(-1.0f)) {
         if (emitted.x < 0.0f) emitted = power;
         if (!(weight_of(emitted) > 0.0f)) return -1;  // dark; bad values were rejected earlier
-        list.push_back({glm::vec4(a, as_float(static_cast<int>(kind))), b, glm::vec4(c, 0.0f),
-                        glm::vec4(power, 0.0f)});
+        list.push_back(GpuEmitter{glm::vec4(a, as_float(static_cast<int>(kind))), b,
+                                  glm::vec4(c, 0.0f), glm::vec4(power, 0.0f)});
         weights.push_back(weight_of(emitted));
         table.has[static_cast<int>(kind)] = true;
         table.total_power += emitted;
@@ -203,9 +205,10 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     for (std::size_t k = 0; k < list.size(); ++k) {
         const double p = weights[k] / total;
         running += p;
-        list[k][2].w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
-        list[k][3].w = static_cast<float>(p);
-        for (const glm::vec4& v : list[k]) table.records.push_back(v);
+        list[k].c.w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
+        list[k].power.w = static_cast<float>(p);
+        for (const glm::vec4& v : {list[k].a, list[k].b, list[k].c, list[k].power})
+            table.records.push_back(v);
     }
     table.count = list.size();
     return table;

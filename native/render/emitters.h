@@ -1,6 +1,6 @@
 // The lights photons start from, as the GPU reads them (shaders/common/emitters.glsl):
 // emissive triangles, point, spot and sun lights and the environment, each with its
-// emitted power, picked in proportion to it. Four vec4 per emitter:
+// emitted power, picked in proportion to it. A GpuEmitter (render/gpu_layout.h) per emitter:
 //   [0] (a.xyz, intBitsToFloat(kind))
 //   [1] (b.xyz, b.w)       triangle: v1, two-sided 0/1; point: (0, radius); spot: axis,
 //                          cos(half angle);
@@ -30,10 +30,16 @@
 
 namespace glslppm {
 
-enum class EmitterKind : int { Triangle = 0, Point = 1, Spot = 2, Sun = 3, Environment = 4 };
+enum class EmitterKind : int {
+    Triangle = EMITTER_TRIANGLE,
+    Point = EMITTER_POINT,
+    Spot = EMITTER_SPOT,
+    Sun = EMITTER_SUN,
+    Environment = EMITTER_ENVIRONMENT,
+};
 
 struct EmitterTable {
-    std::vector<glm::vec4> records;  // 4 per emitter
+    std::vector<glm::vec4> records;  // EMITTER_VEC4 per emitter (common/records.glsl)
     glm::vec3 total_power{0.0f};     // watts, per channel
     std::size_t count = 0;
     bool has[5] = {false, false, false, false, false};  // by EmitterKind

@@ -1,12 +1,13 @@
 // The records the CPU and the GPU stages share, field by field. Each mirrors one GLSL
 // declaration, named in its comment, and static_asserts pin every offset, so a field added
 // on one side only fails to compile. Binding points come from shaders/common/bindings.glsl,
-// included here as it is: one list for both sides.
+// and the vec4 records' strides, fields, enums and bits from shaders/common/records.glsl,
+// both included here as they are: one list for both sides.
 //
 // Where things go: a new Frame value is a field here and in shaders/common/frame.glsl; a new
 // buffer is a binding in bindings.glsl and a block in the include of its stage group; a new
-// material parameter is a field of GpuMaterial here and an accessor in
-// shaders/common/bsdf.glsl.
+// material parameter is a field of GpuMaterial here, its vec4 named in records.glsl, and an
+// accessor in shaders/common/bsdf.glsl.
 #pragma once
 
 #include <cstddef>
@@ -15,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "common/bindings.glsl"
+#include "common/records.glsl"
 
 namespace glslppm {
 
@@ -122,10 +124,27 @@ static_assert(sizeof(Counters) == 32 && offsetof(Counters, emitted_lo) == 16);
 // compensation) pairs per enabled render pass and pixel, laid out by PassLayout
 // (render/render_passes.h), which also names the offsets' defines.
 
-// `buffer VisiblePoints` (shaders/common/sppm_buffers.glsl): vec4s per pixel, as its
-// VISIBLE_POINT_VEC4 counts them: what the gather needs to evaluate the lobes' f(wo, wi)
+// `buffer VisiblePoints` (shaders/common/sppm_buffers.glsl): VISIBLE_POINT_VEC4 vec4s per
+// pixel, what the gather needs to evaluate the lobes' f(wo, wi)
 // (shaders/common/visible_points.glsl names the fields).
-inline constexpr std::size_t kVisiblePointVec4 = 4;
+inline constexpr std::size_t kVisiblePointVec4 = VISIBLE_POINT_VEC4;
+
+// `buffer Photons` and `buffer PhotonPaths` (shaders/common/sppm_buffers.glsl): vec4s per
+// photon thread, the fields named in records.glsl (PHOTON_*, PHOTON_PATH_*).
+inline constexpr std::size_t kPhotonBytes = PHOTON_VEC4 * 16;
+inline constexpr std::size_t kPhotonPathBytes = PHOTON_PATH_VEC4 * 16;
+
+// `buffer Emitters` (shaders/common/scene_buffers.glsl): one per emitter, then the
+// triangles' map (render/emitters.h says what each kind keeps in a, b and c).
+struct GpuEmitter {
+    glm::vec4 a;      // (v0 or position, the EmitterKind's int bits)
+    glm::vec4 b;
+    glm::vec4 c;      // (..., cumulative pick probability up to this emitter)
+    glm::vec4 power;  // (power rgb, pick probability)
+};
+static_assert(sizeof(GpuEmitter) == EMITTER_VEC4 * 16 && offsetof(GpuEmitter, a) == EMITTER_A * 16 &&
+              offsetof(GpuEmitter, b) == EMITTER_B * 16 && offsetof(GpuEmitter, c) == EMITTER_C * 16 &&
+              offsetof(GpuEmitter, power) == EMITTER_POWER * 16);
 
 // `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.
 struct GpuTexture {
@@ -136,8 +155,8 @@ struct GpuTexture {
     glm::vec4 uv_map_u;
     glm::vec4 uv_map_v;
 };
-inline constexpr int kTextureFromUv = 0;        // TEXTURE_FROM_UV in textures.glsl
-inline constexpr int kTextureFromPosition = 1;  // TEXTURE_FROM_POSITION
+inline constexpr int kTextureFromUv = TEXTURE_FROM_UV;
+inline constexpr int kTextureFromPosition = TEXTURE_FROM_POSITION;
 static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
               offsetof(GpuTexture, uv_map_u) == 32 && offsetof(GpuTexture, uv_map_v) == 48);
 
@@ -146,11 +165,11 @@ inline constexpr unsigned kRadiusStatsThreads = 256;
 
 // Light tracing's splat buffer per pixel (LIGHT_SPLAT_WORDS uints, common/light_splats.glsl):
 // no more than the smallest visible point (3 vec4), which image tiles are planned by.
-inline constexpr std::size_t kLightSplatBytes = 12 * 4;
+inline constexpr std::size_t kLightSplatBytes = LIGHT_SPLAT_WORDS * 4;
 static_assert(kLightSplatBytes <= 3 * 16);
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
-// shaders/common/bsdf.glsl and lobes.glsl: six vec4 per material, then the albedo tables
+// shaders/common/bsdf.glsl and lobes.glsl: MATERIAL_VEC4 per material, then the albedo tables
 // (render/microfacet_tables.h) the materials' `table` fields point into.
 struct GpuMaterial {
     glm::vec3 color;              // base colour (times its texture)
@@ -175,11 +194,25 @@ struct GpuMaterial {
     glm::vec3 absorption;
     float unused;
 };
-static_assert(sizeof(GpuMaterial) == 112 && offsetof(GpuMaterial, color_texture) == 32 &&
-              offsetof(GpuMaterial, mix_a) == 48 && offsetof(GpuMaterial, options) == 64 &&
-              offsetof(GpuMaterial, emission_texture) == 80 &&
-              offsetof(GpuMaterial, absorption) == 96);
-inline constexpr int kGpuMaterialVec4 = sizeof(GpuMaterial) / 16;  // MATERIAL_STRIDE
+static_assert(sizeof(GpuMaterial) == MATERIAL_VEC4 * 16 &&
+              offsetof(GpuMaterial, color) == MATERIAL_COLOR * 16 &&
+              offsetof(GpuMaterial, kind) == MATERIAL_COLOR * 16 + 12 &&
+              offsetof(GpuMaterial, emission) == MATERIAL_EMISSION * 16 &&
+              offsetof(GpuMaterial, ior) == MATERIAL_EMISSION * 16 + 12 &&
+              offsetof(GpuMaterial, color_texture) == MATERIAL_TEXTURES * 16 &&
+              offsetof(GpuMaterial, flags) == MATERIAL_TEXTURES * 16 + 4 &&
+              offsetof(GpuMaterial, roughness) == MATERIAL_TEXTURES * 16 + 8 &&
+              offsetof(GpuMaterial, roughness_texture) == MATERIAL_TEXTURES * 16 + 12 &&
+              offsetof(GpuMaterial, mix_a) == MATERIAL_MIX_RECORD * 16 &&
+              offsetof(GpuMaterial, mix_texture) == MATERIAL_MIX_RECORD * 16 + 12 &&
+              offsetof(GpuMaterial, options) == MATERIAL_OPTIONS * 16 &&
+              offsetof(GpuMaterial, mix_ior) == MATERIAL_OPTIONS * 16 + 4 &&
+              offsetof(GpuMaterial, table) == MATERIAL_OPTIONS * 16 + 8 &&
+              offsetof(GpuMaterial, normal_map) == MATERIAL_OPTIONS * 16 + 12 &&
+              offsetof(GpuMaterial, emission_texture) == MATERIAL_EMISSION_TEXTURE * 16 &&
+              offsetof(GpuMaterial, f82_tint) == MATERIAL_EMISSION_TEXTURE * 16 + 4 &&
+              offsetof(GpuMaterial, absorption) == MATERIAL_ABSORPTION * 16);
+inline constexpr int kGpuMaterialVec4 = MATERIAL_VEC4;
 
 // GpuMaterial::normal_map: 0 for none, else the normal (or bump) texture's index + 1 in the
 // low 15 bits, bit 15 set for a bump map, and the strength as a half float in the high 16
@@ -187,13 +220,13 @@ inline constexpr int kGpuMaterialVec4 = sizeof(GpuMaterial) / 16;  // MATERIAL_S
 // distance is a half float in the options' high 16 bits. Read by shaders/common/surface.glsl.
 inline constexpr std::uint32_t kMaxNormalMapTextures = 0x7FFFu;
 inline constexpr std::uint32_t kNormalMapBump = 0x8000u;
-inline constexpr std::uint32_t kOptionBumpDistanceShift = 16;
+inline constexpr std::uint32_t kOptionBumpDistanceShift = OPTION_BUMP_DISTANCE_SHIFT;
 
-// GpuMaterial::options (the OPTION_ constants of shaders/common/lobes.glsl).
-inline constexpr std::uint32_t kOptionMixChannelShift = 4;   // bits 4-6; bits 0-2 roughness's
-inline constexpr std::uint32_t kOptionMixModeShift = 8;      // bits 8-9: MixFactor
-inline constexpr std::uint32_t kOptionMultiscatter = 4096;
-inline constexpr std::uint32_t kOptionSchlick = 8192;
-inline constexpr std::uint32_t kOptionTintReflection = 16384;
+// GpuMaterial::options (the OPTION_ bits of shaders/common/records.glsl).
+inline constexpr std::uint32_t kOptionMixChannelShift = OPTION_MIX_CHANNEL_SHIFT;
+inline constexpr std::uint32_t kOptionMixModeShift = OPTION_MIX_MODE_SHIFT;
+inline constexpr std::uint32_t kOptionMultiscatter = OPTION_MULTISCATTER;
+inline constexpr std::uint32_t kOptionSchlick = OPTION_SCHLICK;
+inline constexpr std::uint32_t kOptionTintReflection = OPTION_TINT_REFLECTION;
 
 }  // namespace glslppm

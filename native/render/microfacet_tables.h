@@ -8,9 +8,11 @@
 
 #include <vector>
 
+#include "common/records.glsl"
+
 namespace glslppm {
 
-inline constexpr int kAlbedoTableSize = 32;
+inline constexpr int kAlbedoTableSize = ALBEDO_TABLE_SIZE;
 inline constexpr int kAlbedoTableFloats = kAlbedoTableSize * kAlbedoTableSize + kAlbedoTableSize;
 
 enum class AlbedoLobe {

@@ -71,7 +71,7 @@ void Renderer::Gpu::trace_photons(std::uint64_t pass_index, std::uint32_t step) 
         upload_frame();
     }
     if (settings.estimator == Estimator::Pppm) {
-        const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot) * 3 * 16;
+        const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot * kPhotonBytes);
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons,
                           (step % steps_per_gather) * slot_bytes, slot_bytes);
     }

@@ -127,7 +127,7 @@ void plan_photon_slots(Renderer::Gpu& g) {
         largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30, std::size_t(1)
                                                                                     << 30);
     g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
-        cap / (g.photon_slot * 3 * 16), 1, static_cast<std::size_t>(g.settings.max_bounces) + 1));
+        cap / (g.photon_slot * kPhotonBytes), 1, static_cast<std::size_t>(g.settings.max_bounces) + 1));
 }
 
 // The passes' state: per pixel (visible points, statistics, direct light, film, render
@@ -140,7 +140,7 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     const std::size_t hash_cells = g.scene.hash_cells;
     const std::size_t point_vec4s = kVisiblePointVec4;
     g.require_fits(px * point_vec4s * 16, "visible points", true);
-    g.require_fits(ph * 3 * 16, "photons");
+    g.require_fits(ph * kPhotonPathBytes, "photon paths");
     g.require_fits(hash_cells * 16, "hash cells");
     // Visible points, pixel statistics, direct light, film.
     b.bytes_per_pixel = (point_vec4s + 2 + 2 + 1) * 16;
@@ -148,11 +148,11 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     // Their first contents: restart_film(), as at every restart.
     b.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr, "pixel statistics");
     b.direct_light = g.make_buffer(BINDING_DIRECT_LIGHT, px * 2 * 16, nullptr, "direct light");
-    b.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * 3 * 16, nullptr, "photon paths");
+    b.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * kPhotonPathBytes, nullptr, "photon paths");
     plan_photon_slots(g);
     const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
-    g.require_fits(stored * 3 * 16, "photons");
-    b.photons = g.make_buffer(BINDING_PHOTONS, stored * 3 * 16, nullptr, "photons");
+    g.require_fits(stored * kPhotonBytes, "photons");
+    b.photons = g.make_buffer(BINDING_PHOTONS, stored * kPhotonBytes, nullptr, "photons");
     const GLuint zero[4] = {0, 0, 0, 0};
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                       zero);
@@ -164,7 +164,7 @@ void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
     const std::size_t sorted = exact ? stored + hash_cells / 1024 : 1;
     g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
     b.bytes_per_photon =
-        double(ph * 3 * 16 + stored * 3 * 16 + hash_cells * 16 + (exact ? sorted * 4 : 0) +
+        double(ph * kPhotonPathBytes + stored * kPhotonBytes + hash_cells * 16 + (exact ? sorted * 4 : 0) +
                (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
         double(std::max<std::size_t>(ph, 1));
     b.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");

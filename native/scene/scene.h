@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "common/records.glsl"  // the enums' values, shared with the shaders
 #include "scene/mesh.h"
 
 namespace glslppm {
@@ -28,16 +29,16 @@ namespace glslppm {
 //   Mix          chooses material mix_b with probability mix_factor, else mix_a (Blender's
 //                Mix Shader, Fac 0 = first); the leaves are whole materials of the table.
 // How deep Mix materials may nest (the GPU walks down at most this many levels).
-inline constexpr int kMaxMixDepth = 8;
+inline constexpr int kMaxMixDepth = MAX_MIX_DEPTH;
 
 enum class MaterialKind : std::uint32_t {
-    Diffuse = 0,
-    Conductor = 1,
-    Dielectric = 2,
-    Plastic = 3,
-    Translucent = 4,
-    Transparent = 5,
-    Mix = 6,
+    Diffuse = MATERIAL_DIFFUSE,
+    Conductor = MATERIAL_CONDUCTOR,
+    Dielectric = MATERIAL_DIELECTRIC,
+    Plastic = MATERIAL_PLASTIC,
+    Translucent = MATERIAL_TRANSLUCENT,
+    Transparent = MATERIAL_TRANSPARENT,
+    Mix = MATERIAL_MIX,
 };
 
 // What a Mix's factor is: a constant (times its texture), Fresnel of index mix_ior at the
@@ -45,11 +46,22 @@ enum class MaterialKind : std::uint32_t {
 // Weight's facing output with blend mix_ior, or the Fresnel of a BSDF's own reflective layer
 // (Principled's specular and coat, glTF's clearcoat): index mix_ior on both sides, as Cycles
 // sets up those layers (never inverted, so never total internal reflection from behind).
-enum class MixFactor : std::uint32_t { Constant = 0, Fresnel = 1, Facing = 2, LayerFresnel = 3 };
+enum class MixFactor : std::uint32_t {
+    Constant = MIX_FACTOR_CONSTANT,
+    Fresnel = MIX_FACTOR_FRESNEL,
+    Facing = MIX_FACTOR_FACING,
+    LayerFresnel = MIX_FACTOR_LAYER_FRESNEL,
+};
 
 // Which number of a texel a scalar input reads: Blender's colour-to-float conversion is the
 // luminance (Rec. 709 weights); glTF's metallicRoughness reads green and blue.
-enum class TextureChannel : std::uint32_t { Red = 0, Green = 1, Blue = 2, Alpha = 3, Luminance = 4 };
+enum class TextureChannel : std::uint32_t {
+    Red = TEXTURE_CHANNEL_RED,
+    Green = TEXTURE_CHANNEL_GREEN,
+    Blue = TEXTURE_CHANNEL_BLUE,
+    Alpha = TEXTURE_CHANNEL_ALPHA,
+    Luminance = TEXTURE_CHANNEL_LUMINANCE,
+};
 
 struct Material {
     MaterialKind kind = MaterialKind::Diffuse;
@@ -119,7 +131,12 @@ struct Material {
 
 // Blender's Image Texture extensions, as Cycles reads texels outside the image: Repeat wraps,
 // Clip reads transparent black, Extend the nearest edge texel, Mirror reflects at each edge.
-enum class TextureWrap : std::uint32_t { Repeat = 0, Clip = 1, Extend = 2, Mirror = 3 };
+enum class TextureWrap : std::uint32_t {
+    Repeat = WRAP_REPEAT,
+    Clip = WRAP_CLIP,
+    Extend = WRAP_EXTEND,
+    Mirror = WRAP_MIRROR,
+};
 
 // An RGBA image. Texel (x, y) covers uv ([x, x+1] / width, [y, y+1] / height): row 0 is the
 // bottom row (v = 0), as in Blender's pixel arrays. Exactly one of `srgb8` (8-bit, sRGB

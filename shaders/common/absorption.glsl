@@ -10,7 +10,7 @@
 #include "common/scene_buffers.glsl"
 
 // GpuMaterial::absorption (native/render/gpu_layout.h): sigma_a per unit of world length.
-vec3 material_absorption(int m) { return materials[MATERIAL_STRIDE * m + 6].xyz; }
+vec3 material_absorption(int m) { return material_record(m, MATERIAL_ABSORPTION).xyz; }
 
 // The fraction of light a segment from `origin` to the surface point `p` of material `m`
 // keeps: 1 unless it reached the surface from behind (`front` false), inside the object.

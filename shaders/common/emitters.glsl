@@ -15,7 +15,7 @@ uint pick_emitter(float u) {
     uint lo = 0u, hi = emitter_count - 1u;
     while (lo < hi) {
         uint mid = (lo + hi) / 2u;
-        if (u < emitters[4u * mid + 2u].w) hi = mid;
+        if (u < emitter_record(mid, EMITTER_C).w) hi = mid;
         else lo = mid + 1u;
     }
     return lo;
@@ -46,7 +46,8 @@ vec3 triangle_emitter_texel(float bw, vec2 bc) {
 #if defined(HAS_EMISSION_TEXTURE) && defined(HAS_TEXTURES)
     if (bw < 0.0) {
         int t = (int(-bw) - 1) >> 1;
-        int k = floatBitsToInt(materials[MATERIAL_STRIDE * floatBitsToInt(triangles[3 * t].w) + 5].x);
+        int k = floatBitsToInt(material_record(floatBitsToInt(triangles[3 * t].w),
+                                                    MATERIAL_EMISSION_TEXTURE).x);
         vec4 uv01 = vertex_uvs[2 * t + 0];
         vec2 uv2 = vertex_uvs[2 * t + 1].xy;
         vec3 p0 = triangles[3 * t].xyz;
@@ -63,7 +64,7 @@ vec3 triangle_emitter_texel(float bw, vec2 bc) {
 // The emitter record of packed triangle t, or -1: the map after the records
 // (native/render/emitters.h, append_triangle_map), four ints to a vec4.
 int triangle_emitter(int t) {
-    return floatBitsToInt(emitters[4u * emitter_count + uint(t >> 2)][t & 3]);
+    return floatBitsToInt(emitters[EMITTER_VEC4 * emitter_count + uint(t >> 2)][t & 3]);
 }
 #endif
 
@@ -71,10 +72,10 @@ int triangle_emitter(int t) {
 // (zero for points and distant lights).
 void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 flux) {
     uint k = pick_emitter(rng_next(rng));
-    vec4 a = emitters[4u * k + 0u];
-    vec4 b = emitters[4u * k + 1u];
-    vec4 c = emitters[4u * k + 2u];
-    vec4 d = emitters[4u * k + 3u];
+    vec4 a = emitter_record(k, EMITTER_A);
+    vec4 b = emitter_record(k, EMITTER_B);
+    vec4 c = emitter_record(k, EMITTER_C);
+    vec4 d = emitter_record(k, EMITTER_POWER);
     int kind = floatBitsToInt(a.w);
     float u1 = rng_next(rng), u2 = rng_next(rng);
     float u3 = rng_next(rng), u4 = rng_next(rng);

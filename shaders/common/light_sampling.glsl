@@ -73,10 +73,10 @@ struct LightSample {
 LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
     uint k = pick_emitter(pick);
-    vec4 a = emitters[4u * k + 0u];
-    vec4 b = emitters[4u * k + 1u];
-    vec4 c = emitters[4u * k + 2u];
-    vec4 d = emitters[4u * k + 3u];
+    vec4 a = emitter_record(k, EMITTER_A);
+    vec4 b = emitter_record(k, EMITTER_B);
+    vec4 c = emitter_record(k, EMITTER_C);
+    vec4 d = emitter_record(k, EMITTER_POWER);
     int kind = floatBitsToInt(a.w);
     float u1 = u.x, u2 = u.y, u3 = u.z, u4 = u.w;
     vec3 power = d.rgb / d.w;  // the emitter's power over its pick probability
@@ -191,8 +191,8 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
 // emitter table's last record (native/render/emitters.cpp) when there is one.
 float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
     uint k = emitter_count - 1u;
-    if (floatBitsToInt(emitters[4u * k].w) != EMITTER_ENVIRONMENT) return 0.0;
-    float pick = emitters[4u * k + 3u].w;
+    if (emitter_kind(k) != EMITTER_ENVIRONMENT) return 0.0;
+    float pick = emitter_record(k, EMITTER_POWER).w;
 #ifdef HAS_ENVIRONMENT_MAP
     return pick * environment_pdf(wi);
 #else
@@ -218,8 +218,9 @@ float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
 // dA = d^2 dw / |cos_l|), as its estimate L_e |cos_l| A / (p_pick d^2) holds it. The light
 // sample's weight and the BSDF sample's read this one function, so they sum to one.
 float triangle_light_pdf(uint k, vec3 wi, float distance) {
-    vec3 a = emitters[4u * k].xyz;
-    vec3 e1 = emitters[4u * k + 1u].xyz - a, e2 = emitters[4u * k + 2u].xyz - a;
+    vec3 a = emitter_record(k, EMITTER_A).xyz;
+    vec3 e1 = emitter_record(k, EMITTER_B).xyz - a;
+    vec3 e2 = emitter_record(k, EMITTER_C).xyz - a;
     // Scaled by the largest edge component, as triangle_normal is: d^2 / A neither
     // overflows nor underflows at the extremes of scene scale.
     float m = max(max(max(abs(e1.x), abs(e1.y)), max(abs(e1.z), abs(e2.x))),
@@ -227,14 +228,15 @@ float triangle_light_pdf(uint k, vec3 wi, float distance) {
     float projected_area = 0.5 * abs(dot(cross(e1 / m, e2 / m), wi));  // A |cos_l| / m^2
     if (!(projected_area > 0.0)) return 0.0;
     float d = distance / m;
-    return emitters[4u * k + 3u].w * (d * d / projected_area);
+    return emitter_record(k, EMITTER_POWER).w * (d * d / projected_area);
 }
 
 // What triangle emitter k (packed triangle t) radiates at barycentrics bc towards -wi, as
 // sample_light weighs it: its material's emission times its texel, nothing from the back of
 // a one-sided emitter.
 vec3 triangle_emitter_radiance(uint k, int t, vec2 bc, vec3 wi) {
-    vec4 a = emitters[4u * k], b = emitters[4u * k + 1u], c = emitters[4u * k + 2u];
+    vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
+    vec4 c = emitter_record(k, EMITTER_C);
     if (!triangle_emitter_two_sided(b.w) && dot(triangle_normal(a.xyz, b.xyz, c.xyz), wi) >= 0.0)
         return vec3(0.0);
     return material_emission(floatBitsToInt(triangles[3 * t].w)) * triangle_emitter_texel(b.w, bc);
@@ -305,7 +307,7 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
     uint picked = pick_emitter(pick);  // the emitter sample_light drew from
-    bool world = floatBitsToInt(emitters[4u * picked].w) == EMITTER_ENVIRONMENT;
+    bool world = emitter_kind(picked) == EMITTER_ENVIRONMENT;
 #ifdef HAS_EMITTER_MIS
     // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
     // point's cosine lobe is wide, where light samples do well, and its extra ray would cost
@@ -314,7 +316,7 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     bool triangle_mis = !rough_only && (sh.kind == MATERIAL_CONDUCTOR ||
                                         sh.kind == MATERIAL_DIELECTRIC ||
                                         sh.kind == MATERIAL_PLASTIC);
-    bool picked_triangle = floatBitsToInt(emitters[4u * picked].w) == EMITTER_TRIANGLE;
+    bool picked_triangle = emitter_kind(picked) == EMITTER_TRIANGLE;
 #endif
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
     if (transmits && world) ls.radiance_over_pdf *= 2.0;

@@ -14,12 +14,12 @@
 #ifndef LIGHT_SPLATS_GLSL
 #define LIGHT_SPLATS_GLSL
 #include "common/bindings.glsl"
+#include "common/records.glsl"
 
 #ifdef USES_LIGHT_SPLATS
 
 layout(std430, binding = BINDING_LIGHT_SPLATS) coherent buffer LightSplats { uint light_splats[]; };
 
-const uint LIGHT_SPLAT_WORDS = 12u;
 const uint LIGHT_SPLAT_SUM = 6u;           // the float sum's first word
 const uint LIGHT_SPLAT_COMPENSATION = 9u;  // its compensation's
 const float TWO_POW_32 = 4294967296.0;

@@ -18,31 +18,20 @@
 #include "common/sampling.glsl"
 #include "common/bounces.glsl"
 
-float material_roughness(int m) { return materials[MATERIAL_STRIDE * m + 2].z; }
-int material_roughness_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 2].w); }
-ivec2 material_mix(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 3].xy); }
-float material_mix_factor(int m) { return materials[MATERIAL_STRIDE * m + 3].z; }
-int material_mix_texture(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 3].w); }
-uint material_options(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x); }
-float material_mix_ior(int m) { return materials[MATERIAL_STRIDE * m + 4].y; }
-int material_table(int m) { return floatBitsToInt(materials[MATERIAL_STRIDE * m + 4].z); }
-
-// GpuMaterial's option bits (native/render/gpu_layout.h).
-const uint OPTION_ROUGHNESS_CHANNEL = 7u;     // bits 0-2: TextureChannel
-const uint OPTION_MIX_CHANNEL_SHIFT = 4u;     // bits 4-6
-const uint OPTION_MIX_MODE_SHIFT = 8u;        // bits 8-9: MixFactor (native/scene/scene.h)
-const uint OPTION_MULTISCATTER = 4096u;       // energy compensation on
-const uint OPTION_SCHLICK = 8192u;            // conductor: Schlick Fresnel from the colour
-const uint OPTION_TINT_REFLECTION = 16384u;   // dielectric: the colour tints reflection too
-
-const int MAX_MIX_DEPTH = 8;  // kMaxMixDepth in native/scene/scene.h
+float material_roughness(int m) { return material_record(m, MATERIAL_TEXTURES).z; }
+int material_roughness_texture(int m) { return floatBitsToInt(material_record(m, MATERIAL_TEXTURES).w); }
+ivec2 material_mix(int m) { return floatBitsToInt(material_record(m, MATERIAL_MIX_RECORD).xy); }
+float material_mix_factor(int m) { return material_record(m, MATERIAL_MIX_RECORD).z; }
+int material_mix_texture(int m) { return floatBitsToInt(material_record(m, MATERIAL_MIX_RECORD).w); }
+uint material_options(int m) { return floatBitsToUint(material_record(m, MATERIAL_OPTIONS).x); }
+float material_mix_ior(int m) { return material_record(m, MATERIAL_OPTIONS).y; }
+int material_table(int m) { return floatBitsToInt(material_record(m, MATERIAL_OPTIONS).z); }
 
 // Albedo tables (native/render/microfacet_tables.h), in the materials buffer after the
 // materials: ALBEDO_TABLE_SIZE^2 values E(mu, roughness) on grids uniform in sqrt(mu) and
 // roughness over [0, 1] (sqrt(mu) fastest),
 // then ALBEDO_TABLE_SIZE hemispherical averages 2 int E(mu) mu dmu; a dielectric has a second
 // block for light inside it.
-const int ALBEDO_TABLE_SIZE = 32;
 const int ALBEDO_TABLE_VEC4S = (ALBEDO_TABLE_SIZE * ALBEDO_TABLE_SIZE + ALBEDO_TABLE_SIZE) / 4;
 
 float table_entry(int base, int k) { return materials[base + (k >> 2)][k & 3]; }
@@ -66,7 +55,8 @@ float albedo_average(int base, float roughness) {
 }
 
 float texture_channel(vec4 texel, uint channel) {
-    return channel == 4u ? luminance(texel.rgb) : texel[min(channel, 3u)];
+    return channel == TEXTURE_CHANNEL_LUMINANCE ? luminance(texel.rgb)
+                                                : texel[min(channel, TEXTURE_CHANNEL_ALPHA)];
 }
 
 // A scalar input: its value times its texture's channel where it has one.
@@ -84,18 +74,19 @@ float mix_factor(int m, TexturePoint at, float c, bool front) {
     uint options = material_options(m);
     uint mode = (options >> OPTION_MIX_MODE_SHIFT) & 3u;
     float f;
-    if (mode == 0u) {
+    if (mode == MIX_FACTOR_CONSTANT) {
         f = material_scalar(material_mix_factor(m), material_mix_texture(m),
                             (options >> OPTION_MIX_CHANNEL_SHIFT) & 7u, at);
-    } else if (mode == 1u || mode == 3u) {
-        // Blender's Fresnel node inverts the index on back faces (1); a BSDF's own layer (3:
-        // Principled's specular and coat) reflects as from the front on both sides, as Cycles
+    } else if (mode == MIX_FACTOR_FRESNEL || mode == MIX_FACTOR_LAYER_FRESNEL) {
+        // Blender's Fresnel node inverts the index on back faces; a BSDF's own layer
+        // (Principled's specular and coat) reflects as from the front on both sides, as Cycles
         // sets it up. Inverted there, a closed mesh's inside reflected totally beyond 42
         // degrees: Principled v1's doubled specular took photons inside emissive letters to
         // an albedo near 1.8, a furnace whose few escaping photons made the text 1.09x to
         // 1.50x Cycles (tests/python/test_layer_fresnel.py).
         float ior = material_mix_ior(m), cos_t;
-        f = fresnel_dielectric(c, front || mode == 3u ? 1.0 / ior : ior, cos_t);
+        bool as_front = front || mode == MIX_FACTOR_LAYER_FRESNEL;
+        f = fresnel_dielectric(c, as_front ? 1.0 / ior : ior, cos_t);
     } else {
         // Layer Weight's Facing: 1 - c^b, the blend b mapped as Blender maps it.
         float blend = min(material_mix_ior(m), 1.0 - 1.0e-5);
@@ -236,7 +227,7 @@ Shading shading_of_leaf(int m, vec3 n, TexturePoint at, vec3 vertex_color, bool 
     // Blender 4.x's F82 tint (Cycles' fresnel_f82tint): F = Schlick - b mu (1 - mu)^6 with b
     // chosen so that F at mu = 1/7 (about 82 degrees) is Schlick's there times the tint:
     // b = Schlick(1/7) 7 / (6/7)^6 (1 - tint). White tint: b = 0, Schlick unchanged.
-    vec3 tint = materials[MATERIAL_STRIDE * m + 5].yzw;
+    vec3 tint = material_record(m, MATERIAL_EMISSION_TEXTURE).yzw;
     const float f = 6.0 / 7.0;
     float f5 = f * f * f * f * f;
     sh.f82 = mix(sh.color, vec3(1.0), f5) * (7.0 / (f5 * f)) * (1.0 - tint);

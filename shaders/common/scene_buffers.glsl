@@ -1,18 +1,22 @@
-// Scene data beside the MTBVH (mirrored in native/render/gpu_layout.h).
+// Scene data beside the MTBVH (its records in common/records.glsl).
 #ifndef SCENE_BUFFERS_GLSL
 #define SCENE_BUFFERS_GLSL
 #include "common/bindings.glsl"
+#include "common/records.glsl"
 
-// Lights photons start from, 4 per emitter: (a.xyz, kind), (b.xyz, b.w), (c.xyz, cumulative
-// pick probability), (power or radiance rgb, pick probability). See native/render/emitters.h.
+// Lights photons start from, EMITTER_VEC4 per emitter (common/records.glsl names the fields;
+// native/render/emitters.h says what each kind keeps in them).
 #ifdef USES_EMITTERS
 layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
+vec4 emitter_record(uint k, uint field) { return emitters[EMITTER_VEC4 * k + field]; }
+int emitter_kind(uint k) { return floatBitsToInt(emitter_record(k, EMITTER_A).w); }
 #endif
 
-// Materials, 7 vec4 each (GpuMaterial in native/render/gpu_layout.h), then albedo tables;
-// their accessors are in common/bsdf.glsl, common/lobes.glsl and common/absorption.glsl.
+// Materials, MATERIAL_VEC4 each (GpuMaterial in native/render/gpu_layout.h), then albedo
+// tables; their accessors are in common/bsdf.glsl, common/lobes.glsl and
+// common/absorption.glsl.
 layout(std430, binding = BINDING_MATERIALS) readonly buffer Materials { vec4 materials[]; };
-const int MATERIAL_STRIDE = 7;
+vec4 material_record(int m, int field) { return materials[MATERIAL_VEC4 * m + field]; }
 
 #ifdef HAS_NORMALS
 // Vertex normals, 3 per packed triangle (n.xyz, 0), or (n.xyz, packed tangent) where normal
@@ -29,19 +33,5 @@ layout(std430, binding = BINDING_UVS) readonly buffer Uvs { vec4 vertex_uvs[]; }
 // Linear vertex colours, 3 per packed triangle: (c.rgb, 0) (native/bvh/packed_bvh.h).
 layout(std430, binding = BINDING_VERTEX_COLORS) readonly buffer VertexColors { vec4 vertex_colors[]; };
 #endif
-
-const int MATERIAL_DIFFUSE = 0;
-const int MATERIAL_CONDUCTOR = 1;
-const int MATERIAL_DIELECTRIC = 2;
-const int MATERIAL_PLASTIC = 3;
-const int MATERIAL_TRANSLUCENT = 4;
-const int MATERIAL_TRANSPARENT = 5;
-const int MATERIAL_MIX = 6;
-
-const int EMITTER_TRIANGLE = 0;
-const int EMITTER_POINT = 1;
-const int EMITTER_SPOT = 2;
-const int EMITTER_SUN = 3;
-const int EMITTER_ENVIRONMENT = 4;
 
 #endif

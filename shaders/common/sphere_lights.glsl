@@ -21,7 +21,8 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
     vec3 dir = ray_dir / length_dir;
     float nearest = t_max * length_dir;
     for (uint k = SPHERE_LIGHT_FIRST; k < SPHERE_LIGHT_FIRST + SPHERE_LIGHT_RECORDS; ++k) {
-        vec4 a = emitters[4u * k], b = emitters[4u * k + 1u], c = emitters[4u * k + 2u];
+        vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
+        vec4 c = emitter_record(k, EMITTER_C);
         int kind = floatBitsToInt(a.w);
         float r = kind == EMITTER_POINT ? b.w : (kind == EMITTER_SPOT ? c.y : 0.0);
         if (r <= 0.0) continue;
@@ -34,7 +35,7 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
         if (disc < 0.0) continue;
         float t = -half_b - sqrt(disc);
         if (t <= 0.0 || t >= nearest) continue;
-        vec3 power = emitters[4u * k + 3u].rgb;
+        vec3 power = emitter_record(k, EMITTER_POWER).rgb;
         vec3 l;
         if (kind == EMITTER_POINT) {
             l = power / (4.0 * PI * PI * r * r);

@@ -2,6 +2,7 @@
 #ifndef SPPM_BUFFERS_GLSL
 #define SPPM_BUFFERS_GLSL
 #include "common/bindings.glsl"
+#include "common/records.glsl"
 
 // The generators keep their state at BINDING_RNG_STATES:
 // pixels first, then photon threads.
@@ -26,7 +27,6 @@ layout(std430, binding = BINDING_COUNTERS) coherent buffer Counters {
 // Visible points, 4 vec4 per pixel: what the gather needs to evaluate f(wo, wi), written by
 // eye_trace.comp and read by gather.comp (common/visible_points.glsl names the fields).
 layout(std430, binding = BINDING_VISIBLE_POINTS) buffer VisiblePoints { vec4 visible_points[]; };
-#define VISIBLE_POINT_VEC4 4u
 
 // Progressive statistics, 2 per pixel: (tau.rgb, N), (R, 0, 0, 0).
 layout(std430, binding = BINDING_PIXEL_STATS) buffer PixelStats { vec4 pixel_stats[]; };
@@ -36,20 +36,28 @@ layout(std430, binding = BINDING_DIRECT_LIGHT) buffer DirectLight { vec4 direct_
 #endif
 
 #ifdef USES_PHOTON_PATHS
-// Photon paths, 3 per photon thread: (origin, surfaces met so far or -1 = start anew),
-// (direction, the path's bounce word: common/bounces.glsl), (flux, path class or 0).
+// Photon paths, PHOTON_PATH_VEC4 per photon thread (common/records.glsl): (origin, surfaces
+// met so far or -1 = start anew), (direction, the path's bounce word: common/bounces.glsl),
+// (flux, path class or 0).
 layout(std430, binding = BINDING_PHOTON_PATHS) buffer PhotonPaths { vec4 photon_paths[]; };
+vec4 photon_path_record(uint i, uint field) { return photon_paths[PHOTON_PATH_VEC4 * i + field]; }
+void store_photon_path_record(uint i, uint field, vec4 value) {
+    photon_paths[PHOTON_PATH_VEC4 * i + field] = value;
+}
 #endif
 
 #ifdef USES_PHOTONS
-// Photons stored this pass, 3 per photon thread: (position, random key bits),
-// (direction towards where it came from, record word), (flux, side word or 0 if none
-// stored). The record word is the path class (common/pass_films.glsl, 0 without the light
-// split) plus 4 times the path's bounce word on arrival (common/bounces.glsl): below 2^24, an
-// exact float. Keys
-// are normal floats (2^24 + 29 random bits) so that no driver may flush or canonicalise
-// them.
+// Photons stored this pass, PHOTON_VEC4 per photon thread (common/records.glsl): (position,
+// random key bits), (direction towards where it came from, record word), (flux, side word or
+// 0 if none stored). The record word is the path class (common/pass_films.glsl, 0 without
+// the light split) plus 4 times the path's bounce word on arrival (common/bounces.glsl):
+// below 2^24, an exact float. Keys are normal floats (2^24 + 29 random bits) so that no
+// driver may flush or canonicalise them.
 layout(std430, binding = BINDING_PHOTONS) buffer Photons { vec4 photons[]; };
+vec4 photon_record(uint p, uint field) { return photons[PHOTON_VEC4 * p + field]; }
+void store_photon_record(uint p, uint field, vec4 value) {
+    photons[PHOTON_VEC4 * p + field] = value;
+}
 
 // The side word: the true (geometric) normal of the surface a photon landed on, on the side it
 // arrived from, as two 11-bit octahedral coordinates plus 1 (an integer below 2^23, exact
@@ -86,11 +94,11 @@ float photon_record_word(float path_class, uint bounces) {
 }
 
 uint photon_class(uint p) {
-    return uint(photons[3u * p + 1u].w) & 3u;
+    return uint(photon_record(p, PHOTON_INCOMING).w) & 3u;
 }
 
 uint photon_bounces(uint p) {
-    return uint(photons[3u * p + 1u].w) >> 2;
+    return uint(photon_record(p, PHOTON_INCOMING).w) >> 2;
 }
 #endif
 

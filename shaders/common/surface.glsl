@@ -39,10 +39,10 @@ uint pack_octahedral(vec3 v) {
 // GpuMaterial::normal_map (native/render/gpu_layout.h): 0, or the texture's index + 1 in the
 // low 15 bits, bit 15 for a bump map, the strength as a half float in the high 16; a bump
 // map's distance is a half float in the high 16 bits of the options.
-uint material_normal_map(int m) { return floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].w); }
+uint material_normal_map(int m) { return floatBitsToUint(material_record(m, MATERIAL_OPTIONS).w); }
 const uint NORMAL_MAP_BUMP = 0x8000u;
 float material_bump_distance(int m) {
-    return unpackHalf2x16(floatBitsToUint(materials[MATERIAL_STRIDE * m + 4].x) >> 16).x;
+    return unpackHalf2x16(floatBitsToUint(material_record(m, MATERIAL_OPTIONS).x) >> 16).x;
 }
 
 // pack_tangent's word: the direction, and the bitangent's sign in bit 31.

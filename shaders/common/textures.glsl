@@ -5,6 +5,7 @@
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
 #include "common/bindings.glsl"
+#include "common/records.glsl"
 // (The include resolver splices each file once, wherever it is first named, so includes
 // are never placed inside #ifdef; the guard is here.)
 
@@ -32,15 +33,7 @@ layout(std430, binding = BINDING_TEXTURE_INFO) readonly buffer TextureInfo { Tex
 layout(binding = TEXTURE_UNIT_SRGB_ATLAS) uniform sampler2DArray srgb_atlas;
 layout(binding = TEXTURE_UNIT_FLOAT_ATLAS) uniform sampler2DArray float_atlas;
 
-// TextureWrap (native/scene/scene.h), Blender's Image Texture extensions.
-const int WRAP_REPEAT = 0;
-const int WRAP_CLIP = 1;
-const int WRAP_EXTEND = 2;
-const int WRAP_MIRROR = 3;
-
-// GpuTexture's source (kTextureFrom* in native/render/gpu_layout.h).
-const int TEXTURE_FROM_UV = 0;
-const int TEXTURE_FROM_POSITION = 1;
+// The extensions (WRAP_*) and the sources (TEXTURE_FROM_*) are in common/records.glsl.
 
 ivec2 texture_size(int k) { return texture_records[k].rect.zw; }
 
