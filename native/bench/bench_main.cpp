@@ -50,7 +50,7 @@ void usage(std::FILE* out) {
                          "--photons n,m --radius-scale x,y --hash h --rng g --direct sampled,photons] "
                          "[--json]\n"
                          "       glslppm-bench specialize [--scene S --width W --height H "
-                         "--photons N --passes K --rounds R] [--json]\n"
+                         "--photons N --passes K --rounds R --each] [--json]\n"
                          "       glslppm-bench longrun [--passes K --photons N --width W]\n"
                          "       glslppm-bench restart [--scene S --width W --height H --photons N "
                          "--moves K] [--json]\n"

@@ -2,6 +2,11 @@
 // run than the full variant (every feature compiled in) on the same scene and settings.
 // The two renderers alternate in rounds so that drift in the machine's speed (thermal,
 // other load) falls on both alike; the images are compared too (same seed: they agree).
+//
+// glslppm-bench specialize --each: each row of render/specializations.h that the scene does
+// not need, forced alone into its programs (RenderSettings::forced_features), against the
+// scene's own programs: the row's gain, what compiling it only where needed saves. One line
+// (or JSON object) per row.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,15 +18,67 @@
 
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
+#include "render/specializations.h"
 
 using namespace glslppm;
+
+namespace {
+
+// Seconds of `passes` passes on r.
+double timed(Renderer& r, int passes) {
+    const double s0 = r.stats().seconds;
+    r.run(passes);
+    return r.stats().seconds - s0;
+}
+
+int each_row(const Scene& scene, const RenderSettings& settings, const std::string& scene_spec,
+             int passes, int rounds, bool json) {
+    Renderer base(scene, settings);
+    base.run(2);
+    const std::string base_variant = base.stats().variant;
+    if (!json)
+        std::printf("scene %s, %dx%d, %u photons/pass, %d x %d passes, on %s\n  its variant: %s\n",
+                    scene_spec.c_str(), settings.width, settings.height,
+                    settings.photons_per_pass, rounds, passes, base.stats().renderer.c_str(),
+                    base_variant.c_str());
+    for (const Specialization& row : specializations()) {
+        RenderSettings forced_settings = settings;
+        forced_settings.forced_features = {row.name};
+        Renderer forced(scene, forced_settings);
+        if (forced.stats().variant == base_variant) continue;  // needed here, or not applicable
+        forced.run(2);
+        double t_base = 0.0, t_forced = 0.0;
+        for (int r = 0; r < rounds; ++r) {
+            t_base += timed(base, passes);
+            t_forced += timed(forced, passes);
+        }
+        const double total = double(passes) * rounds;
+        const double gain = t_forced / t_base - 1.0;  // the pass time the row would add
+        if (json) {
+            const nlohmann::json out = {{"bench", "specialize-each"}, {"scene", scene_spec},
+                                        {"width", settings.width}, {"height", settings.height},
+                                        {"row", row.name}, {"define", row.define},
+                                        {"base_passes_per_second", total / t_base},
+                                        {"forced_passes_per_second", total / t_forced},
+                                        {"gain", gain}, {"renderer", base.stats().renderer}};
+            std::printf("%s\n", out.dump().c_str());
+        } else {
+            std::printf("  %-20s %-24s %9.2f -> %9.2f passes/s: leaving it out saves %+.2f%%\n",
+                        row.name, row.define, total / t_base, total / t_forced, 100.0 * gain);
+        }
+        std::fflush(stdout);
+    }
+    return 0;
+}
+
+}  // namespace
 
 int bench_specialization(int argc, char** argv) {
     RenderSettings settings;
     settings.width = settings.height = 512;
     settings.photons_per_pass = 262144;
     int passes = 32, rounds = 4;
-    bool json = false;
+    bool json = false, each = false;
     std::string scene_spec = "cornell-diffuse";
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
@@ -30,6 +87,7 @@ int bench_specialization(int argc, char** argv) {
         if (a == "--passes") passes = static_cast<int>(next());
         else if (a == "--rounds") rounds = static_cast<int>(next());
         else if (a == "--json") json = true;
+        else if (a == "--each") each = true;
         else {
             std::fprintf(stderr, "glslppm-bench specialize: unknown option %s\n", a.c_str());
             return 2;
@@ -37,6 +95,7 @@ int bench_specialization(int argc, char** argv) {
     }
     try {
         const Scene scene = make_bench_scene(scene_spec, float(settings.width) / settings.height);
+        if (each) return each_row(scene, settings, scene_spec, passes, rounds, json);
         RenderSettings full_settings = settings;
         full_settings.full_variant = true;
         Renderer specialized(scene, settings);

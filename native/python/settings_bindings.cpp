@@ -8,6 +8,7 @@
 #include "render/pppm_schedule.h"
 #include "render/render_passes.h"
 #include "render/settings.h"
+#include "render/specializations.h"
 
 namespace py = pybind11;
 
@@ -131,6 +132,21 @@ void bind_settings(py::module_& m) {
     m.def("pppm_pass_radius", &pppm_pass_radius, py::arg("initial_radius"), py::arg("floor"),
           py::arg("pass_index"), py::arg("alpha"),
           "PPPM's radius of a pass: initial_radius s(i), never below floor.");
+    m.def("specializations", [] {
+        py::list rows;
+        for (const Specialization& row : specializations()) {
+            py::dict d;
+            d["name"] = row.name;
+            d["define"] = row.define;
+            d["needs"] = row.needs;
+            d["gain"] = row.gain;
+            d["in_full_variant"] = row.in_full_variant;
+            rows.append(d);
+        }
+        return rows;
+    }, "The programs' compile-time specializations, one row each (native/render/"
+       "specializations.h): name, define, what a scene needs for it, its measured gain, and "
+       "whether the full variant compiles it.");
 }
 
 }  // namespace glslppm

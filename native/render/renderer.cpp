@@ -219,17 +219,15 @@ void Renderer::reset_film() {
 
 bool Renderer::set_camera(const Camera& camera) {
     validate_camera(camera);
-    // The programs were specialized for the projection and for depth of field.
+    // The programs were specialized for depth of field (the projection is the Frame's).
     const Gpu& first = *gpus_[0];
     const auto has = [&](const char* define) {
         return std::any_of(first.scene.defines.begin(), first.scene.defines.end(),
                            [&](const auto& d) { return d.first == define; });
     };
-    const bool orthographic = camera.projection == Projection::Orthographic;
-    const bool depth_of_field = !orthographic && camera.aperture_radius > 0.0f;
-    if (!settings_.full_variant &&
-        (has("HAS_ORTHOGRAPHIC") != orthographic || has("HAS_DEPTH_OF_FIELD") != depth_of_field))
-        return false;
+    const bool depth_of_field =
+        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
+    if (!settings_.full_variant && has("HAS_DEPTH_OF_FIELD") != depth_of_field) return false;
     for (auto& w : gpus_) {
         Gpu& g = *w;
         g.thread->call([&] {

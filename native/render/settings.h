@@ -80,6 +80,9 @@ struct RenderSettings {
     // Compile every feature whether the scene uses it or not (the specialization
     // benchmark's baseline); off, programs model only what the scene requires.
     bool full_variant = false;
+    // Compile these rows of render/specializations.h (by name) as if the scene needed them:
+    // how glslppm-bench specialize --each measures each row's gain.
+    std::vector<std::string> forced_features;
     int max_texture_size = 0;     // 0: the GPU's GL_MAX_TEXTURE_SIZE; smaller tests downscaling
     // 0: the GPU's GL_MAX_SHADER_STORAGE_BLOCK_SIZE; smaller caps the per-pixel buffers
     // below it, so that tests tile small images (native/render/tiled_render.h).

@@ -11,6 +11,7 @@
 #include "bvh_test_scenes.h"
 #include "procedural/cornell_box.h"
 #include "render/scene_preparation.h"
+#include "render/specializations.h"
 
 namespace glslppm {
 namespace {
@@ -202,15 +203,29 @@ TEST(PreparationSteps, FeaturesFollowTheSceneAndTheFullVariantHasEveryOne) {
         return p;
     };
     const PreparedScene plain = features(small_settings());
-    EXPECT_FALSE(has_define(plain, "HAS_CONDUCTOR"));
-    EXPECT_FALSE(has_define(plain, "HAS_DIELECTRIC"));
+    EXPECT_FALSE(has_define(plain, "HAS_LIGHT_TRACING"));  // no mirror, no glass
+    EXPECT_FALSE(has_define(plain, "HAS_SPOT_LIGHTS"));
     EXPECT_TRUE(has_define(plain, "HAS_TRIANGLE_EMITTERS"));
     RenderSettings full = small_settings();
     full.full_variant = true;
     const PreparedScene all = features(full);
-    for (const char* d : {"HAS_CONDUCTOR", "HAS_DIELECTRIC", "HAS_SPOT_LIGHTS", "HAS_TEXTURES",
-                          "HAS_NORMAL_MAP", "HAS_ABSORPTION", "HAS_SHADOWLESS_SURFACES"})
-        EXPECT_TRUE(has_define(all, d)) << d;
+    // Every row of the table the full variant takes (render/specializations.h).
+    int rows = 0;
+    for (const Specialization& row : specializations()) {
+        if (!row.in_full_variant) continue;
+        EXPECT_TRUE(has_define(all, row.define)) << row.define;
+        EXPECT_NE(all.variant.find(row.name), std::string::npos) << row.name;
+        ++rows;
+    }
+    EXPECT_GE(rows, 15);
+    // A benchmark forces one row into a scene that does not need it, and only that row.
+    RenderSettings forced = small_settings();
+    forced.forced_features = {"spot-lights"};
+    const PreparedScene one = features(forced);
+    EXPECT_TRUE(has_define(one, "HAS_SPOT_LIGHTS"));
+    EXPECT_EQ(one.defines.size(), plain.defines.size() + 1);
+    forced.forced_features = {"no-such-feature"};
+    EXPECT_THROW(features(forced), std::invalid_argument);
     // The work-group size is every program's.
     bool local_size = false;
     for (const auto& [define, value] : all.defines)

@@ -31,8 +31,9 @@ bool has_define(const PreparedScene& p, const std::string& name) {
 TEST(ScenePreparation, CornellBoxFeaturesSizesAndFrameWithoutGl) {
     const auto before = gl::gl_object_counts();
     const PreparedScene p = prepare_scene(make_cornell_box(), small_settings(), 64);
-    // Only what the scene uses: smooth spheres, a mirror, glass, an emissive quad.
-    for (const char* d : {"HAS_NORMALS", "HAS_CONDUCTOR", "HAS_DIELECTRIC", "HAS_TRIANGLE_EMITTERS"})
+    // Only what the scene uses: smooth spheres, an emissive quad, and light tracing of the
+    // mirror's and the glass' caustics.
+    for (const char* d : {"HAS_NORMALS", "HAS_TRIANGLE_EMITTERS", "HAS_LIGHT_TRACING"})
         EXPECT_TRUE(has_define(p, d)) << d;
     for (const char* d : {"HAS_TEXTURES", "HAS_SPOT_LIGHTS", "HAS_ENVIRONMENT_MAP"})
         EXPECT_FALSE(has_define(p, d)) << d;

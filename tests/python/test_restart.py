@@ -142,13 +142,33 @@ def test_pppm_restarts_every_worker_and_its_pass_indices(glslppm):
     renderer.close()
 
 
+def test_a_switch_to_orthographic_is_a_camera_restart(glslppm):
+    """The projection is the Frame's, not the programs': the viewport's numpad-5 switch
+    between perspective and orthographic restarts the camera (no rebuild), and renders what
+    a new renderer of the orthographic camera renders, pass for pass."""
+    g = glslppm
+    ortho = g.Camera(look_at((0, 1, 3.5), (0, 0.8, 0)), projection="orthographic",
+                     ortho_scale=3.0)
+    renderer = g.Renderer(box_scene(g, camera_a(g)), settings(g))
+    renderer.run(passes=2)
+    assert renderer.set_camera(ortho) is True
+    assert renderer.stats()["camera_updates"] == 1
+    renderer.run(passes=PASSES)
+    after = renderer.film()
+    renderer.close()
+    expected = fresh_film(g, box_scene(g, ortho))
+    assert np.abs(after - expected).max() <= 1e-5 * max(1.0, float(expected.max()))
+    assert expected[..., :3].mean() > 0.01
+
+
 def test_restarts_that_need_other_programs_or_geometry_change_nothing(glslppm):
     g = glslppm
     renderer = g.Renderer(box_scene(g, camera_a(g)), settings(g))
     renderer.run(passes=2)
-    ortho = g.Camera(look_at((0, 1, 3.5), (0, 0.8, 0)), projection="orthographic",
-                     ortho_scale=3.0)
-    assert renderer.set_camera(ortho) is False
+    # Depth of field is compiled only where a camera has an aperture.
+    lens = g.Camera(look_at((0, 1, 3.5), (0, 0.8, 0)), fov_x=math.radians(50),
+                    aperture_radius=0.05, focus_distance=3.5)
+    assert renderer.set_camera(lens) is False
     # A new material kind (a mirror) would need the conductor lobe compiled in, a sun light
     # its sampling.
     assert renderer.update_tables(box_scene(g, camera_a(g), extra_kind="conductor")) is False

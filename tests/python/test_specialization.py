@@ -12,15 +12,26 @@ def cornell(g, **settings):
 def test_plain_scene_variant_leaves_out_what_it_does_not_use(glslppm):
     r = cornell(glslppm)
     variant = r.stats()["variant"].split(",")
-    for feature in ("textures", "dielectric", "conductor", "environment-map", "spot-lights",
-                    "sun-lights", "depth-of-field", "rough-lobes"):
+    for feature in ("textures", "environment-map", "spot-lights", "sun-lights",
+                    "depth-of-field", "rough-lobes", "light-tracing"):
         assert feature not in variant, variant
+
+
+def test_the_full_variant_compiles_every_row_of_the_table(glslppm):
+    """The one table of specializations (native/render/specializations.h), read through the
+    module: the full variant compiles every row it takes, and every row it does not take says
+    why in its measured-gain field."""
+    rows = glslppm.specializations()
+    assert len(rows) >= 20, rows
+    assert len({row["define"] for row in rows}) == len(rows)
     full = cornell(glslppm, full_variant=True).stats()["variant"].split(",")
-    for feature in ("textures", "dielectric", "conductor", "spot-lights", "sun-lights",
-                    "depth-of-field", "normals", "rough-lobes"):
-        assert feature in full, full
-    # An environment map replaces the constant world: never compiled without one.
-    assert "environment-map" not in full, full
+    for row in rows:
+        assert row["needs"] and row["gain"], row
+        if row["in_full_variant"]:
+            assert row["name"] in full, (row, full)
+        else:
+            assert "not in the full variant" in row["gain"], row
+            assert row["name"] not in full, (row, full)
 
 
 def test_specialized_and_full_variants_render_the_same_image(glslppm):

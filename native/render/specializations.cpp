@@ -1,0 +1,226 @@
+#include "render/specializations.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace glslppm {
+namespace {
+
+using Inputs = FeatureInputs;
+
+bool normals(const Inputs& in) {
+    return !(in.p.instancing.two_level ? in.p.two_level->normals : in.bvh.normals).empty();
+}
+bool depth_of_field(const Inputs& in) {
+    const Camera& c = in.scene.camera;
+    return c.projection == Projection::Perspective && c.aperture_radius > 0.0f;
+}
+bool emits(const Inputs& in, EmitterKind kind) {
+    return in.p.emitters.has[static_cast<int>(kind)];
+}
+bool area_lights(const Inputs& in) { return emits(in, EmitterKind::Triangle); }
+bool point_lights(const Inputs& in) { return emits(in, EmitterKind::Point); }
+bool spot_lights(const Inputs& in) { return emits(in, EmitterKind::Spot); }
+bool sun_lights(const Inputs& in) { return emits(in, EmitterKind::Sun); }
+bool environment(const Inputs& in) {
+    return emits(in, EmitterKind::Environment) || glm::length(in.scene.environment) > 0.0f;
+}
+
+// Point and spot lights of a radius are spheres that mirrors and glass show
+// (common/sphere_lights.glsl); the shader looks through the analytic lights' records.
+bool sphere_lights(const Inputs& in) {
+    bool any = false;
+    for (const Light& light : in.scene.lights)
+        any |= (light.kind == LightKind::Point || light.kind == LightKind::Spot) &&
+               light.radius > 0.0f && light.power > 0.0f;
+    return any && in.p.emitters.light_count > 0;
+}
+std::vector<std::pair<std::string, std::string>> sphere_light_defines(const Inputs& in) {
+    return {{"SPHERE_LIGHT_FIRST", std::to_string(in.p.emitters.first_light) + "u"},
+            {"SPHERE_LIGHT_RECORDS", std::to_string(in.p.emitters.light_count) + "u"}};
+}
+bool has_analytic_lights(const Inputs& in) { return in.p.emitters.light_count > 0; }
+
+bool textures(const Inputs& in) { return in.p.textures.materials; }
+// Generated and Object coordinates: textures looked up at the world position beside the uv
+// (TexturePoint in common/textures.glsl).
+bool position_textures(const Inputs& in) {
+    bool any = false;
+    for (std::size_t k = 0; k < in.scene.textures.size(); ++k)
+        any |= in.p.textures.materials && in.p.textures.used[k] &&
+               in.scene.textures[k].from_position;
+    return any;
+}
+bool vertex_colors(const Inputs& in) { return in.p.vertex_colors; }
+bool normal_maps(const Inputs& in) { return uses_normal_maps(in.p); }
+bool emission_texture(const Inputs& in) {
+    bool any = false;
+    for (const Material& m : in.p.geometry.materials)
+        any |= in.p.textures.materials && m.emission_texture >= 0;
+    return any;
+}
+// Blender 4.x's F82 tint on a metal: a conductor whose tint is not white.
+bool f82_tint(const Inputs& in) {
+    bool any = false;
+    for (const Material& m : in.p.geometry.materials)
+        any |= m.kind == MaterialKind::Conductor && m.f82_tint != glm::vec3(1.0f);
+    return any;
+}
+bool absorption(const Inputs& in) {
+    bool any = false;
+    for (const Material& m : in.p.geometry.materials) any |= m.absorption != glm::vec3(0.0f);
+    return any;
+}
+// Every material of the table counts: mixes reach materials no triangle names.
+bool rough_lobes(const Inputs& in) {
+    bool any = false;
+    for (const Material& m : in.p.geometry.materials) any |= needs_rough_lobes(m);
+    return any;
+}
+bool environment_map(const Inputs& in) { return in.p.textures.environment; }
+
+bool samples_lights(const Inputs& in) { return in.settings.direct_light != DirectLight::Photons; }
+// Shadow rays skip the surfaces that cast no shadow (area lights, objects with shadow
+// visibility off, cut-outs).
+bool shadowless_surfaces(const Inputs& in) {
+    if (!samples_lights(in)) return false;
+    bool any = false;
+    for (std::uint32_t flags : in.p.geometry.flags)
+        any |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow |
+                         kMaterialMayBeTransparent)) != 0;
+    return any;
+}
+// Where a BSDF-sampled ray can hit an emissive triangle and a glossy lobe held by a visible
+// point can send it: a conductor or a plastic's coat at or above the glossy threshold
+// (dielectrics are always followed; below the threshold the eye path follows the lobe, and a
+// plastic's visible point holds its diffuse base alone). Not with two levels: their
+// triangles are numbered per mesh, and instanced meshes' emission is not in the table.
+bool emitter_mis_applies(const Inputs& in) {
+    return in.settings.direct_light == DirectLight::Sampled && area_lights(in) &&
+           !in.p.instancing.two_level;
+}
+bool emitter_mis(const Inputs& in) {
+    bool glossy = false;
+    for (const Material& m : in.p.geometry.materials)
+        glossy |= (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Plastic) &&
+                  ((m.roughness >= in.settings.glossy_threshold && m.roughness > 0.0f) ||
+                   m.roughness_texture >= 0);
+    return emitter_mis_applies(in) && glossy;
+}
+
+// The connection inverts the camera's frame by its transpose: a frame with scale or shear
+// (the add-on drops scale; a module user may not) is left to the gather.
+bool rigid_frame(const glm::mat4& m) {
+    const glm::mat3 r(m);
+    const glm::mat3 gram = glm::transpose(r) * r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f) return false;
+    return true;
+}
+// Left out (the gather keeps those paths) where not supported yet: cut-outs (camera rays see
+// through them, the connection's shadow ray would not), depth of field (no lens sampling),
+// the light split's passes (its Caustics pass would miss the splats), and the full variant
+// (a material edit must not switch the film's buffers).
+bool light_tracing_applies(const Inputs& in) {
+    bool cut_outs = false;
+    for (std::uint32_t flags : in.p.geometry.flags)
+        cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
+    return in.settings.light_tracing && !cut_outs && !depth_of_field(in) &&
+           rigid_frame(in.scene.camera.to_world) && !in.p.pass_layout.photon_split &&
+           !in.settings.full_variant;
+}
+bool light_tracing(const Inputs& in) { return light_tracing_applies(in) && in.smooth_specular; }
+
+bool two_level(const Inputs& in) { return in.p.instancing.two_level; }
+
+using G = SpecializationGroup;
+
+// The rows, in the programs' define order. `gain`: glslppm-bench specialize --each, the
+// row forced into a scene that does not need it (docs/performance.md, "Specializations").
+const Specialization kRows[] = {
+    {"normals", "HAS_NORMALS", "a mesh with vertex normals (smooth shading)",
+     "not measured alone", G::Scene, true, normals},
+    {"depth-of-field", "HAS_DEPTH_OF_FIELD", "a perspective camera with an aperture",
+     "not measured alone", G::Scene, true, depth_of_field},
+    {"area-lights", "HAS_TRIANGLE_EMITTERS", "emissive triangles (mesh emission, area lights)",
+     "not measured alone", G::Scene, true, area_lights},
+    {"point-lights", "HAS_POINT_LIGHTS", "a point light", "not measured alone", G::Scene, true,
+     point_lights},
+    {"spot-lights", "HAS_SPOT_LIGHTS", "a spot light", "not measured alone", G::Scene, true,
+     spot_lights},
+    {"sun-lights", "HAS_SUN_LIGHTS", "a sun light", "not measured alone", G::Scene, true,
+     sun_lights},
+    {"environment", "HAS_ENVIRONMENT", "a world colour or map", "not measured alone", G::Scene,
+     true, environment},
+    {"sphere-lights", "SPHERE_LIGHT_RECORDS", "a point or spot light with a radius",
+     "not in the full variant: its define counts the scene's own light records", G::Scene,
+     false, sphere_lights, has_analytic_lights, sphere_light_defines},
+    {"textures", "HAS_TEXTURES", "an image texture on a material, on a mesh with uvs",
+     "not measured alone", G::Scene, true, textures},
+    {"position-textures", "HAS_POSITION_TEXTURES",
+     "a texture on Generated or Object coordinates", "not measured alone", G::Scene, true,
+     position_textures},
+    {"vertex-colors", "HAS_VERTEX_COLORS", "a material that multiplies in vertex colours",
+     "not measured alone", G::Scene, true, vertex_colors},
+    {"normal-map", "HAS_NORMAL_MAP", "a normal or bump map", "not measured alone", G::Scene, true,
+     normal_maps},
+    {"emission-texture", "HAS_EMISSION_TEXTURE", "a texture on a material's emission",
+     "not measured alone", G::Scene, true, emission_texture},
+    {"f82-tint", "HAS_F82_TINT", "a metal with a non-white F82 tint (Blender 4.x)",
+     "H200: 3.6% of a pass on the glossy Cornell box", G::Scene, true, f82_tint},
+    {"absorption", "HAS_ABSORPTION", "glass with Beer-Lambert absorption",
+     "not measured alone", G::Scene, true, absorption},
+    {"rough-lobes", "HAS_ROUGH_LOBES",
+     "a lobe beyond Lambert, a mirror and smooth glass (rough, plastic, translucent, mix)",
+     "llvmpipe: the Cornell box's eye and photon stages 1.6-1.7x faster without it",
+     G::Scene, true, rough_lobes},
+    {"environment-map", "HAS_ENVIRONMENT_MAP", "a world image",
+     "not in the full variant: it replaces the constant world's code rather than adding to "
+     "it (with it, a constant world rendered black)",
+     G::Scene, false, environment_map, environment_map},
+    {"shadowless-surfaces", "HAS_SHADOWLESS_SURFACES",
+     "light sampling, and a surface that casts no shadow (area light, shadow visibility off, "
+     "cut-out)",
+     "not measured alone", G::DirectLight, true, shadowless_surfaces, samples_lights},
+    {"emitter-mis", "HAS_EMITTER_MIS",
+     "light sampling, emissive triangles and a glossy lobe at or above the glossy threshold",
+     "H200: 8.5% of a pass on the glossy Cornell box at 1920x1080 (198.1 -> 181.3 passes/s); "
+     "not in the full variant (its triangles' map is uploaded only where it is compiled)",
+     G::DirectLight, false, emitter_mis, emitter_mis_applies},
+    {"instances", "GLSLPPM_INSTANCES", "instances kept on two levels (Settings.instancing)",
+     "not in the full variant: the geometry's buffers follow the instancing decision",
+     G::DirectLight, false, two_level, two_level},
+    {"light-tracing", "HAS_LIGHT_TRACING",
+     "a mirror or glass, with light tracing on (no cut-outs, depth of field or light split)",
+     "H200: 14-29% fewer passes/s where it applies (the photon stage doubles); not in the "
+     "full variant (a material edit must not switch the film's buffers)",
+     G::Last, false, light_tracing, light_tracing_applies},
+};
+
+}  // namespace
+
+std::span<const Specialization> specializations() { return kRows; }
+
+bool traces_smooth_specular(const Scene& scene, const PackedBvh& bvh, const PreparedScene& p) {
+    const std::vector<Material>& materials = p.geometry.materials;
+    const auto specular = [](MaterialKind k) {
+        return k == MaterialKind::Conductor || k == MaterialKind::Dielectric;
+    };
+    for (std::uint32_t t = 0; t < bvh.triangle_count; ++t)
+        if (specular(materials[static_cast<std::size_t>(std::bit_cast<int>(bvh.triangles[3 * t].w))]
+                         .kind))
+            return true;
+    if (!p.instancing.two_level) return false;
+    for (const Instance& inst : scene.instances) {
+        const MeshView& m = scene.instance_meshes[inst.mesh];
+        std::uint32_t most = 0;
+        for (std::uint32_t id : m.material_ids) most = std::max(most, id);
+        for (std::uint32_t k = 0; k <= most; ++k)
+            if (specular(materials[inst.material_offset + k].kind)) return true;
+    }
+    return false;
+}
+
+}  // namespace glslppm
