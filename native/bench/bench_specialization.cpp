@@ -11,10 +11,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
@@ -33,38 +32,60 @@ double timed(Renderer& r, int passes) {
 
 int each_row(const Scene& scene, const RenderSettings& settings, const std::string& scene_spec,
              int passes, int rounds, bool json) {
-    Renderer base(scene, settings);
-    base.run(2);
-    const std::string base_variant = base.stats().variant;
+    std::string base_variant, renderer;
+    {
+        Renderer probe(scene, settings);
+        base_variant = probe.stats().variant;
+        renderer = probe.stats().renderer;
+    }
     if (!json)
         std::printf("scene %s, %dx%d, %u photons/pass, %d x %d passes, on %s\n  its variant: %s\n",
-                    scene_spec.c_str(), settings.width, settings.height,
-                    settings.photons_per_pass, rounds, passes, base.stats().renderer.c_str(),
-                    base_variant.c_str());
-    for (const Specialization& row : specializations()) {
+                    scene_spec.c_str(), settings.width, settings.height, settings.photons_per_pass,
+                    rounds, passes, renderer.c_str(), base_variant.c_str());
+    // First a control: the scene's own programs against themselves (the bench's own spread).
+    std::vector<const Specialization*> rows{nullptr};
+    for (const Specialization& row : specializations()) rows.push_back(&row);
+    for (const Specialization* row : rows) {
         RenderSettings forced_settings = settings;
-        forced_settings.forced_features = {row.name};
+        if (row != nullptr) forced_settings.forced_features = {row->name};
         Renderer forced(scene, forced_settings);
-        if (forced.stats().variant == base_variant) continue;  // needed here, or not applicable
+        // Needed here, or not applicable.
+        if (row != nullptr && forced.stats().variant == base_variant) continue;
+        // A fresh renderer of the scene's own programs beside it: SPPM's passes grow cheaper
+        // as the radii shrink, so both must be at the same pass.
+        Renderer base(scene, settings);
+        base.run(2);
         forced.run(2);
         double t_base = 0.0, t_forced = 0.0;
+        // Which runs first alternates (A B B A ...): the first of a pair measured up to 3%
+        // apart from the second with the same programs on the H100.
         for (int r = 0; r < rounds; ++r) {
-            t_base += timed(base, passes);
-            t_forced += timed(forced, passes);
+            if (r % 2 == 0) {
+                t_base += timed(base, passes);
+                t_forced += timed(forced, passes);
+            } else {
+                t_forced += timed(forced, passes);
+                t_base += timed(base, passes);
+            }
         }
         const double total = double(passes) * rounds;
         const double gain = t_forced / t_base - 1.0;  // the pass time the row would add
         if (json) {
-            const nlohmann::json out = {{"bench", "specialize-each"}, {"scene", scene_spec},
-                                        {"width", settings.width}, {"height", settings.height},
-                                        {"row", row.name}, {"define", row.define},
+            const nlohmann::json out = {{"bench", "specialize-each"},
+                                        {"scene", scene_spec},
+                                        {"width", settings.width},
+                                        {"height", settings.height},
+                                        {"row", row ? row->name : "(control)"},
+                                        {"define", row ? row->define : ""},
                                         {"base_passes_per_second", total / t_base},
                                         {"forced_passes_per_second", total / t_forced},
-                                        {"gain", gain}, {"renderer", base.stats().renderer}};
+                                        {"gain", gain},
+                                        {"renderer", renderer}};
             std::printf("%s\n", out.dump().c_str());
         } else {
             std::printf("  %-20s %-24s %9.2f -> %9.2f passes/s: leaving it out saves %+.2f%%\n",
-                        row.name, row.define, total / t_base, total / t_forced, 100.0 * gain);
+                        row ? row->name : "(control)", row ? row->define : "(the same)",
+                        total / t_base, total / t_forced, 100.0 * gain);
         }
         std::fflush(stdout);
     }
@@ -84,10 +105,14 @@ int bench_specialization(int argc, char** argv) {
         const std::string a = argv[i];
         auto next = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
         if (parse_render_option(argc, argv, i, settings, scene_spec)) continue;
-        if (a == "--passes") passes = static_cast<int>(next());
-        else if (a == "--rounds") rounds = static_cast<int>(next());
-        else if (a == "--json") json = true;
-        else if (a == "--each") each = true;
+        if (a == "--passes")
+            passes = static_cast<int>(next());
+        else if (a == "--rounds")
+            rounds = static_cast<int>(next());
+        else if (a == "--json")
+            json = true;
+        else if (a == "--each")
+            each = true;
         else {
             std::fprintf(stderr, "glslppm-bench specialize: unknown option %s\n", a.c_str());
             return 2;

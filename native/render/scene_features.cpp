@@ -37,7 +37,8 @@ struct Features {
                 add(row.define, row.name);
                 continue;
             }
-            for (const auto& [define, value] : row.defines(in)) p.defines.push_back({define, value});
+            for (const auto& [define, value] : row.defines(in))
+                p.defines.push_back({define, value});
             names.push_back(row.name);
         }
     }

@@ -16,9 +16,7 @@ bool depth_of_field(const Inputs& in) {
     const Camera& c = in.scene.camera;
     return c.projection == Projection::Perspective && c.aperture_radius > 0.0f;
 }
-bool emits(const Inputs& in, EmitterKind kind) {
-    return in.p.emitters.has[static_cast<int>(kind)];
-}
+bool emits(const Inputs& in, EmitterKind kind) { return in.p.emitters.has[static_cast<int>(kind)]; }
 bool area_lights(const Inputs& in) { return emits(in, EmitterKind::Triangle); }
 bool point_lights(const Inputs& in) { return emits(in, EmitterKind::Point); }
 bool spot_lights(const Inputs& in) { return emits(in, EmitterKind::Spot); }
@@ -48,8 +46,8 @@ bool textures(const Inputs& in) { return in.p.textures.materials; }
 bool position_textures(const Inputs& in) {
     bool any = false;
     for (std::size_t k = 0; k < in.scene.textures.size(); ++k)
-        any |= in.p.textures.materials && in.p.textures.used[k] &&
-               in.scene.textures[k].from_position;
+        any |=
+            in.p.textures.materials && in.p.textures.used[k] && in.scene.textures[k].from_position;
     return any;
 }
 bool vertex_colors(const Inputs& in) { return in.p.vertex_colors; }
@@ -87,8 +85,8 @@ bool shadowless_surfaces(const Inputs& in) {
     if (!samples_lights(in)) return false;
     bool any = false;
     for (std::uint32_t flags : in.p.geometry.flags)
-        any |= (flags & (kMaterialLightSurface | kMaterialCastsNoShadow |
-                         kMaterialMayBeTransparent)) != 0;
+        any |= (flags &
+                (kMaterialLightSurface | kMaterialCastsNoShadow | kMaterialMayBeTransparent)) != 0;
     return any;
 }
 // Where a BSDF-sampled ray can hit an emissive triangle and a glossy lobe held by a visible
@@ -137,43 +135,49 @@ bool two_level(const Inputs& in) { return in.p.instancing.two_level; }
 
 using G = SpecializationGroup;
 
-// The rows, in the programs' define order. `gain`: glslppm-bench specialize --each, the
-// row forced into a scene that does not need it (docs/performance.md, "Specializations").
+// The rows, in the programs' define order. `gain`: the pass time the row adds where a scene
+// does not need it, by glslppm-bench specialize --each (the row forced into that scene's
+// programs): on an H100 at 1920x1080 on cornell-diffuse / cornell / cornell-glossy, and on
+// llvmpipe at 128^2 on cornell (docs/performance.md, "Each specialization's gain"; the
+// bench's own spread, its control row, was 0.0-0.6% and 0.8%). Every row measured at
+// least 1% on one of them, the bar for staying a compile-time choice.
 const Specialization kRows[] = {
     {"normals", "HAS_NORMALS", "a mesh with vertex normals (smooth shading)",
-     "not measured alone", G::Scene, true, normals},
+     "every benchmark scene needs it: not measured alone", G::Scene, true, normals},
     {"depth-of-field", "HAS_DEPTH_OF_FIELD", "a perspective camera with an aperture",
-     "not measured alone", G::Scene, true, depth_of_field},
+     "H100 1080p +0.6% / +1.3% / +1.8%, llvmpipe 128^2 +0.4%", G::Scene, true, depth_of_field},
     {"area-lights", "HAS_TRIANGLE_EMITTERS", "emissive triangles (mesh emission, area lights)",
-     "not measured alone", G::Scene, true, area_lights},
-    {"point-lights", "HAS_POINT_LIGHTS", "a point light", "not measured alone", G::Scene, true,
-     point_lights},
-    {"spot-lights", "HAS_SPOT_LIGHTS", "a spot light", "not measured alone", G::Scene, true,
-     spot_lights},
-    {"sun-lights", "HAS_SUN_LIGHTS", "a sun light", "not measured alone", G::Scene, true,
-     sun_lights},
-    {"environment", "HAS_ENVIRONMENT", "a world colour or map", "not measured alone", G::Scene,
-     true, environment},
+     "every benchmark scene needs it: not measured alone", G::Scene, true, area_lights},
+    {"point-lights", "HAS_POINT_LIGHTS", "a point light",
+     "H100 1080p -0.6% / +1.2% / +1.5%, llvmpipe 128^2 +3.6%", G::Scene, true, point_lights},
+    {"spot-lights", "HAS_SPOT_LIGHTS", "a spot light",
+     "H100 1080p -0.7% / +1.2% / +1.3%, llvmpipe 128^2 -0.1%", G::Scene, true, spot_lights},
+    {"sun-lights", "HAS_SUN_LIGHTS", "a sun light",
+     "H100 1080p -0.5% / +1.1% / +1.3%, llvmpipe 128^2 -0.8%", G::Scene, true, sun_lights},
+    {"environment", "HAS_ENVIRONMENT", "a world colour or map",
+     "H100 1080p +20.2% / +26.7% / +17.3%, llvmpipe 128^2 +0.9%", G::Scene, true, environment},
     {"sphere-lights", "SPHERE_LIGHT_RECORDS", "a point or spot light with a radius",
-     "not in the full variant: its define counts the scene's own light records", G::Scene,
-     false, sphere_lights, has_analytic_lights, sphere_light_defines},
+     "not in the full variant: its define counts the scene's own light records", G::Scene, false,
+     sphere_lights, has_analytic_lights, sphere_light_defines},
     {"textures", "HAS_TEXTURES", "an image texture on a material, on a mesh with uvs",
-     "not measured alone", G::Scene, true, textures},
-    {"position-textures", "HAS_POSITION_TEXTURES",
-     "a texture on Generated or Object coordinates", "not measured alone", G::Scene, true,
-     position_textures},
+     "H100 1080p +7.0% / +8.9% / +13.9%, llvmpipe 128^2 +3.0%", G::Scene, true, textures},
+    {"position-textures", "HAS_POSITION_TEXTURES", "a texture on Generated or Object coordinates",
+     "H100 1080p -0.0% / +1.0% / +1.5%, llvmpipe 128^2 +2.4%", G::Scene, true, position_textures},
     {"vertex-colors", "HAS_VERTEX_COLORS", "a material that multiplies in vertex colours",
-     "not measured alone", G::Scene, true, vertex_colors},
-    {"normal-map", "HAS_NORMAL_MAP", "a normal or bump map", "not measured alone", G::Scene, true,
-     normal_maps},
+     "H100 1080p +2.2% / +4.7% / +1.7%, llvmpipe 128^2 +1.0%", G::Scene, true, vertex_colors},
+    {"normal-map", "HAS_NORMAL_MAP", "a normal or bump map",
+     "H100 1080p -2.4% / -7.7% / +15.5%, llvmpipe 128^2 -0.0%", G::Scene, true, normal_maps},
     {"emission-texture", "HAS_EMISSION_TEXTURE", "a texture on a material's emission",
-     "not measured alone", G::Scene, true, emission_texture},
+     "H100 1080p -0.1% / +1.0% / +1.6%, llvmpipe 128^2 -0.7%", G::Scene, true, emission_texture},
     {"f82-tint", "HAS_F82_TINT", "a metal with a non-white F82 tint (Blender 4.x)",
-     "H200: 3.6% of a pass on the glossy Cornell box", G::Scene, true, f82_tint},
+     "H100 1080p -0.4% / +1.2% / +15.0%, llvmpipe 128^2 +0.4%; "
+     "H200: 3.6% of a pass on the glossy Cornell box",
+     G::Scene, true, f82_tint},
     {"absorption", "HAS_ABSORPTION", "glass with Beer-Lambert absorption",
-     "not measured alone", G::Scene, true, absorption},
+     "H100 1080p -0.7% / +0.9% / +2.0%, llvmpipe 128^2 +1.4%", G::Scene, true, absorption},
     {"rough-lobes", "HAS_ROUGH_LOBES",
      "a lobe beyond Lambert, a mirror and smooth glass (rough, plastic, translucent, mix)",
+     "H100 1080p +13.9% / +17.7% / needed, llvmpipe 128^2 +14.4%; "
      "llvmpipe: the Cornell box's eye and photon stages 1.6-1.7x faster without it",
      G::Scene, true, rough_lobes},
     {"environment-map", "HAS_ENVIRONMENT_MAP", "a world image",
@@ -183,9 +187,11 @@ const Specialization kRows[] = {
     {"shadowless-surfaces", "HAS_SHADOWLESS_SURFACES",
      "light sampling, and a surface that casts no shadow (area light, shadow visibility off, "
      "cut-out)",
-     "not measured alone", G::DirectLight, true, shadowless_surfaces, samples_lights},
+     "H100 1080p +2.5% / +4.1% / +1.3%, llvmpipe 128^2 -2.4%", G::DirectLight, true,
+     shadowless_surfaces, samples_lights},
     {"emitter-mis", "HAS_EMITTER_MIS",
      "light sampling, emissive triangles and a glossy lobe at or above the glossy threshold",
+     "H100 1080p +11.8% / +16.1% / +1.9%, llvmpipe 128^2 +1.9%; "
      "H200: 8.5% of a pass on the glossy Cornell box at 1920x1080 (198.1 -> 181.3 passes/s); "
      "not in the full variant (its triangles' map is uploaded only where it is compiled)",
      G::DirectLight, false, emitter_mis, emitter_mis_applies},
@@ -194,6 +200,7 @@ const Specialization kRows[] = {
      G::DirectLight, false, two_level, two_level},
     {"light-tracing", "HAS_LIGHT_TRACING",
      "a mirror or glass, with light tracing on (no cut-outs, depth of field or light split)",
+     "H100 1080p +40.6% on cornell-diffuse (the other scenes need it); "
      "H200: 14-29% fewer passes/s where it applies (the photon stage doubles); not in the "
      "full variant (a material edit must not switch the film's buffers)",
      G::Last, false, light_tracing, light_tracing_applies},

@@ -370,6 +370,7 @@ def check_specialize(bench):
     for name in ("textures", "spot-lights", "rough-lobes", "depth-of-field"):
         check(name in rows, f"specialize --each measured no {name}: {sorted(rows)}")
     check("area-lights" not in rows, "specialize --each forced a row the box needs")
+    check("(control)" in rows, "specialize --each printed no control")
     for line in rows.values():
         check(positive(line["base_passes_per_second"]) and
               positive(line["forced_passes_per_second"]), f"specialize --each {line}")
