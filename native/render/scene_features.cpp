@@ -208,19 +208,34 @@ bool rigid_frame(const glm::mat4& m) {
 
 void light_tracing_feature(const Scene& scene, Features& f) {
     PreparedScene& p = f.p;
-    const RenderSettings& settings = f.settings;
-    const Camera& camera = scene.camera;
-    const bool depth_of_field =
-        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
     bool cut_outs = false;
     for (std::uint32_t flags : p.geometry.flags) cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
-    p.light_tracing = settings.light_tracing && f.smooth_specular && !cut_outs &&
-                      !depth_of_field && rigid_frame(camera.to_world) &&
-                      !p.pass_layout.photon_split && !settings.full_variant;
+    p.light_tracing = light_tracing_allowed(scene, f.settings) && f.smooth_specular && !cut_outs;
     if (p.light_tracing) f.add("HAS_LIGHT_TRACING", "light-tracing");
 }
 
 }  // namespace
+
+bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
+    const Camera& camera = scene.camera;
+    const bool depth_of_field =
+        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
+    const bool photon_split =
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
+    return settings.light_tracing && !depth_of_field && rigid_frame(camera.to_world) &&
+           !photon_split && !settings.full_variant;
+}
+
+bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {
+    // Cut-outs: a Transparent leaf anywhere (every mix leaf is a material of the list, and
+    // one that is Transparent is itself flagged kMaterialMayBeTransparent).
+    bool specular = false, cut_outs = false;
+    for (const Material& m : scene.materials) {
+        specular |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric;
+        cut_outs |= m.kind == MaterialKind::Transparent;
+    }
+    return specular && !cut_outs && light_tracing_allowed(scene, settings);
+}
 
 void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
                      const PackedBvh& bvh, PreparedScene& p) {
