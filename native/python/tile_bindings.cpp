@@ -106,6 +106,10 @@ void bind_tiles(py::module_& m) {
        "camera looks through the tile's window, with the whole frame's radius and streams.");
     m.def("for_each_tile", [](py::object scene_object, py::object settings_object,
                               const std::vector<std::array<int, 4>>& tiles, py::function visit) {
+        if (!py::isinstance<Scene>(scene_object) ||
+            !py::isinstance<RenderSettings>(settings_object))
+            throw py::type_error("for_each_tile(scene, settings, tiles, visit): scene must be a "
+                                 "Scene and settings a Settings");
         const Scene& scene = scene_object.cast<const Scene&>();
         const RenderSettings& settings = settings_object.cast<const RenderSettings&>();
         TilePlan plan;

@@ -151,3 +151,5 @@ def test_bad_input_is_refused_with_a_message(glslppm):
     settings = g.Settings(width=16, height=16, photons_per_pass=256)
     with pytest.raises(ValueError, match="does not lie within the 16x16 frame"):
         g.for_each_tile(box, settings, [(0, 8, 16, 16)], lambda *tile: True)
+    with pytest.raises(TypeError, match="scene must be a Scene"):
+        g.for_each_tile(settings, box, [(0, 0, 16, 16)], lambda *tile: True)
