@@ -1,21 +1,14 @@
 """Whether a render fits, decided before anything is allocated: the GPU buffers the
-module will make (native/render/renderer.cpp, per pixel and per photon thread), the host
-copies of the film and Blender's own result, against the device's limits and the host's
-available memory. A render that does not fit is refused at once with the numbers,
-instead of failing minutes later with a black full-size result.
+module will make (its memory_estimate: native/render/memory_estimate.h, the sizes the
+renderer allocates), the host copies of the film and Blender's own result, against the
+device's limits and the host's available memory. A render that does not fit is refused at
+once with the numbers, instead of failing minutes later with a black full-size result.
 """
 
 import os
 
-# GPU bytes per pixel: visible points (4 vec4, kVisiblePointVec4 in native/render/
-# gpu_layout.h), statistics (2), direct light (2), film (1) and a generator state (1).
-GPU_PER_PIXEL = (4 + 2 + 2 + 1 + 1) * 16
-# GPU bytes per photon thread: paths (3 vec4), photons (3), generator state (1), the sorted
-# indices of the exact hash (1 uint); hash cells come on top (next power of two >= 2x).
-GPU_PER_PHOTON = (3 + 3 + 1) * 16 + 4
-HASH_CELL = 16
 # Host bytes per pixel: Blender's float RGBA result and the copy it saves or shows (2 x 16),
-# the module's film read-back and the add-on's flipped copy (2 x 16), and the initial
+# the module's film read-back and the add-on's copy of it (2 x 16), and the initial
 # statistics the module uploads (2 vec4).
 HOST_PER_PIXEL = 2 * 16 + 2 * 16 + 2 * 16
 HOST_PER_PHOTON = 3 * 16
@@ -23,20 +16,18 @@ HOST_PER_PHOTON = 3 * 16
 GIB = float(1 << 30)
 
 
-def next_power_of_two(value):
-    return 1 << max(0, int(value - 1).bit_length())
-
-
-def estimate(width, height, photons_per_pass, views=1):
-    """Bytes: {"gpu", "largest_buffer", "host"} for a render of width x height pixels."""
-    pixels = width * height
-    hash_cells = next_power_of_two(max(2 * photons_per_pass, 1024))
-    gpu = pixels * GPU_PER_PIXEL + photons_per_pass * GPU_PER_PHOTON + hash_cells * HASH_CELL
-    # The per-pixel buffers are not among them: a frame whose visible points exceed one
-    # buffer renders as image tiles (the module's plan_tiles).
-    largest = max(photons_per_pass * 3 * 16, hash_cells * HASH_CELL)
-    host = views * pixels * HOST_PER_PIXEL + photons_per_pass * HOST_PER_PHOTON
-    return {"gpu": gpu, "largest_buffer": largest, "host": host}
+def estimate(native, settings, views=1, limits=None):
+    """Bytes: {"gpu", "largest_buffer", "host"} for a render of the module's Settings: the
+    GPU's from the module (before export: light tracing's splats counted wherever the
+    settings allow it), the host's from Blender's and the add-on's copies. limits: the
+    module's device_limits() (or None where the device could not be asked)."""
+    largest = limits.get("max_storage_buffer_bytes", 0) if limits else 0
+    gpu = native.memory_estimate(settings, largest_block=largest)
+    pixels = settings.width * settings.height
+    host = views * pixels * HOST_PER_PIXEL + settings.photons_per_pass * HOST_PER_PHOTON
+    # The per-pixel buffers are not among the largest: a frame whose visible points exceed
+    # one buffer renders as image tiles (the module's plan_tiles).
+    return {"gpu": gpu["gpu"], "largest_buffer": gpu["largest_photon_buffer"], "host": host}
 
 
 def host_available():

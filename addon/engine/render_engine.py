@@ -93,9 +93,17 @@ class GlslppmEngineMixin:
         passes = render_passes.requested(self.view_layer) if self.view_layer else set()
         devices = render_devices(settings)
         device = devices[0]
-        problem = memory.refusal(
-            memory.estimate(width, height, settings.photons_per_pass, len(views)),
-            _device_limits(native, device), memory.host_available())
+        film = film_options(scene)
+        # Every chosen device, one worker each (PPPM); tiles too.
+        try:
+            full = native_settings(native, settings, width, height, scene.frame_current,
+                                   film=film, device=devices, passes=sorted(passes))
+        except (native.GlslppmError, ValueError, TypeError) as error:
+            self._fail(f"the render settings are not valid: {error}", width, height)
+            return
+        limits = _device_limits(native, device)
+        problem = memory.refusal(memory.estimate(native, full, len(views), limits), limits,
+                                 memory.host_available())
         if problem is not None:
             # No result either: Blender's own would be the largest allocation of all.
             self.report_to_user('ERROR', problem)
@@ -124,7 +132,6 @@ class GlslppmEngineMixin:
               f"instances of {len(data.instance_meshes)} meshes, {len(data.lights)} lights, "
               f"{len(data.materials)} materials in {data.stats['seconds']:.2f} s")
 
-        film = film_options(scene)
         if not data.has_surfaces():
             self.report_to_user('WARNING', "the scene has no geometry; the image shows "
                                 "only the world")
@@ -149,54 +156,38 @@ class GlslppmEngineMixin:
                     camera, width, height, lambda message: None, frame,
                     view=(self.camera_model_matrix(camera, use_spherical_stereo=spherical),
                           self.camera_shift_x(camera, use_spherical_stereo=spherical)))
-            label = f" ({view})" if view else ""
             native_data = native_scene(native, data)
-            # Every chosen device, one worker each (PPPM); tiles too.
-            full = native_settings(native, settings, width, height, scene.frame_current,
-                                   film=film, device=devices, passes=sorted(passes))
-            try:
-                # Decided before anything is allocated: a frame whose visible points exceed
-                # the GPU's largest storage buffer renders as bands of rows.
-                tiles = native.plan_tiles(native_data, full)["tiles"]
-            except (native.GlslppmError, ValueError, RuntimeError) as error:
-                self._fail(f"the renderer could not start: {error}", width, height)
+            if not self._render_view(native, native_data, full, settings, width, height, view,
+                                     warn=index == 0 and not self.is_preview):
                 return
-            if len(tiles) > 1:
-                if not self._render_tiles(native, native_data, full, settings, tiles, width,
-                                          height, view, index == 0):
-                    return
-                continue
-            self.update_stats("", f"GLSLPPM | building BVH and GL programs{label}")
-            self.stage_clock.enter("build")
-            renderer = self._build_renderer(
-                native, lambda flag: native.Renderer(native_data, full, cancel=flag),
-                width, height)
-            if renderer is None:
-                if self.should_stop():
-                    self._cancelled(width, height)
-                return  # else failed, with a report and an image
-            if index == 0 and not self.is_preview:
-                for warning in renderer.stats().get("warnings", []):
-                    self.report_to_user('WARNING', warning)
-            try:
-                self._render_passes(native, renderer, settings, width, height, view)
-            finally:
-                renderer.close()
 
-    def _render_tiles(self, native, native_data, full, settings, tiles, width, height, view,
-                      warn):
-        """The frame as image tiles one after another, each a whole SPPM render of its
-        rows (its own photon passes, the whole frame's radius and random streams: the tiles
-        join without seams), streamed into the result as it finishes. False when cancelled
-        or failed before a tile was written (the result is then filled)."""
-        count = len(tiles)
-        for number, tile in enumerate(tiles, start=1):
-            if self.should_stop():
-                return number > 1
-            self.tile_progress = (number, count)
-            tile_data, tile_settings = native.tile_render_inputs(native_data, full, tile)
-            label = f"tile {number}/{count}" + (f" ({view})" if view else "")
-            self.update_stats("", f"GLSLPPM | {label}: building BVH and GL programs")
+    def _render_view(self, native, native_data, full, settings, width, height, view, warn):
+        """One view as the module's tiles: one (the frame as it is) where it fits, else bands
+        of rows whose visible points fit the GPU's largest storage buffer, each a whole SPPM
+        render of its rows (its own photon passes, the whole frame's radius and random
+        streams: the tiles join without seams), streamed into the result as it finishes.
+        The module runs the tile loop (for_each_tile, glslppm-render's too); this is one
+        tile's work. False when the render stops: cancelled, or failed (the result is then
+        filled where no tile was written)."""
+        try:
+            # Decided before anything is allocated.
+            tiles = native.plan_tiles(native_data, full)["tiles"]
+        except (native.GlslppmError, ValueError, RuntimeError) as error:
+            self._fail(f"the renderer could not start: {error}", width, height)
+            return False
+        finished = [True]
+        where = f" ({view})" if view else ""
+
+        def render_tile(index, count, tile, tile_data, tile_settings):
+            number, tiled = index + 1, count > 1
+            if number > 1 and self.should_stop():
+                return False  # the tiles written stay in the result
+            if tiled:
+                self.tile_progress = (number, count)
+                self.update_stats("", f"GLSLPPM | tile {number}/{count}{where}: building BVH "
+                                  "and GL programs")
+            else:
+                self.update_stats("", f"GLSLPPM | building BVH and GL programs{where}")
             self.stage_clock.enter("build")
             renderer = self._build_renderer(
                 native, lambda flag: native.Renderer(tile_data, tile_settings, cancel=flag),
@@ -204,16 +195,21 @@ class GlslppmEngineMixin:
             if renderer is None:
                 if number == 1 and self.should_stop():
                     self._cancelled(width, height)
-                return number > 1
+                finished[0] = number > 1
+                return False
             if warn and number == 1:
                 for warning in renderer.stats().get("warnings", []):
                     self.report_to_user('WARNING', warning)
             try:
                 self._render_passes(native, renderer, settings, width, height, view,
-                                    tile=(tile, number, count), frame=(native_data, full))
+                                    tile=(tile, number, count) if tiled else None,
+                                    frame=(native_data, full) if tiled else None)
             finally:
                 renderer.close()
-        return True
+            return True
+
+        native.for_each_tile(native_data, full, tiles, render_tile)
+        return finished[0]
 
     def _build_renderer(self, native, make, width, height, written=False):
         """The native renderer, make(cancel_flag), built on a worker thread that a cancel

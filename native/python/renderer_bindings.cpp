@@ -138,6 +138,7 @@ py::dict stats_dict(const RenderStats& s) {
     d["gpu_bytes"] = s.gpu_bytes;
     d["gpu_bytes_per_pixel"] = s.gpu_bytes_per_pixel;
     d["gpu_bytes_per_photon"] = s.gpu_bytes_per_photon;
+    d["pass_state_bytes"] = s.pass_state_bytes;
     d["tiles"] = s.tiles;
     d["warnings"] = s.warnings;
     d["programs_compiled"] = s.programs_compiled;

@@ -7,19 +7,10 @@
 
 #include "bvh/traverse_cpu.h"
 #include "render/camera_ray.h"
+#include "render/memory_estimate.h"
 #include "render/scene_preparation.h"
 
 namespace glslppm {
-namespace {
-
-std::uint32_t next_power_of_two(std::uint64_t v) {
-    std::uint64_t p = 1;
-    while (p < v) p <<= 1;
-    return static_cast<std::uint32_t>(p);
-}
-
-}  // namespace
-
 WholeFilm camera_frame(const Camera& cam, const RenderSettings& settings, FrameBlock& f) {
     // The whole frame (larger than the image when the image is a render region).
     const bool region = cam.full_width > 0;
@@ -152,7 +143,7 @@ void fill_frame(const Scene& scene, const RenderSettings& settings, const Packed
     p.pixels =
         static_cast<std::uint32_t>(settings.width) * static_cast<std::uint32_t>(settings.height);
     p.photon_threads = settings.photons_per_pass;
-    p.hash_cells = next_power_of_two(std::max<std::uint64_t>(2ull * p.photon_threads, 1024));
+    p.hash_cells = hash_cell_count(p.photon_threads);
     const float diagonal = glm::length(p.bounds.hi - p.bounds.lo);
     FrameBlock& f = p.frame;
     p.initial_radius = frame_camera(scene.camera, settings, bvh, p.bounds, f, p.two_level.get());

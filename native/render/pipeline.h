@@ -77,6 +77,7 @@ struct PipelineBuffers {
     std::size_t bytes = 0;
     std::size_t bytes_per_pixel = 0;  // the per-pixel buffers' bytes for one pixel
     double bytes_per_photon = 0.0;    // the per-photon buffers' bytes for one photon
+    std::size_t pass_state_bytes = 0;  // allocate_pass_state's buffers (render/memory_estimate.h)
 };
 
 // GPU time per stage when settings.profile: timestamps at the stages' boundaries.

@@ -67,6 +67,9 @@ struct RenderStats {
     // Of the per-photon buffers (paths, stored photons, hash cells, generator states), for
     // one photon of a pass.
     double gpu_bytes_per_photon = 0.0;
+    // One worker's pass-state buffers as allocated: memory_estimate's figure
+    // (render/memory_estimate.h). A tiled render: the largest tile's.
+    std::size_t pass_state_bytes = 0;
     // Image tiles rendered one after another (native/render/tiled_render.h); 1 untiled.
     int tiles = 1;
     // GPU time per stage (settings.profile): eye trace, photon trace, hashing, gather.

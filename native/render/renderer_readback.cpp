@@ -212,6 +212,7 @@ RenderStats Renderer::stats() {
     for (const auto& w : gpus_) s.gpu_bytes += w->buffers.bytes;
     s.gpu_bytes_per_pixel = g.buffers.bytes_per_pixel;
     s.gpu_bytes_per_photon = g.buffers.bytes_per_photon;
+    s.pass_state_bytes = g.buffers.pass_state_bytes;
     s.eye_seconds = g.timer.seconds[0];
     s.photon_seconds = g.timer.seconds[1];
     s.hash_seconds = g.timer.seconds[2];

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "gl/object_counts.h"
+#include "render/memory_estimate.h"
 #include "render/pipeline.h"
 #include "render/rng_seed.h"
 
@@ -114,76 +115,78 @@ void upload_scene(Renderer::Gpu& g, const Scene& scene, const PreparedScene& pre
 // PPPM: the photon steps of a pass are stored side by side and hashed and gathered
 // together, as many as fit in a storage buffer of at most 1 GiB; SPPM stores one step. Each
 // step's slot is rounded up to 16 photons (offset alignment); the padding stays zero, "not
-// stored".
-void plan_photon_slots(Renderer::Gpu& g) {
-    const std::size_t ph = g.scene.photon_threads;
-    const bool pppm = g.settings.estimator == Estimator::Pppm;
-    g.photon_slot =
-        pppm ? static_cast<std::uint32_t>((ph + 15) / 16 * 16) : static_cast<std::uint32_t>(ph);
-    if (!pppm) return;
+// stored". The sizes are render/memory_estimate.h's, which the memory estimate gives too.
+PassStateShape worker_pass_state_shape(const Renderer::Gpu& g) {
+    const RenderSettings& settings = g.settings;
+    PassStateShape shape;
+    shape.pixels = g.scene.pixels;
+    shape.photon_threads = g.scene.photon_threads;
+    shape.hash_cells = g.scene.hash_cells;
+    shape.pass_stride = static_cast<std::size_t>(g.scene.pass_layout.stride);
+    shape.light_tracing = g.scene.light_tracing;
+    shape.exact_hash = settings.hash == HashMode::Exact;
+    shape.paper_rng = settings.rng == RngKind::Paper;
+    shape.photon_slot = photon_slot(g.scene.photon_threads, settings.estimator);
     GLint64 largest = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
-    const std::size_t cap = std::min<std::size_t>(
-        largest > 0 ? static_cast<std::size_t>(largest) : std::size_t(1) << 30, std::size_t(1)
-                                                                                    << 30);
-    g.steps_per_gather = static_cast<std::uint32_t>(std::clamp<std::size_t>(
-        cap / (g.photon_slot * kPhotonBytes), 1, static_cast<std::size_t>(g.settings.max_bounces) + 1));
+    shape.steps_per_gather =
+        photon_steps_per_gather(static_cast<std::uint32_t>(shape.photon_slot), settings.estimator,
+                                largest, settings.max_bounces);
+    return shape;
 }
 
 // The passes' state: per pixel (visible points, statistics, direct light, film, render
 // passes) and per photon (paths, stored photons, hash cells, generator states).
-void allocate_pass_state(Renderer::Gpu& g, const PreparedScene& prepared) {
+void allocate_pass_state(Renderer::Gpu& g) {
     const RenderSettings& settings = g.settings;
     PipelineBuffers& b = g.buffers;
-    const bool exact = settings.hash == HashMode::Exact;
-    const std::size_t px = g.scene.pixels, ph = g.scene.photon_threads;
-    const std::size_t hash_cells = g.scene.hash_cells;
-    const std::size_t point_vec4s = kVisiblePointVec4;
-    g.require_fits(px * point_vec4s * 16, "visible points", true);
-    g.require_fits(ph * kPhotonPathBytes, "photon paths");
-    g.require_fits(hash_cells * 16, "hash cells");
-    // Visible points, pixel statistics, direct light, film.
-    b.bytes_per_pixel = (point_vec4s + 2 + 2 + 1) * 16;
-    g.make_buffer(BINDING_VISIBLE_POINTS, px * point_vec4s * 16, nullptr, "visible points");
+    const PassStateShape shape = worker_pass_state_shape(g);
+    const PassStateBytes sizes = pass_state_bytes(shape);
+    g.photon_slot = static_cast<std::uint32_t>(shape.photon_slot);
+    g.steps_per_gather = static_cast<std::uint32_t>(shape.steps_per_gather);
+    const std::size_t allocated_before = b.bytes;
+    g.require_fits(sizes.visible_points, "visible points", true);
+    g.require_fits(sizes.photon_paths, "photons");
+    g.require_fits(sizes.hash_cells, "hash cells");
+    b.bytes_per_pixel = sizes.bytes_per_pixel;
+    b.bytes_per_photon = sizes.bytes_per_photon;
+    g.make_buffer(BINDING_VISIBLE_POINTS, sizes.visible_points, nullptr, "visible points");
     // Their first contents: restart_film(), as at every restart.
-    b.pixel_stats = g.make_buffer(BINDING_PIXEL_STATS, px * 2 * 16, nullptr, "pixel statistics");
-    b.direct_light = g.make_buffer(BINDING_DIRECT_LIGHT, px * 2 * 16, nullptr, "direct light");
-    b.photon_paths = g.make_buffer(BINDING_PHOTON_PATHS, ph * kPhotonPathBytes, nullptr, "photon paths");
-    plan_photon_slots(g);
-    const std::size_t stored = std::size_t(g.photon_slot) * g.steps_per_gather;
-    g.require_fits(stored * kPhotonBytes, "photons");
-    b.photons = g.make_buffer(BINDING_PHOTONS, stored * kPhotonBytes, nullptr, "photons");
+    b.pixel_stats =
+        g.make_buffer(BINDING_PIXEL_STATS, sizes.pixel_stats, nullptr, "pixel statistics");
+    b.direct_light =
+        g.make_buffer(BINDING_DIRECT_LIGHT, sizes.direct_light, nullptr, "direct light");
+    b.photon_paths =
+        g.make_buffer(BINDING_PHOTON_PATHS, sizes.photon_paths, nullptr, "photon paths");
+    g.require_fits(sizes.photons, "photons");
+    b.photons = g.make_buffer(BINDING_PHOTONS, sizes.photons, nullptr, "photons");
     const GLuint zero[4] = {0, 0, 0, 0};
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                       zero);
-    if (settings.rng == RngKind::Paper) {
-        const std::vector<glm::vec4> seeds = paper_rng_seeds(px + ph, settings.seed);
+    if (shape.paper_rng) {
+        const std::vector<glm::vec4> seeds =
+            paper_rng_seeds(shape.pixels + shape.photon_threads, settings.seed);
         g.make_buffer(BINDING_RNG_STATES, bytes(seeds), seeds.data(), "generator states");
     }
-    b.hash = g.make_buffer(BINDING_HASH_CELLS, hash_cells * 16, nullptr, "hash cells");
-    const std::size_t sorted = exact ? stored + hash_cells / 1024 : 1;
-    g.make_buffer(BINDING_HASH_SORTED, sorted * 4, nullptr, "sorted photons");
-    b.bytes_per_photon =
-        double(ph * kPhotonPathBytes + stored * kPhotonBytes + hash_cells * 16 + (exact ? sorted * 4 : 0) +
-               (settings.rng == RngKind::Paper ? ph * 16 : 0)) /
-        double(std::max<std::size_t>(ph, 1));
-    b.film = g.make_buffer(BINDING_FILM, px * 16, nullptr, "film");
-    const PassLayout& layout = g.scene.pass_layout;
-    if (layout.stride > 0) {
-        const std::size_t pass_bytes = px * std::size_t(layout.stride) * 16;
-        g.require_fits(pass_bytes, "render passes", true);
-        b.pass_films = g.make_buffer(BINDING_PASS_FILMS, pass_bytes, nullptr, "render passes");
-        b.bytes_per_pixel += std::size_t(layout.stride) * 16;
+    b.hash = g.make_buffer(BINDING_HASH_CELLS, sizes.hash_cells, nullptr, "hash cells");
+    g.make_buffer(BINDING_HASH_SORTED, sizes.sorted_photons, nullptr, "sorted photons");
+    b.film = g.make_buffer(BINDING_FILM, sizes.film, nullptr, "film");
+    if (sizes.pass_films > 0) {
+        g.require_fits(sizes.pass_films, "render passes", true);
+        b.pass_films =
+            g.make_buffer(BINDING_PASS_FILMS, sizes.pass_films, nullptr, "render passes");
     }
     b.radius_stats =
-        g.make_buffer(BINDING_RADIUS_STATS, kRadiusStatsThreads * 8, nullptr, "radius statistics");
-    if (g.scene.light_tracing) {
+        g.make_buffer(BINDING_RADIUS_STATS, sizes.radius_stats, nullptr, "radius statistics");
+    if (sizes.light_splats > 0) {
         // kLightSplatBytes a pixel (common/light_splats.glsl); zeroed by restart_film().
-        const std::size_t splat_bytes = px * kLightSplatBytes;
-        g.require_fits(splat_bytes, "light tracing's splats", true);
-        b.light_splats = g.make_buffer(BINDING_LIGHT_SPLATS, splat_bytes, nullptr, "light splats");
-        b.bytes_per_pixel += kLightSplatBytes;
+        g.require_fits(sizes.light_splats, "light tracing's splats", true);
+        b.light_splats =
+            g.make_buffer(BINDING_LIGHT_SPLATS, sizes.light_splats, nullptr, "light splats");
     }
+    // What was allocated, beside what was planned: stats()["pass_state_bytes"], which the
+    // tests compare with memory_estimate.
+    b.pass_state_bytes = b.bytes - allocated_before;
 }
 
 }  // namespace
@@ -220,7 +223,7 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
             glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), &g.scene.frame, GL_DYNAMIC_DRAW);
             glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME, g.buffers.frame);
             upload_scene(g, scene, prepared);
-            allocate_pass_state(g, prepared);
+            allocate_pass_state(g);
             g.restart_film();
             g.setup_cancel = nullptr;
             glFinish();

@@ -141,6 +141,15 @@ void prepare_emitters(const Scene& scene, const PackedBvh& bvh, PreparedScene& p
 void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
                      const PackedBvh& bvh, PreparedScene& p);
 
+// Light tracing (HAS_LIGHT_TRACING, scene_features.cpp): allowed where the setting is on and
+// neither depth of field, a camera frame with scale or shear, the light split's passes nor
+// the full variant rules it out; choose_features turns it on where a traced material is
+// also a conductor or dielectric and none is a cut-out. light_tracing_expected answers
+// that from the scene's materials before anything is prepared (the memory estimate), the
+// same wherever every mirror or glass material is used by a triangle.
+bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings);
+bool light_tracing_expected(const Scene& scene, const RenderSettings& settings);
+
 // frame (camera_frame.cpp): the sizes and the Frame's constants, the camera's part and the
 // automatic radius (p.initial_radius) through `bvh` included.
 void fill_frame(const Scene& scene, const RenderSettings& settings, const PackedBvh& bvh,

@@ -107,27 +107,13 @@ bool emitter_mis(const Inputs& in) {
     return emitter_mis_applies(in) && glossy;
 }
 
-// The connection inverts the camera's frame by its transpose: a frame with scale or shear
-// (the add-on drops scale; a module user may not) is left to the gather.
-bool rigid_frame(const glm::mat4& m) {
-    const glm::mat3 r(m);
-    const glm::mat3 gram = glm::transpose(r) * r;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if (std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f) return false;
-    return true;
-}
 // Left out (the gather keeps those paths) where not supported yet: cut-outs (camera rays see
-// through them, the connection's shadow ray would not), depth of field (no lens sampling),
-// the light split's passes (its Caustics pass would miss the splats), and the full variant
-// (a material edit must not switch the film's buffers).
+// through them, the connection's shadow ray would not); the rest is light_tracing_allowed's.
 bool light_tracing_applies(const Inputs& in) {
     bool cut_outs = false;
     for (std::uint32_t flags : in.p.geometry.flags)
         cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
-    return in.settings.light_tracing && !cut_outs && !depth_of_field(in) &&
-           rigid_frame(in.scene.camera.to_world) && !in.p.pass_layout.photon_split &&
-           !in.settings.full_variant;
+    return light_tracing_allowed(in.scene, in.settings) && !cut_outs;
 }
 bool light_tracing(const Inputs& in) { return light_tracing_applies(in) && in.smooth_specular; }
 
@@ -206,9 +192,44 @@ const Specialization kRows[] = {
      G::Last, false, light_tracing, light_tracing_applies},
 };
 
+// The connection inverts the camera's frame by its transpose: a frame with scale or shear
+// (the add-on drops scale; a module user may not) is left to the gather.
+bool rigid_frame(const glm::mat4& m) {
+    const glm::mat3 r(m);
+    const glm::mat3 gram = glm::transpose(r) * r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) > 1e-4f) return false;
+    return true;
+}
+
 }  // namespace
 
 std::span<const Specialization> specializations() { return kRows; }
+
+// Depth of field (no lens sampling), the light split's passes (its Caustics pass would miss
+// the splats), a camera frame with scale or shear, and the full variant (a material edit must
+// not switch the film's buffers) rule light tracing out.
+bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
+    const Camera& camera = scene.camera;
+    const bool depth_of_field =
+        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
+    const bool photon_split =
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
+    return settings.light_tracing && !depth_of_field && rigid_frame(camera.to_world) &&
+           !photon_split && !settings.full_variant;
+}
+
+bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {
+    // Cut-outs: a Transparent leaf anywhere (every mix leaf is a material of the list, and
+    // one that is Transparent is itself flagged kMaterialMayBeTransparent).
+    bool specular = false, cut_outs = false;
+    for (const Material& m : scene.materials) {
+        specular |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric;
+        cut_outs |= m.kind == MaterialKind::Transparent;
+    }
+    return specular && !cut_outs && light_tracing_allowed(scene, settings);
+}
 
 bool traces_smooth_specular(const Scene& scene, const PackedBvh& bvh, const PreparedScene& p) {
     const std::vector<Material>& materials = p.geometry.materials;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "gl/device_limits.h"
+#include "render/memory_estimate.h"
 #include "render/scene_preparation.h"
 #include "scene/scene_hash.h"
 
@@ -45,25 +46,7 @@ TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
     return plan;
 }
 
-TilePlan plan_tiles([[maybe_unused]] const Scene& scene, const RenderSettings& settings) {
-    validate(settings);
-    const std::size_t point_vec4s = kVisiblePointVec4;
-    // Visible points (4 vec4), pixel statistics (2), direct light (2), film (1):
-    // native/render/renderer.cpp allocates them.
-    // With render passes, their films (render/render_passes.h) too: the largest block may be
-    // theirs.
-    const PassLayout passes =
-        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
-    const std::size_t pass_bytes = std::size_t(passes.stride) * 16;
-    const std::size_t point_bytes = std::max<std::size_t>(point_vec4s * 16, pass_bytes);
-    // Light tracing's splats (kLightSplatBytes, no more than the smallest visible point) where
-    // the scene has a mirror or glass to trace (render/scene_features.cpp decides for good).
-    bool specular = false;
-    for (const Material& m : scene.materials)
-        specular |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric;
-    const std::size_t splat_bytes = settings.light_tracing && specular ? kLightSplatBytes : 0;
-    const std::size_t pixel_bytes =
-        point_vec4s * 16 + (2 + 2 + 1) * 16 + pass_bytes + splat_bytes;
+std::int64_t devices_largest_block(const RenderSettings& settings) {
     // With several workers (settings.devices) every device holds the whole tile: the
     // smallest of their limits.
     const std::vector<int> devices =
@@ -73,8 +56,18 @@ TilePlan plan_tiles([[maybe_unused]] const Scene& scene, const RenderSettings& s
         const std::int64_t value = gl::device_limits(device).max_storage_buffer_bytes;
         if (value > 0) largest = largest > 0 ? std::min<std::int64_t>(largest, value) : value;
     }
-    return plan_tiles(settings.width, settings.height, point_bytes, pixel_bytes,
-                      capped_block_bytes(largest, settings));
+    return largest;
+}
+
+TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings) {
+    validate(settings);
+    const std::int64_t largest = devices_largest_block(settings);
+    // The per-pixel bytes the renderer allocates (render/memory_estimate.h): visible points,
+    // statistics, direct light, film, the render passes' films (the largest block may be
+    // theirs) and light tracing's splats where the scene has a mirror or glass to trace.
+    const PassStateBytes bytes = pass_state_bytes(pass_state_shape(settings, &scene, largest));
+    return plan_tiles(settings.width, settings.height, bytes.block_bytes_per_pixel,
+                      bytes.bytes_per_pixel, capped_block_bytes(largest, settings));
 }
 
 Camera tile_camera(const Camera& camera, const RenderSettings& settings, const Tile& tile) {
@@ -95,6 +88,74 @@ RenderSettings tile_settings(const RenderSettings& settings, const Tile& tile) {
     return s;
 }
 
+namespace {
+
+// A tile's stats into the frame's: counts and times add up, sizes take the largest, the
+// mean radius is weighted by the tile's pixels.
+void add_tile_stats(RenderStats& sum, const RenderStats& s, std::size_t t, const Tile& tile,
+                    const RenderSettings& settings) {
+    if (t == 0) {
+        sum = s;
+    } else {
+        sum.photons_emitted += s.photons_emitted;
+        sum.rays += s.rays;
+        sum.seconds += s.seconds;
+        sum.eye_seconds += s.eye_seconds;
+        sum.photon_seconds += s.photon_seconds;
+        sum.hash_seconds += s.hash_seconds;
+        sum.gather_seconds += s.gather_seconds;
+        sum.compile_seconds += s.compile_seconds;
+        sum.bvh_seconds += s.bvh_seconds;
+        sum.programs_compiled += s.programs_compiled;
+        sum.programs_reused += s.programs_reused;
+        sum.gpu_bytes = std::max(sum.gpu_bytes, s.gpu_bytes);
+        sum.pass_state_bytes = std::max(sum.pass_state_bytes, s.pass_state_bytes);
+        sum.max_radius = std::max(sum.max_radius, s.max_radius);
+        // Every tile runs the same pass indices (the same pass_ranges) on the same
+        // workers: their passes and times add up.
+        for (std::size_t k = 0; k < sum.devices.size() && k < s.devices.size(); ++k) {
+            sum.devices[k].passes += s.devices[k].passes;
+            sum.devices[k].seconds += s.devices[k].seconds;
+        }
+    }
+    const double share =
+        double(tile.width) * tile.height / (double(settings.width) * settings.height);
+    if (t == 0) sum.mean_radius = 0.0;
+    sum.mean_radius += s.mean_radius * share;
+}
+
+}  // namespace
+
+std::size_t for_each_tile(const Scene& scene, const RenderSettings& settings, const TilePlan& plan,
+                          const TileVisit& visit, const CancelFlag* cancel) {
+    for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
+        const Tile& tile = plan.tiles[t];
+        if (tile.x < 0 || tile.y < 0 || tile.width < 1 || tile.height < 1 ||
+            tile.x + tile.width > settings.width || tile.y + tile.height > settings.height)
+            throw std::invalid_argument(
+                "tile " + std::to_string(t) + " (" + std::to_string(tile.x) + ", " +
+                std::to_string(tile.y) + ", " + std::to_string(tile.width) + "x" +
+                std::to_string(tile.height) + ") does not lie within the " +
+                std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame");
+    }
+    const bool single = plan.tiles.size() == 1;
+    Scene tile_scene;
+    if (!single) tile_scene = scene;  // a copy whose camera each tile replaces
+    for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
+        throw_if_cancelled(cancel);
+        const Tile& tile = plan.tiles[t];
+        // One tile renders the scene as it is: bit for bit the untiled image.
+        if (single) {
+            if (!visit({t, 1, tile, scene, settings})) return t + 1;
+            continue;
+        }
+        tile_scene.camera = tile_camera(scene.camera, settings, tile);
+        const RenderSettings band = tile_settings(settings, tile);
+        if (!visit({t, plan.tiles.size(), tile, tile_scene, band})) return t + 1;
+    }
+    return plan.tiles.size();
+}
+
 TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int passes,
                         const TilePlan& plan, const TileDone& on_tile, const CancelFlag* cancel) {
     if (passes < 1) throw std::invalid_argument("passes: must be at least 1");
@@ -109,16 +170,11 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
                         &image[std::size_t(row) * tile.width * 4],
                         std::size_t(tile.width) * 4 * sizeof(float));
     };
-    const bool single = plan.tiles.size() == 1;
-    Scene tile_scene;
-    if (!single) tile_scene = scene;  // a copy whose camera each tile replaces
-    for (std::size_t t = 0; t < plan.tiles.size(); ++t) {
-        throw_if_cancelled(cancel);
-        const Tile& tile = plan.tiles[t];
-        // One tile renders the scene as it is: bit for bit the untiled image.
-        if (!single) tile_scene.camera = tile_camera(scene.camera, settings, tile);
-        Renderer renderer(single ? scene : tile_scene,
-                          single ? settings : tile_settings(settings, tile), cancel);
+    // One tile: a whole SPPM render of its rows, placed into the frame.
+    auto render_tile = [&](const TileJob& job) {
+        const std::size_t t = job.index;
+        const Tile& tile = job.tile;
+        Renderer renderer(job.scene, job.settings, cancel);
         // A few passes at a time, so that a cancel stops within the tile.
         for (int done = 0; done < passes;) {
             throw_if_cancelled(cancel);
@@ -131,37 +187,12 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
             const std::vector<std::vector<float>> images = renderer.render_passes(settings.passes);
             for (std::size_t k = 0; k < images.size(); ++k) place(out.passes[k], images[k], tile);
         }
-        RenderStats& sum = out.stats;
-        if (t == 0) {
-            sum = s;
-        } else {
-            sum.photons_emitted += s.photons_emitted;
-            sum.rays += s.rays;
-            sum.seconds += s.seconds;
-            sum.eye_seconds += s.eye_seconds;
-            sum.photon_seconds += s.photon_seconds;
-            sum.hash_seconds += s.hash_seconds;
-            sum.gather_seconds += s.gather_seconds;
-            sum.compile_seconds += s.compile_seconds;
-            sum.bvh_seconds += s.bvh_seconds;
-            sum.programs_compiled += s.programs_compiled;
-            sum.programs_reused += s.programs_reused;
-            sum.gpu_bytes = std::max(sum.gpu_bytes, s.gpu_bytes);
-            sum.max_radius = std::max(sum.max_radius, s.max_radius);
-            // Every tile runs the same pass indices (the same pass_ranges) on the same
-            // workers: their passes and times add up.
-            for (std::size_t k = 0; k < sum.devices.size() && k < s.devices.size(); ++k) {
-                sum.devices[k].passes += s.devices[k].passes;
-                sum.devices[k].seconds += s.devices[k].seconds;
-            }
-        }
-        // The mean radius weighted by each tile's pixels.
-        const double share =
-            double(tile.width) * tile.height / (double(settings.width) * settings.height);
-        if (t == 0) sum.mean_radius = 0.0;
-        sum.mean_radius += s.mean_radius * share;
-        if (on_tile && !on_tile(t, tile, film) && t + 1 < plan.tiles.size()) throw Cancelled();
-    }
+        add_tile_stats(out.stats, s, t, tile, settings);
+        if (on_tile && !on_tile(t, tile, film) && t + 1 < job.count) throw Cancelled();
+        return true;
+    };
+    for_each_tile(scene, settings, plan, render_tile, cancel);
+    const bool single = plan.tiles.size() == 1;
     RenderStats& sum = out.stats;
     sum.tiles = static_cast<int>(plan.tiles.size());
     sum.gpu_bytes_per_pixel = plan.gpu_bytes_per_pixel;

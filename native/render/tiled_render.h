@@ -39,14 +39,40 @@ std::size_t capped_block_bytes(std::int64_t driver_largest, const RenderSettings
 TilePlan plan_tiles(int width, int height, std::size_t block_bytes_per_pixel,
                     std::size_t gpu_bytes_per_pixel, std::size_t largest_block);
 
-// The plan for a scene on its device, decided before anything is allocated: asks the
-// device's limit through a short-lived EGL context (gl::GlError when none opens).
+// The devices' (settings.device, or each of settings.devices) largest storage buffer, the
+// smallest of them; 0: none known. Asks through a short-lived EGL context on a GL thread of
+// its own (gl::GlError when none opens).
+std::int64_t devices_largest_block(const RenderSettings& settings);
+
+// The plan for a scene on its device, decided before anything is allocated, from the
+// pass state's bytes (render/memory_estimate.h) and devices_largest_block.
 TilePlan plan_tiles(const Scene& scene, const RenderSettings& settings);
 
 // One tile's camera and settings: the tile's window in the whole frame, composed with the
 // camera's own render region where it has one.
 Camera tile_camera(const Camera& camera, const RenderSettings& settings, const Tile& tile);
 RenderSettings tile_settings(const RenderSettings& settings, const Tile& tile);
+
+// One tile as for_each_tile hands it over: its index among `count`, its place, and the
+// scene and settings that render it (tile_camera, tile_settings; with one tile the frame's
+// own scene and settings).
+struct TileJob {
+    std::size_t index = 0, count = 0;
+    const Tile& tile;
+    const Scene& scene;
+    const RenderSettings& settings;
+};
+
+// The one tile loop: render_tiled (glslppm-render, the module's render_tiled) and the
+// add-on (its streaming of each tile into Blender's result, through the module's
+// for_each_tile) both run it. Calls `visit` for every tile of `plan`, in its order; a visit
+// returning false stops before the next tile. Returns the tiles visited. Setting `cancel`
+// stops before the next tile (Cancelled). std::invalid_argument for a plan whose tiles do
+// not lie within the frame.
+using TileVisit = std::function<bool(const TileJob&)>;
+std::size_t for_each_tile(const Scene& scene, const RenderSettings& settings,
+                          const TilePlan& plan, const TileVisit& visit,
+                          const CancelFlag* cancel = nullptr);
 
 struct TiledImage {
     std::vector<float> rgba;  // height x width x 4, row 0 at the top

@@ -392,10 +392,15 @@ def test_oversized_render_is_refused_at_once():
     # A small render is never refused for a GPU memory figure a driver got wrong (Mesa's
     # llvmpipe answers the NVX memory query with a negative number).
     memory = helpers.ADDON.engine.memory
-    small = memory.estimate(64, 64, 65536)
+    native = helpers.load_native()
+    settings = native.Settings(width=64, height=64, photons_per_pass=65536)
     for limits in ({"software": True, "memory_bytes": -1507758825472,
                     "max_storage_buffer_bytes": 1 << 27},
                    {"software": False, "memory_bytes": -1, "max_storage_buffer_bytes": 0}):
+        small = memory.estimate(native, settings, 1, limits)
+        # The GPU's bytes are the module's (memory_estimate), not a copy of its sizes.
+        assert small["gpu"] == native.memory_estimate(
+            settings, largest_block=limits["max_storage_buffer_bytes"])["gpu"]
         assert memory.refusal(small, limits, 1 << 30) is None, limits
 
 

@@ -459,3 +459,31 @@ def test_bottom_up_passes_are_the_rows_reversed(glslppm):
         assert np.array_equal(bottom_up[name], top_down[name][::-1]), name
     assert np.array_equal(r.render_pass("direct", bottom_up=True), top_down["direct"][::-1])
     assert np.array_equal(r.film(bottom_up=True), r.film()[::-1])
+
+
+def test_passes_and_combined_share_one_orientation(glslppm):
+    """One flip, the module's: a lit square in the image's upper left, against a black world.
+    The pixels Depth sees it in (depth below 1e10) and those Combined sees lit are the same
+    pixels, row by row, top-down and bottom-up; the square is far from symmetric, so a pass
+    flipped against Combined (or mirrored) would disagree in about half its pixels."""
+    g = glslppm
+    p, t = quad((-2.0, 0.2, -4.0), (-0.3, 0.2, -4.0), (-0.3, 1.9, -4.0), (-2.0, 1.9, -4.0))
+    scene = g.Scene(p, t, materials=[g.Material("diffuse", color=(0.8,) * 3)],
+                    lights=[g.Light("point", power=200.0, position=(-1.0, 1.0, -2.0))],
+                    camera=g.Camera(np.eye(4, dtype=np.float32), fov_x=math.radians(60)))
+    r = render(g, scene, ["depth", "normal"], width=40, height=24, photons_per_pass=4096)
+    r.run(2)
+    for bottom_up in (False, True):
+        combined = r.film(bottom_up=bottom_up)[..., :3].sum(axis=2) > 0.0
+        passes = r.render_passes(["depth", "normal"], bottom_up=bottom_up)
+        seen = passes["depth"][..., 0] < 1e9
+        facing = passes["normal"][..., 2] > 0.5  # the square faces the camera (+z)
+        # Upper left (top-down) or lower left (bottom up): the square's place in each.
+        rows = slice(0, 12) if not bottom_up else slice(12, 24)
+        assert seen[rows, :20].mean() > 0.5 and seen[:, 20:].sum() == 0, bottom_up
+        assert 0.1 < seen.mean() < 0.4
+        assert (seen != seen[::-1]).mean() > 0.2  # a flipped pass would be caught
+        # Edge pixels are partly covered (the pixel filter's jitter): at most one in 20.
+        assert (seen != combined).mean() < 0.05, (seen != combined).mean()
+        assert (seen != facing).mean() < 0.05, (seen != facing).mean()
+    r.close()

@@ -120,6 +120,38 @@ def test_one_tile_is_the_untiled_render_bit_for_bit(glslppm):
     assert np.array_equal(tiled, whole)
 
 
+def test_for_each_tile_is_render_tileds_loop(glslppm):
+    """The add-on's tiles come from the module's one tile loop (for_each_tile, which
+    render_tiled runs too): each tile's scene and settings are tile_render_inputs', its
+    renders join into render_tiled's frame bit for bit, and one tile hands back the
+    caller's own scene and settings (the frame as it is)."""
+    g = glslppm
+    box = g.cornell_box(sphere_rings=8)
+    settings = capped(g)
+    tiles = g.plan_tiles(box, settings)["tiles"]
+    frame = np.zeros((SIZE, SIZE, 4), np.float32)
+    seen = []
+
+    def visit(index, count, tile, tile_scene, tile_settings):
+        seen.append((index, count, tile))
+        x, y, w, h = tile
+        assert (tile_settings.width, tile_settings.height) == (w, h)
+        assert tile_settings.passes == settings.passes
+        frame[y:y + h, x:x + w] = untiled(g, tile_scene, tile_settings, 2)[0]
+
+    assert g.for_each_tile(box, settings, tiles, visit) == 3
+    assert seen == [(i, 3, tile) for i, tile in enumerate(tiles)]
+    tiled, _ = g.render_tiled(box, settings, 2)
+    np.testing.assert_array_equal(frame, tiled)
+    # A visit returning False stops before the next tile.
+    assert g.for_each_tile(box, settings, tiles, lambda *args: False) == 1
+    whole = g.Settings(width=SIZE, height=SIZE, photons_per_pass=4096)
+    handed = []
+    g.for_each_tile(box, whole, [(0, 0, SIZE, SIZE)],
+                    lambda i, n, tile, s, st: handed.append((s, st)))
+    assert handed[0][0] is box and handed[0][1] is whole
+
+
 def test_a_tile_callback_that_returns_false_stops_the_render(glslppm):
     g = glslppm
     seen = []
