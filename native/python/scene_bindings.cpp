@@ -147,7 +147,8 @@ Scene make_py_scene(const py::object& positions, const py::object& indices,
                   instance_material_offset);
     auto p = take_array<float>(positions, "positions", 3, "float32");
     auto t = take_array<std::uint32_t>(indices, "indices", 3, "uint32");
-    owner->arrays = {p, t};
+    owner->arrays.push_back(p);  // after the instance meshes' arrays, which it must keep too
+    owner->arrays.push_back(t);
     scene.mesh.positions = {reinterpret_cast<const glm::vec3*>(p.data()), std::size_t(p.shape(0))};
     scene.mesh.triangles = {reinterpret_cast<const glm::uvec3*>(t.data()), std::size_t(t.shape(0))};
     if (!normals.is_none()) {

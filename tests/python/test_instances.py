@@ -167,3 +167,24 @@ def test_set_camera_measures_the_radius_through_the_instances(glslppm, instancin
     r.close()
     assert moved["instancing"] == fresh["instancing"] == instancing
     assert moved["initial_radius"] == pytest.approx(fresh["initial_radius"], rel=1e-6)
+
+
+def test_a_scene_keeps_its_instance_meshes_arrays_alive(glslppm):
+    """The Scene holds the caller's arrays in place. The instance meshes' arrays were dropped
+    when the placed-once arrays were taken (an assignment where an append belonged), so a
+    scene built from a dict nobody kept read freed memory: with that memory reused by arrays
+    of 7s it failed ("material 9 past the 6 materials") or rendered garbage. Now it renders
+    what a scene whose arrays the caller keeps renders, bit for bit."""
+    import gc
+    g = glslppm
+    settings = g.Settings(width=24, height=24, photons_per_pass=4096, seed=3)
+    kept = instanced_scene(g)
+    reference = g.Renderer(g.Scene(**kept), settings)
+    reference.run(2)
+    scene = g.Scene(**instanced_scene(g))  # the dict and its arrays go with this line
+    gc.collect()
+    reused = [np.full(1000, 7, np.uint32) for _ in range(200)]
+    r = g.Renderer(scene, settings)
+    r.run(2)
+    assert len(reused) == 200
+    assert np.array_equal(r.film(), reference.film())
