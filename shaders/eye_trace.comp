@@ -53,10 +53,35 @@ layout(local_size_x = LOCAL_SIZE) in;
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
 // the light split as well: emission, the world, or light sampled at the visible point.
 #ifdef PASS_STRIDE
-#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; part += light_; }
+#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; passes.part += light_; }
 #else
 #define ADD_LIGHT(part, value) direct += (value)
 #endif
+// Light the path sees on a surface or the world: Combined, its part, and the denoising
+// albedo's light.
+#ifdef DENOISING_FEATURES
+#define SEE_LIGHT(part, radiance)            \
+    {                                        \
+        vec3 seen_ = (radiance);             \
+        ADD_LIGHT(part, throughput * seen_); \
+        add_feature_light(features, seen_);  \
+    }
+#else
+#define SEE_LIGHT(part, radiance) ADD_LIGHT(part, throughput * (radiance))
+#endif
+
+// The numbers of the pixel's light sample, drawn first, so that draws only some variants
+// make (the lens) do not change them: every variant of a scene renders the same image.
+struct LightSampleNumbers {
+    float pick;
+    vec4 u;
+};
+
+LightSampleNumbers draw_light_sample_numbers(inout RNG_STATE rng) {
+    float pick = rng_next(rng);
+    return LightSampleNumbers(pick, vec4(rng_next(rng), rng_next(rng), rng_next(rng),
+                                         rng_next(rng)));
+}
 
 // A fresh jittered camera ray through pixel (x, y). The lens numbers are drawn only where
 // camera_ray_at uses them (a perspective camera with HAS_DEPTH_OF_FIELD), so that every
@@ -75,93 +100,193 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     return make_ray(origin, normalize(dir));
 }
 
-void main() {
-    uint i = thread_index();
-    if (i >= image_width * image_height) return;
+RNG_STATE load_pixel_rng(uint i) {
 #ifdef RNG_PCG
     // The pixel's stream is its index in the whole frame: a tile or render region draws the
     // numbers the whole frame's render draws there.
-    RNG_STATE rng = rng_load(frame_first_pixel + (i / image_width) * frame_width + i % image_width);
+    return rng_load(frame_first_pixel + (i / image_width) * frame_width + i % image_width);
 #else
-    RNG_STATE rng = rng_load(i);
+    return rng_load(i);
 #endif
-#ifdef DIRECT_LIGHT_SAMPLED
-    // The light sample's numbers come first, so that draws only some variants make (the
-    // lens) do not change them: every variant of a scene renders the same image.
-    float light_pick = rng_next(rng);
-    vec4 light_u = vec4(rng_next(rng), rng_next(rng), rng_next(rng), rng_next(rng));
-#endif
-    Ray ray = camera_ray(i % image_width, i / image_width, rng);
+}
 
-    vec3 throughput = vec3(1.0);
-    vec3 direct = vec3(0.0);
-    vec4 point = vec4(0.0, 0.0, 0.0, -1.0);  // w: material id, -1 = none
-    vec3 normal = vec3(0.0, 0.0, 1.0);  // any unit vector where there is no point
-    vec3 weight = vec3(0.0);
-    vec4 view = vec4(0.0, 0.0, 1.0, 0.0);
-    vec2 uv = vec2(0.0);
-    uint point_flags = 0u;
+#ifdef PASS_STRIDE
+// The render passes' share of the eye path besides Combined: its light split (emission,
+// the world, light sampled at the visible point) and the first surface the camera sees
+// (Depth, Normal): Cycles' z-depth along the view axis, 1e10 where the ray leaves the scene,
+// and the normal facing the camera.
+struct EyePasses {
+    vec3 emitted, world, sampled;
+    float first_depth;
+    vec3 first_normal;
+    bool first_found;
+};
+
+EyePasses start_eye_passes() {
+    return EyePasses(vec3(0.0), vec3(0.0), vec3(0.0), 1e10, vec3(0.0), false);
+}
+
+void note_first_surface(inout EyePasses passes, Surface s, bool front) {
+    if (passes.first_found) return;
+    passes.first_found = true;
+    passes.first_depth = dot(s.position - camera_to_world[3].xyz, -camera_to_world[2].xyz);
+    passes.first_normal = front ? s.normal : -s.normal;
+}
+
+void store_eye_passes(uint i, EyePasses passes) {
+#ifdef PASS_DEPTH
+    pass_add(i, PASS_DEPTH, vec4(passes.first_depth, 0.0, 0.0, 0.0));
+#endif
+#ifdef PASS_NORMAL
+    pass_add(i, PASS_NORMAL, vec4(passes.first_normal, 0.0));
+#endif
+#ifdef PASS_EMISSION
+    pass_add(i, PASS_EMISSION, vec4(passes.emitted, 0.0));
+#endif
+#ifdef PASS_ENVIRONMENT
+    pass_add(i, PASS_ENVIRONMENT, vec4(passes.world, 0.0));
+#endif
+#ifdef PASS_DIRECT
+    pass_add(i, PASS_DIRECT, vec4(passes.sampled, 0.0));
+#endif
+}
+#endif
+
+#ifdef DENOISING_FEATURES
+void store_denoising_passes(uint i, DenoisingFeatures features) {
+#ifdef PASS_DENOISING_NORMAL
+    // Cycles' camera space; 0 where the path met no surface with features.
+    pass_add(i, PASS_DENOISING_NORMAL, vec4(features.normal, 0.0));
+#endif
+#ifdef PASS_DENOISING_ALBEDO
+    pass_add(i, PASS_DENOISING_ALBEDO, vec4(features.albedo, 0.0));
+#endif
+}
+#endif
+
+#ifdef FILM_TRANSPARENT
+// Whether a ray that left the scene is transparent film rather than the world: seen by the
+// camera directly, or (FILM_TRANSPARENT_GLASS) through glass alone. `transparent` is how
+// much of the sample the film's alpha leaves out (Blender's Film > Transparent).
+bool leaves_through_film(bool seen_by_camera, bool through_glass, vec3 throughput,
+                         inout float transparent) {
+    if (seen_by_camera) {
+        transparent = 1.0;
+        return true;
+    }
+#ifdef FILM_TRANSPARENT_GLASS
+    if (through_glass) {
+        transparent = (throughput.r + throughput.g + throughput.b) / 3.0;
+        return true;
+    }
+#endif
+    return false;
+}
+#endif
+
+// The pixel's visible point at s: the lobes the path did not follow, standing for them with
+// the eye path's weight. The flag word holds the true surface's normal on wo's side, which
+// the gather's side test reads.
+void hold_visible_point(uint i, Surface s, Shading sh, vec3 wo, vec3 weight, bool rough_only,
+                        uint eye_bounces) {
+    uint flags = (rough_only ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
+                 (sh.entering ? VISIBLE_POINT_ENTERING : 0u) |
+                 pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
+                     << VISIBLE_POINT_NORMAL_SHIFT;
 #ifdef HAS_VERTEX_COLORS
+    vec3 vertex_color = s.vertex_color;
+#else
     vec3 vertex_color = vec3(1.0);
 #endif
-    uint rays = 0u;
-    bool seen_by_camera = true;  // until the first specular bounce
-    // The eye subpath's scatters so far (common/bounces.glsl). One past a limit, the path
-    // still takes the emission (and the world) of the surface it meets next, as Cycles'
-    // PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and ends there: no visible point, no light sample.
-    uint eye_bounces = 0u;
-    bool last_surface = false;
+    store_visible_point(i, VisiblePoint(s.position, float(sh.material), weight, flags, s.uv,
+                                        sh.n, wo, vertex_color, eye_bounces));
+}
+
+#ifdef SPHERE_LIGHT_RECORDS
+// Whether the ray meets a point or spot light's sphere before the surface it hits (if any).
+bool sphere_light_before_hit(Ray ray, Hit hit, out vec3 radiance) {
+    return hit_sphere_light(ray.origin, ray.dir, hit.triangle < 0 ? 1e30 : hit.t, radiance);
+}
+#endif
+
+// The bounce word's kind of a smooth lobe's sample: a cut-out's is no scatter.
+uint smooth_bounce_kind(Shading sh, vec3 wo, vec3 wi, vec3 ng) {
+    return sh.kind == MATERIAL_TRANSPARENT ? BOUNCE_NONE : bounce_kind(wo, wi, ng, false);
+}
+
+#ifdef DENOISING_FEATURES
+// The denoising features of the surface the path meets, while they are still pending.
+void add_feature_surface_at(inout DenoisingFeatures features, Surface s, Shading sh, vec3 wo) {
+    if (features.pending)
+        add_feature_surface(features, surface_features(s.material, sh.n, texture_point(s),
+                                                       s.vertex_color, wo, sh.entering),
+                            sh.n);
+}
+#endif
+
+// A pixel whose path ended without a visible point (material -1: the gather skips it).
+void hold_no_visible_point(uint i, uint eye_bounces) {
+    store_visible_point(i, VisiblePoint(vec3(0.0), -1.0, vec3(0.0), 0u, vec2(0.0),
+                                        vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0), vec3(1.0),
+                                        eye_bounces));
+}
+
+// The light the pass's path saw (and, with a transparent film, its transparency in w),
+// added to the pixel's compensated sum.
+void add_direct_light(uint i, vec4 light) {
+    vec4 sum = direct_light[2 * i + 0];
+    vec4 comp = direct_light[2 * i + 1];
+    kahan_add(sum, comp, light);
+    direct_light[2 * i + 0] = sum;
+    direct_light[2 * i + 1] = comp;
+}
+
+// The eye path: at most max_bounces + 1 surfaces, max_bounces scatters and then the last
+// surface's light. Surfaces passed through (hidden, lights, cut-outs) count here too, where
+// Cycles has a separate transparent limit. `eye_bounces` counts the scatters
+// (common/bounces.glsl); one past a limit, the path still takes the emission (and the
+// world) of the surface it meets next, as Cycles' PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and
+// ends there: no visible point, no light sample. Its state stays in main's locals: passed
+// around as a struct through inout functions it made the eye stage 1.5x slower on the H200.
+void main() {
+    uint i = thread_index();
+    if (i >= image_width * image_height) return;
+    RNG_STATE rng = load_pixel_rng(i);
+#ifdef DIRECT_LIGHT_SAMPLED
+    LightSampleNumbers light_numbers = draw_light_sample_numbers(rng);
+#endif
+    Ray ray = camera_ray(i % image_width, i / image_width, rng);
+    vec3 throughput = vec3(1.0), direct = vec3(0.0);
+    uint rays = 0u, eye_bounces = 0u;
+    // Whether the path holds a visible point, has met a specular bounce, is past a limit.
+    bool held = false, seen_by_camera = true, last_surface = false;
 #ifdef PASS_STRIDE
-    vec3 emitted = vec3(0.0), world = vec3(0.0), sampled = vec3(0.0);
-    // The first surface the camera sees (Depth, Normal): Cycles' z-depth along the view axis,
-    // 1e10 where the ray leaves the scene, and the normal facing the camera.
-    float first_depth = 1e10;
-    vec3 first_normal = vec3(0.0);
-    bool first_found = false;
+    EyePasses passes = start_eye_passes();
 #endif
 #ifdef DENOISING_FEATURES
     DenoisingFeatures features = start_denoising_features();
 #endif
+    float transparent = 0.0;  // the film's transparency (FILM_TRANSPARENT)
 #ifdef FILM_TRANSPARENT
-    // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
-    // The world is then not seen by such rays (Blender's Film > Transparent).
-    float transparent = 0.0;
     bool through_glass = true;  // every bounce so far a transmission through glass
 #endif
-    // At most max_bounces + 1 surfaces: max_bounces scatters, then the last surface's light.
-    // Surfaces passed through (hidden, lights, cut-outs) count here too, where Cycles has a
-    // separate transparent limit.
     for (uint depth = 0u; depth <= max_bounces; ++depth) {
         ++rays;
         Hit hit = closest_hit(ray);
 #ifdef SPHERE_LIGHT_RECORDS
         // After a mirror or glass, a point or spot light's sphere in front of the surface.
         vec3 sphere_radiance;
-        if (!seen_by_camera &&
-            hit_sphere_light(ray.origin, ray.dir, hit.triangle < 0 ? 1e30 : hit.t,
-                             sphere_radiance)) {
+        if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
             ADD_LIGHT(emitted, throughput * sphere_radiance);
             break;
         }
 #endif
         if (hit.triangle < 0) {
 #ifdef FILM_TRANSPARENT
-            if (seen_by_camera) {
-                transparent = 1.0;
+            if (leaves_through_film(seen_by_camera, through_glass, throughput, transparent))
                 break;
-            }
-#ifdef FILM_TRANSPARENT_GLASS
-            if (through_glass) {
-                transparent = (throughput.r + throughput.g + throughput.b) / 3.0;
-                break;
-            }
 #endif
-#endif
-            vec3 sky = environment_radiance(ray.dir);
-            ADD_LIGHT(world, throughput * sky);
-#ifdef DENOISING_FEATURES
-            add_feature_light(features, sky);
-#endif
+            SEE_LIGHT(world, environment_radiance(ray.dir));
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -181,40 +306,22 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden) {
-                ADD_LIGHT(emitted, throughput * material_emission(s.material));
-#ifdef DENOISING_FEATURES
-                add_feature_light(features, material_emission(s.material));
-#endif
-            }
+            if (front && !hidden) SEE_LIGHT(emitted, material_emission(s.material));
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
 #ifdef PASS_STRIDE
-        if (!first_found) {
-            first_found = true;
-            first_depth = dot(s.position - camera_to_world[3].xyz, -camera_to_world[2].xyz);
-            first_normal = front ? s.normal : -s.normal;
-        }
+        note_first_surface(passes, s, front);
 #endif
         // The material as this ray sees it (mixes resolved to one leaf). Meshes emit from both
-        // sides, as in Cycles, unless the material says front only (area lights, above, from
-        // the front).
+        // sides, as in Cycles, unless the material says front only.
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
-        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
-            vec3 emission = material_emission_at(s.material, sh.material, texture_point(s));
-            ADD_LIGHT(emitted, throughput * emission);
+        if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
+            SEE_LIGHT(emitted, material_emission_at(s.material, sh.material, texture_point(s)));
 #ifdef DENOISING_FEATURES
-            add_feature_light(features, emission);
-#endif
-        }
-#ifdef DENOISING_FEATURES
-        if (features.pending)
-            add_feature_surface(features, surface_features(s.material, sh.n, texture_point(s),
-                                                           s.vertex_color, wo, sh.entering),
-                                sh.n);
+        add_feature_surface_at(features, s, sh, wo);
 #endif
         if (last_surface) break;
         // Smooth lobes are followed by sampling; the rest hold the visible point, which
@@ -224,39 +331,22 @@ void main() {
         vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
         if (u_lobe >= p_smooth) {
             throughput /= 1.0 - p_smooth;
-            point = vec4(s.position, float(sh.material));
-            normal = sh.n;
-            view = vec4(wo, 0.0);
-            uv = s.uv;
-#ifdef HAS_VERTEX_COLORS
-            vertex_color = s.vertex_color;
-#endif
-            weight = throughput;
-            // The true surface's normal on wo's side: the gather's side test reads it.
-            point_flags = (p_smooth > 0.0 ? VISIBLE_POINT_ROUGH_ONLY : 0u) |
-                          (sh.entering ? VISIBLE_POINT_ENTERING : 0u) |
-                          pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
-                              << VISIBLE_POINT_NORMAL_SHIFT;
+            hold_visible_point(i, s, sh, wo, throughput, p_smooth > 0.0, eye_bounces);
+            held = true;
 #ifdef DIRECT_LIGHT_SAMPLED
             ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
                                    s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
-                                   light_pick, light_u, u_dir, rays));
+                                   light_numbers.pick, light_numbers.u, u_dir, rays));
 #endif
             break;
         }
         vec3 dir, sampled;
         if (!bsdf_sample_smooth(sh, wo, u_dir, dir, sampled)) break;
         throughput *= sampled / p_smooth;
-        // About a smooth shading normal the sample may cross the true surface to the other
-        // side than its lobe meant: mirror it back across the surface (as photons do).
-        vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
-        float meant = dot(dir, sh.n), got = dot(dir, ng_wo);
-        if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
-            dir = normalize(dir - 2.0 * got * ng_wo);
+        dir = on_the_lobes_side(dir, sh, s.geometric_normal);
         int kind = sh.kind;
-        uint bounce = kind == MATERIAL_TRANSPARENT
-                          ? BOUNCE_NONE : bounce_kind(wo, dir, s.geometric_normal, false);
-        eye_bounces = bounces_add(eye_bounces, bounce);
+        eye_bounces =
+            bounces_add(eye_bounces, smooth_bounce_kind(sh, wo, dir, s.geometric_normal));
         last_surface = !bounces_within(eye_bounces);
 #ifdef FILM_TRANSPARENT
         through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&
@@ -267,43 +357,13 @@ void main() {
         if (kind == MATERIAL_TRANSPARENT) continue;
         seen_by_camera = false;
     }
-
-#ifndef HAS_VERTEX_COLORS
-    vec3 vertex_color = vec3(1.0);
+    if (!held) hold_no_visible_point(i, eye_bounces);
+    add_direct_light(i, vec4(direct, transparent));  // the transparency's sum rides in w
+#ifdef PASS_STRIDE
+    store_eye_passes(i, passes);
 #endif
-    store_visible_point(i, VisiblePoint(point.xyz, point.w, weight, point_flags, uv, normal,
-                                        view.xyz, vertex_color, eye_bounces));
-    vec4 sum = direct_light[2 * i + 0];
-    vec4 comp = direct_light[2 * i + 1];
-#ifdef FILM_TRANSPARENT
-    // The transparency's sum rides in w.
-    kahan_add(sum, comp, vec4(direct, transparent));
-#else
-    kahan_add(sum, comp, vec4(direct, 0.0));
-#endif
-    direct_light[2 * i + 0] = sum;
-    direct_light[2 * i + 1] = comp;
-#ifdef PASS_DEPTH
-    pass_add(i, PASS_DEPTH, vec4(first_depth, 0.0, 0.0, 0.0));
-#endif
-#ifdef PASS_NORMAL
-    pass_add(i, PASS_NORMAL, vec4(first_normal, 0.0));
-#endif
-#ifdef PASS_DENOISING_NORMAL
-    // Cycles' camera space; 0 where the path met no surface with features.
-    pass_add(i, PASS_DENOISING_NORMAL, vec4(features.normal, 0.0));
-#endif
-#ifdef PASS_DENOISING_ALBEDO
-    pass_add(i, PASS_DENOISING_ALBEDO, vec4(features.albedo, 0.0));
-#endif
-#ifdef PASS_EMISSION
-    pass_add(i, PASS_EMISSION, vec4(emitted, 0.0));
-#endif
-#ifdef PASS_ENVIRONMENT
-    pass_add(i, PASS_ENVIRONMENT, vec4(world, 0.0));
-#endif
-#ifdef PASS_DIRECT
-    pass_add(i, PASS_DIRECT, vec4(sampled, 0.0));
+#ifdef DENOISING_FEATURES
+    store_denoising_passes(i, features);
 #endif
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);

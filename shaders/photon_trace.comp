@@ -52,30 +52,91 @@ layout(local_size_x = LOCAL_SIZE) in;
 #define PATH_SCATTERED(smooth_bounce)
 #endif
 
+RNG_STATE load_photon_rng(uint i, uint state_index) {
+#ifdef RNG_PCG
+    // Streams after the whole frame's pixels: every tile of a frame traces the same photons.
+    return rng_load(frame_pixels + i);
+#else
+    return rng_load(state_index);
+#endif
+}
+
+// Whether a photon is stored at this hit: wherever a visible point can gather it (a lobe
+// rougher than the threshold; on a mix, any rough leaf, as the eye path picks its own), and
+// with light sampling not straight from the light (direct light, which light sampling
+// counts instead).
+bool stores_photon(int material, Shading sh, uint path_bounces) {
+#ifdef HAS_ROUGH_LOBES
+    bool store = material_kind(material) == MATERIAL_MIX ? material_has_rough_leaf(material)
+                                                         : bsdf_has_rough_lobe(sh);
+#else
+    bool store = bsdf_has_rough_lobe(sh);
+#endif
+#ifdef DIRECT_LIGHT_SAMPLED
+    store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
+#endif
+    return store;
+}
+
+// The stored photon at s: its position with an independent random key for the stochastic
+// hash, and its flux with the side word of the true surface (the gather reads the visible
+// point's).
+void photon_at(Surface s, Shading sh, vec3 dir, vec3 flux, inout RNG_STATE rng,
+               out vec4 position_key, out vec4 stored) {
+    uint key = 0x01000000u +
+               ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
+    position_key = vec4(s.position, uintBitsToFloat(key));
+    stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
+                                             ? s.geometric_normal
+                                             : -s.geometric_normal));
+#ifdef HAS_NORMAL_MAP
+    // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons' density (per
+    // area of the true surface) into the shading normal's cosine: folded into the stored
+    // flux, since the gather multiplies the two.
+    stored.xyz *= shading_cosine_ratio(-dir, sh.n, s.geometric_normal);
+#endif
+}
+
+// What a photon carries on after the sampled direction wi beyond its sample's weight: with
+// a normal map, Veach's adjoint BSDF for shading normals (thesis, eq. 5.17),
+// |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|); 1 otherwise.
+float adjoint_shading_factor(vec3 wo, vec3 wi, Shading sh, vec3 ng) {
+#ifdef HAS_NORMAL_MAP
+    return shading_cosine_ratio(wo, sh.n, ng) / max(shading_cosine_ratio(wi, sh.n, ng), 1.0e-6);
+#else
+    return 1.0;
+#endif
+}
+
+// The bounce word's kind of a photon's scatter: through a cut-out it has not scattered
+// (still direct light).
+uint photon_bounce_kind(Shading sh, vec3 wo, vec3 wi, vec3 ng, vec3 u_dir) {
+    return sh.kind == MATERIAL_TRANSPARENT
+               ? BOUNCE_NONE : bounce_kind(wo, wi, ng, bsdf_sample_is_diffuse(sh, wo, u_dir));
+}
+
+// One bounce of the path in record i (its origin, direction, flux and bounce words in
+// common/records.glsl): the photon it stores at the surface it meets, if any, and where it
+// goes on. `bounces` counts the surfaces met so far: a path ends at its (max_bounces + 1)th,
+// the last that a path within the total can store a photon on (its first scatter is not
+// counted: common/bounces.glsl). The bounce word `path_bounces` is BOUNCES_SCATTERED once
+// the path has scattered (specular or diffuse), not while it comes straight from the light,
+// and holds its later scatters by kind. Its state stays in main's locals (as the eye
+// stage's does: passed as a struct it cost 1.5x there).
 void main() {
     uint i = thread_index();
     if (i >= photon_threads) return;
     uint state_index = image_width * image_height + i;
-#ifdef RNG_PCG
-    // Streams after the whole frame's pixels: every tile of a frame traces the same photons.
-    RNG_STATE rng = rng_load(frame_pixels + i);
-#else
-    RNG_STATE rng = rng_load(state_index);
-#endif
-
+    RNG_STATE rng = load_photon_rng(i, state_index);
     vec4 p0 = photon_path_record(i, PHOTON_PATH_ORIGIN);
     vec3 origin = p0.xyz;
-    // Surfaces met so far: a path ends at its (max_bounces + 1)th, the last that a path within
-    // the total can store a photon on (its first scatter is not counted: common/bounces.glsl).
     float bounces = p0.w;
     vec3 dir = photon_path_record(i, PHOTON_PATH_DIR).xyz;
-    // The path's bounce word: BOUNCES_SCATTERED once the path has scattered (specular or
-    // diffuse), not while it comes straight from the light (such photons are direct light,
-    // which light sampling counts instead), and its later scatters by kind.
     uint path_bounces = uint(photon_path_record(i, PHOTON_PATH_DIR).w);
     vec3 flux = photon_path_record(i, PHOTON_PATH_FLUX).xyz;
+    float path_class = 0.0;  // PHOTON_PATH_DIRECT, LIGHT_PATH_UNSCATTERED (TRACKS_PATH_CLASS)
 #ifdef TRACKS_PATH_CLASS
-    float path_class = photon_path_record(i, PHOTON_PATH_FLUX).w;
+    path_class = photon_path_record(i, PHOTON_PATH_FLUX).w;
 #endif
 #ifdef ESTIMATOR_PPPM
     // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
@@ -91,20 +152,14 @@ void main() {
         emit_photon(rng, origin, dir, flux);
         bounces = 0.0;
         path_bounces = 0u;
-#ifdef TRACKS_PATH_CLASS
-        path_class = 0.0;  // PHOTON_PATH_DIRECT, LIGHT_PATH_UNSCATTERED
-#endif
+        path_class = 0.0;
         atomicAdd(pass_emitted, 1u);
     }
 
     vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
     vec4 position_key = vec4(0.0);
     vec3 incoming = vec3(0.0);
-#ifdef TRACKS_PATH_CLASS
     float stored_class = path_class;  // the class the photon arrives with
-#else
-    float stored_class = 0.0;
-#endif
     uint stored_bounces = path_bounces;  // the bounce word the photon arrives with
     Hit hit = closest_hit(make_ray(origin, dir));
     if (hit.triangle < 0) {
@@ -127,34 +182,13 @@ void main() {
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces > float(max_bounces)) bounces = -1.0;
         } else {
-            // Stored wherever a visible point can gather it (a lobe rougher than the
-            // threshold), then on by sampling the whole material, Russian roulette on the
-            // sample's weight.
+            // Stored where a visible point can gather it, then on by sampling the whole
+            // material, Russian roulette on the sample's weight.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
-#ifdef HAS_ROUGH_LOBES
-            bool store = material_kind(s.material) == MATERIAL_MIX
-                             ? material_has_rough_leaf(s.material) : bsdf_has_rough_lobe(sh);
-#else
-            bool store = bsdf_has_rough_lobe(sh);
-#endif
-#ifdef DIRECT_LIGHT_SAMPLED
-            store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
-#endif
-            if (store) {
-                uint key = 0x01000000u + ((uint(rng_next(rng) * 65536.0) << 13) ^ uint(rng_next(rng) * 536870912.0));
-                position_key = vec4(s.position, uintBitsToFloat(key));
+            if (stores_photon(s.material, sh, path_bounces)) {
+                photon_at(s, sh, dir, flux, rng, position_key, stored);
                 incoming = -dir;
-                // The side of the true surface (the gather reads the visible point's).
-                stored = vec4(flux, photon_side_word(dot(dir, s.geometric_normal) < 0.0
-                                                         ? s.geometric_normal
-                                                         : -s.geometric_normal));
-#ifdef HAS_NORMAL_MAP
-                // The gather's f(wo, wi) times |wi.ns| / |wi.ng|, which turns the photons'
-                // density (per area of the true surface) into the shading normal's cosine:
-                // folded into the stored flux, since the gather multiplies the two.
-                stored.xyz *= shading_cosine_ratio(incoming, sh.n, s.geometric_normal);
-#endif
 #ifdef HAS_LIGHT_TRACING
                 LIGHT_TRACE(s, dir, flux, path_bounces);
 #endif
@@ -183,29 +217,14 @@ void main() {
                     bounces = -1.0;
                 } else {
                     flux *= w / q;
+                    flux *= adjoint_shading_factor(-dir, wi, sh, s.geometric_normal);
                     // Through a cut-out the photon has not scattered: its class stays.
                     if (sh.kind != MATERIAL_TRANSPARENT)
                         PATH_SCATTERED(bsdf_sample_is_smooth(sh, -dir, u_dir));
-#ifdef HAS_NORMAL_MAP
-                    // Veach's adjoint BSDF for shading normals (thesis, eq. 5.17): photons
-                    // carry |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) on top of the sample's weight.
-                    flux *= shading_cosine_ratio(-dir, sh.n, s.geometric_normal) /
-                            max(shading_cosine_ratio(wi, sh.n, s.geometric_normal), 1.0e-6);
-#endif
-                    // About a smooth shading normal the sample may cross the true surface to
-                    // the other side than its lobe meant: mirror it back across the surface.
-                    vec3 ng_wo = sh.entering ? s.geometric_normal : -s.geometric_normal;
-                    float meant = dot(wi, sh.n), got = dot(wi, ng_wo);
-                    if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
-                        wi = normalize(wi - 2.0 * got * ng_wo);
-                    // Through a cut-out the photon has not scattered: still direct light. A
-                    // path no visible point may gather within the limits ends.
-                    path_bounces = photon_bounces_scattered(
-                        path_bounces,
-                        sh.kind == MATERIAL_TRANSPARENT
-                            ? BOUNCE_NONE
-                            : bounce_kind(-dir, wi, s.geometric_normal,
-                                          bsdf_sample_is_diffuse(sh, -dir, u_dir)));
+                    wi = on_the_lobes_side(wi, sh, s.geometric_normal);
+                    // A path no visible point may gather within the limits ends.
+                    uint kind_now = photon_bounce_kind(sh, -dir, wi, s.geometric_normal, u_dir);
+                    path_bounces = photon_bounces_scattered(path_bounces, kind_now);
                     if (!photon_bounces_useful(path_bounces)) bounces = -1.0;
                     dir = wi;
                     origin = offset_origin(s.position, s.geometric_normal, dir);
@@ -216,11 +235,7 @@ void main() {
 
     store_photon_path_record(i, PHOTON_PATH_ORIGIN, vec4(origin, bounces));
     store_photon_path_record(i, PHOTON_PATH_DIR, vec4(dir, float(path_bounces)));
-#ifdef TRACKS_PATH_CLASS
     store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, path_class));
-#else
-    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, 0.0));
-#endif
     store_photon_record(i, PHOTON_INCOMING,
                         vec4(incoming, photon_record_word(stored_class, stored_bounces)));
     store_photon_record(i, PHOTON_POSITION, position_key);

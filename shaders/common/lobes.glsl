@@ -797,4 +797,15 @@ bool bsdf_sample_smooth(Shading sh, vec3 wo_world, vec3 u, out vec3 wi_world, ou
 #endif
 }
 
+// About a smooth shading normal a sampled direction wi may cross the true surface (normal ng)
+// to the other side than its lobe meant: it is mirrored back across the surface. Eye paths
+// and photons alike; a cut-out's straight-through direction stays.
+vec3 on_the_lobes_side(vec3 wi, Shading sh, vec3 ng) {
+    vec3 ng_wo = sh.entering ? ng : -ng;
+    float meant = dot(wi, sh.n), got = dot(wi, ng_wo);
+    if (meant * got <= 0.0 && sh.kind != MATERIAL_TRANSPARENT)
+        wi = normalize(wi - 2.0 * got * ng_wo);
+    return wi;
+}
+
 #endif
