@@ -40,6 +40,10 @@ COPPER_BALL = (-1.25, -0.35)
 FROSTED_CUBE = (-0.05, -0.75)
 LIGHT = (-1.2, 3.4, 2.4)
 LAMP_TARGET = (-0.1, -0.1, 0.0)
+# Every object stands a tenth of a millimetre above the table, not in its plane: where two
+# surfaces coincide, which one a ray hits follows its last bits, so two exports an ulp apart
+# rendered different paths (docs/nondeterminism.md).
+LIFT = 1e-4
 
 
 def _material_with_volume(name, node_type, volume_color, density, **inputs):
@@ -127,14 +131,14 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     radius, height, wall, base = 0.32, 0.78, 0.025, 0.06
     glass = shader_material("Glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0)
     lathe("Tumbler", [(0.0, 0.0), (radius, 0.0), (radius, height), (radius - wall, height),
-                      (radius - wall, base), (0.0, base)], glass, (*TUMBLER, 0.0))
+                      (radius - wall, base), (0.0, base)], glass, (*TUMBLER, LIFT))
     tea = _material_with_volume(
         "Tea", "ShaderNodeBsdfPrincipled", (0.95, 0.55, 0.18), 2.5,
         **{("Transmission Weight" if bpy.app.version >= (4, 0, 0) else "Transmission"): 1.0,
            "IOR": 1.33, "Roughness": 0.0, "Base Color": (1.0, 1.0, 1.0, 1.0)})
     inner, level = radius - wall - 0.002, 0.55
     lathe("Tea", [(0.0, base + 0.002), (inner, base + 0.002), (inner, level), (0.0, level)],
-          tea, (*TUMBLER, 0.0))
+          tea, (*TUMBLER, LIFT))
 
     # The ring: a gold band 1.2 cm thick whose inside mirrors the light into a cardioid.
     gold = _principled("Gold", **{"Base Color": (1.0, 0.78, 0.34, 1.0), "Metallic": 1.0,
@@ -142,17 +146,17 @@ def build_showcase(light_power=600.0, light_radius=0.02, lens=42.0):
     ring_radius, ring_height, band = 0.5, 0.22, 0.012
     lathe("Ring", [(ring_radius, 0.0), (ring_radius + band, 0.0),
                    (ring_radius + band, ring_height), (ring_radius, ring_height),
-                   (ring_radius, 0.0)], gold, (*RING, 0.0))
+                   (ring_radius, 0.0)], gold, (*RING, LIFT))
 
     blue = _material_with_volume("BlueGlass", "ShaderNodeBsdfGlass", (0.25, 0.55, 0.95), 6.0,
                                  IOR=1.5, Roughness=0.0)
-    sphere("BlueBall", (*BLUE_BALL, 0.24), 0.24, blue, segments=64)
+    sphere("BlueBall", (*BLUE_BALL, 0.24 + LIFT), 0.24, blue, segments=64)
     copper = _principled("Copper", **{"Base Color": (0.95, 0.64, 0.54, 1.0), "Metallic": 1.0,
                                       "Roughness": 0.3})
-    sphere("CopperBall", (*COPPER_BALL, 0.3), 0.3, copper, segments=64)
+    sphere("CopperBall", (*COPPER_BALL, 0.3 + LIFT), 0.3, copper, segments=64)
     frosted = shader_material("FrostedGlass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.25)
     next(n for n in frosted.node_tree.nodes if n.type == 'BSDF_GLASS').distribution = 'GGX'
-    _cube("FrostedCube", (*FROSTED_CUBE, 0.18), 0.36, frosted, rotation=0.5)
+    _cube("FrostedCube", (*FROSTED_CUBE, 0.18 + LIFT), 0.36, frosted, rotation=0.5)
 
     # A spot, not a point lamp: the same 2 cm source, its photons all sent towards the
     # table (a point lamp sends half of them to the sky; the cone's 13x denser photons are
