@@ -32,6 +32,8 @@ CLAMP = 2.0
 CAUSTIC_REGIONS = {(2, 1), (2, 2)}
 
 
+@helpers.slow("Cycles at 4,096 samples and glslppm at 96 passes of the whole showcase; 54 s "
+              "on a loaded 2-core machine")
 def test_showcase_matches_cycles():
     """The image mean within 3% of Cycles', the regions without caustics within 6% each,
     the two caustic regions within 30%, nothing infinite. These bounds catch a broken demo
