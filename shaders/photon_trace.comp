@@ -34,10 +34,16 @@ layout(local_size_x = LOCAL_SIZE) in;
 
 // A stored photon of an L S+ path goes to the camera where light tracing takes its surface;
 // elsewhere it is stored as scattered light, for the gather.
-#define LIGHT_TRACE(s, dir, flux, path_bounces)                          \
-    if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                       \
-        if (light_traceable(s)) splat_to_camera(s, dir, flux, path_bounces); \
-        else stored_class = LIGHT_PATH_SCATTERED;                        \
+// A mix's leaf is picked as the eye path picks it, by a number of its own (drawn only on a
+// mix, so that other scenes keep their random streams).
+#define LIGHT_TRACE(s, dir, flux, path_bounces)                                        \
+    if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                                     \
+        if (light_traceable(s)) {                                                      \
+            float u_leaf = material_kind(s.material) == MATERIAL_MIX ? rng_next(rng) : 0.5; \
+            splat_to_camera(s, dir, flux, path_bounces, u_leaf);                       \
+        } else {                                                                       \
+            stored_class = LIGHT_PATH_SCATTERED;                                       \
+        }                                                                              \
     }
 
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays

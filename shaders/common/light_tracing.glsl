@@ -3,8 +3,9 @@
 // and is connected to the camera, a caustic seen directly. The gather leaves these photons
 // out at visible points seen directly (light_traced in common/light_splats.glsl), so the two
 // techniques partition the paths with no MIS: unbiased, not yet the lower variance of VCM's
-// weights. Lambert surfaces, pinhole and orthographic cameras only (light_traceable below,
-// native/render/scene_features.cpp).
+// weights. Surfaces that only reflect (Lambert; with the rough lobes also plastic, rough metal
+// and mixes of these: light_traceable below), pinhole and orthographic cameras only
+// (native/render/specializations.cpp).
 //
 // A pixel j's value is the mean radiance over its area A on the film plane (the box filter
 // of the eye's jittered rays). For a photon of flux Phi (one of N_emitted paths) at x, seen
@@ -39,15 +40,67 @@ bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance) {
     return false;
 }
 
+#ifdef HAS_ROUGH_LOBES
+// Whether every leaf of material m only reflects (Lambert, plastic, metal): a visible point
+// seen directly there gathers photons from the camera's side alone, which the connection
+// below evaluates as the gather would. Glass and translucent leaves, which gather from both
+// sides, and a mix deeper than the stack stay with the gather.
+bool material_only_reflects(int m) {
+    int stack[16];
+    int top = 0;
+    stack[top++] = m;
+    for (int steps = 0; steps < 64 && top > 0; ++steps) {
+        int k = stack[--top];
+        int kind = material_kind(k);
+        if (kind == MATERIAL_MIX) {
+            if (top + 2 > 16) return false;
+            ivec2 ab = material_mix(k);
+            stack[top++] = ab.x;
+            stack[top++] = ab.y;
+        } else if (kind != MATERIAL_DIFFUSE && kind != MATERIAL_PLASTIC &&
+                   kind != MATERIAL_CONDUCTOR) {
+            return false;
+        }
+    }
+    return top == 0;
+}
+#endif
+
 // Whether light tracing takes the L S+ photons that land on s's material (else they stay the
-// gather's, stored as scattered light): a Lambert surface, whose f the connection evaluates
-// as the gather would, albedo / pi. With the lobes, a single diffuse leaf (no mix, plastic or
-// translucent yet) and no normal maps (their cosine ratio is not in the connection yet).
+// gather's, stored as scattered light): a surface that only reflects, whose f the connection
+// evaluates as the gather would at a visible point seen directly. Not with normal maps (their
+// cosine ratio is not in the connection yet).
 bool light_traceable(Surface s) {
-#ifdef HAS_NORMAL_MAP
+#if defined(HAS_NORMAL_MAP)
     return false;
+#elif defined(HAS_ROUGH_LOBES)
+    return material_only_reflects(s.material);
 #else
     return material_kind(s.material) == MATERIAL_DIFFUSE;
+#endif
+}
+
+// The f a visible point seen directly at s would weigh this photon by: Lambert's albedo / pi,
+// or (with the rough lobes) the leaf the eye path would pick at wo = to_camera, by the number
+// u_leaf, its lobes the eye path does not follow (rough_only where it follows smooth ones),
+// within the Light Paths limits of the photon's bounce word. Zero where the photon or the
+// camera is below the shading normal.
+vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float u_leaf) {
+    uint kinds = gather_bounce_kinds(0u, path_bounces);
+#ifdef HAS_ROUGH_LOBES
+    Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                            s.vertex_color, to_camera, u_leaf);
+    if (sh.kind == MATERIAL_DIFFUSE) {
+        if ((kinds & (1u << BOUNCE_DIFFUSE)) == 0u || dot(-dir, sh.n) <= 0.0) return vec3(0.0);
+        return sh.color / PI;
+    }
+    return bsdf_f_of_kinds(sh, to_camera, -dir, bsdf_smooth_probability(sh, to_camera) > 0.0,
+                           false, kinds);
+#else
+    if ((kinds & (1u << BOUNCE_DIFFUSE)) == 0u) return vec3(0.0);
+    vec3 n = dot(to_camera, s.geometric_normal) > 0.0 ? s.normal : -s.normal;
+    if (dot(-dir, n) <= 0.0) return vec3(0.0);
+    return surface_color(s) / PI;  // Lambert (light_traceable), as the gather weighs it
 #endif
 }
 
@@ -55,9 +108,8 @@ bool light_traceable(Surface s) {
 // bounce word, into the pixel the camera sees it in, where the gather would have taken it
 // at a visible point seen directly: a diffuse surface the camera does not skip, the light
 // and the camera on the side of it the photon lit, within the Light Paths limits.
-void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces) {
+void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf) {
     if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
-    if ((gather_bounce_kinds(0u, path_bounces) & (1u << BOUNCE_DIFFUSE)) == 0u) return;
     // The camera's frame is rigid (scene_features.cpp checks it): its inverse is the
     // transpose, and camera-space distances and angles are the world's.
     vec3 local = transpose(mat3(camera_to_world)) * (s.position - camera_to_world[3].xyz);
@@ -84,17 +136,16 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces) {
     if (!(pixel.x >= 0.0 && pixel.y >= 0.0 && pixel.x < float(image_width) &&
           pixel.y < float(image_height)))
         return;
-    // The true surface's side the photon lit must face the camera (the gather's side test),
-    // and the light must arrive above the shading normal facing the camera (its cosine test).
+    // The true surface's side the photon lit must face the camera (the gather's side test);
+    // connection_f tests the shading normal's side.
     vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
     float cos_surface = dot(to_camera, lit_side);
     if (cos_surface <= 0.0) return;
-    vec3 n = dot(to_camera, s.geometric_normal) > 0.0 ? s.normal : -s.normal;
-    if (dot(-dir, n) <= 0.0) return;
+    vec3 f = connection_f(s, dir, to_camera, path_bounces, u_leaf);
+    if (f == vec3(0.0)) return;
     if (!camera_sees(s.position, s.geometric_normal, to_camera, distance)) return;
     uint i = min(uint(pixel.y), image_height - 1u) * image_width +
              min(uint(pixel.x), image_width - 1u);
-    vec3 f = surface_color(s) / PI;  // Lambert (light_traceable), as the gather weighs it
     light_splat_add(i, flux * f * (cos_surface * importance));
 }
 
