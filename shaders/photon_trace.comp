@@ -35,12 +35,17 @@ layout(local_size_x = LOCAL_SIZE) in;
 // A stored photon of an L S+ path goes to the camera where light tracing takes its surface;
 // elsewhere it is stored as scattered light, for the gather.
 // A mix's leaf is picked as the eye path picks it, by a number of its own (drawn only on a
-// mix, so that other scenes keep their random streams).
+// mix, so that other scenes keep their random streams); a thin lens's point by two more.
+#ifdef HAS_DEPTH_OF_FIELD
+#define LENS_NUMBERS vec2(rng_next(rng), rng_next(rng))
+#else
+#define LENS_NUMBERS vec2(0.0)
+#endif
 #define LIGHT_TRACE(s, dir, flux, path_bounces)                                        \
     if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                                     \
         if (light_traceable(s)) {                                                      \
             float u_leaf = material_kind(s.material) == MATERIAL_MIX ? rng_next(rng) : 0.5; \
-            splat_to_camera(s, dir, flux, path_bounces, u_leaf);                       \
+            splat_to_camera(s, dir, flux, path_bounces, u_leaf, LENS_NUMBERS);         \
         } else {                                                                       \
             stored_class = LIGHT_PATH_SCATTERED;                                       \
         }                                                                              \

@@ -207,17 +207,15 @@ bool rigid_frame(const glm::mat4& m) {
 
 std::span<const Specialization> specializations() { return kRows; }
 
-// Depth of field (no lens sampling), the light split's passes (its Caustics pass would miss
-// the splats), a camera frame with scale or shear, and the full variant (a material edit must
-// not switch the film's buffers) rule light tracing out.
+// The light split's passes (its Caustics pass would miss the splats), a camera frame with
+// scale or shear, and the full variant (a material edit must not switch the film's buffers)
+// rule light tracing out. A thin lens connects through a point of its disc.
 bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
     const Camera& camera = scene.camera;
-    const bool depth_of_field =
-        camera.projection == Projection::Perspective && camera.aperture_radius > 0.0f;
     const bool photon_split =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
-    return settings.light_tracing && !depth_of_field && rigid_frame(camera.to_world) &&
-           !photon_split && !settings.full_variant;
+    return settings.light_tracing && rigid_frame(camera.to_world) && !photon_split &&
+           !settings.full_variant;
 }
 
 bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {

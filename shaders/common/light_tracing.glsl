@@ -13,7 +13,11 @@
 // to surface area, du = cos(theta_x) dA / (d^2 cos^3(theta_c)), gives the splat
 //     Phi f(wi, wo) cos(theta_x) / (A d^2 cos^3(theta_c) N_emitted)
 // (Veach 1997, section 10.3.3: W_e = 1 / (A cos^4(theta_c)) times G = cos cos / d^2); an
-// orthographic film maps areas by du = cos(theta_x) dA alone. Include after
+// orthographic film maps areas by du = cos(theta_x) dA alone. A thin lens (depth of field)
+// is a pinhole at a point of its disc drawn as the eye path draws it, uniformly: for a fixed
+// lens point the film position of x is that pinhole's projection plus a constant, so the same
+// splat holds with d and theta_c measured from the lens point (the disc's density cancels
+// the eye path's). Include after
 // common/surface.glsl, common/bsdf.glsl and common/bounces.glsl.
 #ifndef LIGHT_TRACING_GLSL
 #define LIGHT_TRACING_GLSL
@@ -108,7 +112,8 @@ vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float 
 // bounce word, into the pixel the camera sees it in, where the gather would have taken it
 // at a visible point seen directly: a diffuse surface the camera does not skip, the light
 // and the camera on the side of it the photon lit, within the Light Paths limits.
-void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf) {
+void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
+                     vec2 lens_u) {
     if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
     // The camera's frame is rigid (scene_features.cpp checks it): its inverse is the
     // transpose, and camera-space distances and angles are the world's.
@@ -123,10 +128,21 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
         distance = -local.z;
         importance = 1.0;
     } else {
+#ifdef HAS_DEPTH_OF_FIELD
+        // The lens point, in camera space (z = 0), and where the ray from it through x meets
+        // the plane of focus, on the film of camera_ray_at (common/camera.glsl).
+        vec3 lens = vec3(aperture_radius * sample_disc(lens_u.x, lens_u.y), 0.0);
+        vec3 from_lens = local - lens;
+        film = from_lens.xy / -from_lens.z + lens.xy / focus_distance;
+        distance = length(from_lens);
+        to_camera = -(mat3(camera_to_world) * from_lens) / distance;
+        float cos_camera = -from_lens.z / distance;
+#else
         film = local.xy / -local.z;
         distance = length(local);
         to_camera = normalize(camera_to_world[3].xyz - s.position);
         float cos_camera = -local.z / distance;
+#endif
         importance = 1.0 / (distance * distance * cos_camera * cos_camera * cos_camera);
     }
     // camera_ray_at (common/camera.glsl) backwards: film -> [-1, 1] -> pixels, row 0 on top.
