@@ -185,7 +185,7 @@ const Specialization kRows[] = {
      "not in the full variant: the geometry's buffers follow the instancing decision",
      G::DirectLight, false, two_level, two_level},
     {"light-tracing", "HAS_LIGHT_TRACING",
-     "a mirror or glass, with light tracing on (no cut-outs, depth of field or light split)",
+     "a mirror or glass, with light tracing on (no cut-outs or light split)",
      "H100 1080p +40.6% on cornell-diffuse (the other scenes need it); "
      "H200: 14-29% fewer passes/s where it applies (the photon stage doubles); not in the "
      "full variant (a material edit must not switch the film's buffers)",
