@@ -45,7 +45,7 @@ layout(local_size_x = LOCAL_SIZE) in;
     if (path_class == LIGHT_PATH_SPECULAR_CHAIN) {                                     \
         if (light_traceable(s)) {                                                      \
             float u_leaf = material_kind(s.material) == MATERIAL_MIX ? rng_next(rng) : 0.5; \
-            splat_to_camera(s, dir, flux, path_bounces, u_leaf, LENS_NUMBERS);         \
+            splat_to_camera(s, dir, flux, path_bounces, u_leaf, LENS_NUMBERS, rng);    \
         } else {                                                                       \
             stored_class = LIGHT_PATH_SCATTERED;                                       \
         }                                                                              \

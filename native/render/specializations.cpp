@@ -107,13 +107,10 @@ bool emitter_mis(const Inputs& in) {
     return emitter_mis_applies(in) && glossy;
 }
 
-// Left out (the gather keeps those paths) where not supported yet: cut-outs (camera rays see
-// through them, the connection's shadow ray would not); the rest is light_tracing_allowed's.
+// Where the settings and the camera allow it (light_tracing_allowed); the connection sees
+// through cut-outs as camera rays do (common/light_tracing.glsl, camera_sees).
 bool light_tracing_applies(const Inputs& in) {
-    bool cut_outs = false;
-    for (std::uint32_t flags : in.p.geometry.flags)
-        cut_outs |= (flags & kMaterialMayBeTransparent) != 0;
-    return light_tracing_allowed(in.scene, in.settings) && !cut_outs;
+    return light_tracing_allowed(in.scene, in.settings);
 }
 bool light_tracing(const Inputs& in) { return light_tracing_applies(in) && in.smooth_specular; }
 
@@ -185,7 +182,7 @@ const Specialization kRows[] = {
      "not in the full variant: the geometry's buffers follow the instancing decision",
      G::DirectLight, false, two_level, two_level},
     {"light-tracing", "HAS_LIGHT_TRACING",
-     "a mirror or glass, with light tracing on (no cut-outs or light split)",
+     "a mirror or glass, with light tracing on (no light split)",
      "H100 1080p +40.6% on cornell-diffuse (the other scenes need it); "
      "H200: 14-29% fewer passes/s where it applies (the photon stage doubles); not in the "
      "full variant (a material edit must not switch the film's buffers)",
@@ -219,32 +216,38 @@ bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
 }
 
 bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {
-    // Cut-outs: a Transparent leaf anywhere (every mix leaf is a material of the list, and
-    // one that is Transparent is itself flagged kMaterialMayBeTransparent).
-    bool specular = false, cut_outs = false;
-    for (const Material& m : scene.materials) {
+    bool specular = false;
+    for (const Material& m : scene.materials)
         specular |= m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric;
-        cut_outs |= m.kind == MaterialKind::Transparent;
-    }
-    return specular && !cut_outs && light_tracing_allowed(scene, settings);
+    return specular && light_tracing_allowed(scene, settings);
 }
 
 bool traces_smooth_specular(const Scene& scene, const PackedBvh& bvh, const PreparedScene& p) {
     const std::vector<Material>& materials = p.geometry.materials;
-    const auto specular = [](MaterialKind k) {
-        return k == MaterialKind::Conductor || k == MaterialKind::Dielectric;
+    // A conductor or dielectric, or a mix with one among its leaves (a mirror cut-out).
+    const auto specular = [&materials](std::int32_t m) {
+        std::int32_t stack[16], top = 0;
+        stack[top++] = m;
+        while (top > 0) {
+            const Material& k = materials[static_cast<std::size_t>(stack[--top])];
+            if (k.kind == MaterialKind::Conductor || k.kind == MaterialKind::Dielectric)
+                return true;
+            if (k.kind == MaterialKind::Mix && top + 2 <= 16) {
+                stack[top++] = k.mix_a;
+                stack[top++] = k.mix_b;
+            }
+        }
+        return false;
     };
     for (std::uint32_t t = 0; t < bvh.triangle_count; ++t)
-        if (specular(materials[static_cast<std::size_t>(std::bit_cast<int>(bvh.triangles[3 * t].w))]
-                         .kind))
-            return true;
+        if (specular(std::bit_cast<int>(bvh.triangles[3 * t].w))) return true;
     if (!p.instancing.two_level) return false;
     for (const Instance& inst : scene.instances) {
         const MeshView& m = scene.instance_meshes[inst.mesh];
         std::uint32_t most = 0;
         for (std::uint32_t id : m.material_ids) most = std::max(most, id);
         for (std::uint32_t k = 0; k <= most; ++k)
-            if (specular(materials[inst.material_offset + k].kind)) return true;
+            if (specular(static_cast<std::int32_t>(inst.material_offset + k))) return true;
     }
     return false;
 }

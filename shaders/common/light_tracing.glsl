@@ -26,8 +26,11 @@
 
 // Whether the camera sees `p` (on a surface of true normal ng) along to_camera, up to
 // `distance`: camera rays pass through area-light surfaces and objects hidden from the
-// camera (eye_trace.comp), so this ray does too, and stops at anything else.
-bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance) {
+// camera (eye_trace.comp), so this ray does too, and stops at anything else. A cut-out (a
+// Mix with a Transparent leaf) lets it through where the leaf the eye path would pick there,
+// seen from the camera, is the Transparent one: a number drawn per cut-out crossed, so that
+// the connection sees through it as often as camera rays do.
+bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance, inout RNG_STATE rng) {
     vec3 target = p + to_camera * distance;
     vec3 origin = offset_origin(p, ng, to_camera);
     for (uint k = 0u; k <= max_bounces; ++k) {
@@ -36,9 +39,15 @@ bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance) {
         Hit hit = closest_hit(r);
         if (hit.triangle < 0) return true;
         Surface s = surface_at(r, hit);
-        if ((material_flags(s.material) & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) ==
-            0)
+        int flags = material_flags(s.material);
+        if ((flags & MATERIAL_MAY_BE_TRANSPARENT) != 0 &&
+            (flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) == 0) {
+            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                                    s.vertex_color, to_camera, rng_next(rng));
+            if (sh.kind != MATERIAL_TRANSPARENT) return false;
+        } else if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) == 0) {
             return false;
+        }
         origin = offset_origin(s.position, s.geometric_normal, to_camera);
     }
     return false;
@@ -113,7 +122,7 @@ vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float 
 // at a visible point seen directly: a diffuse surface the camera does not skip, the light
 // and the camera on the side of it the photon lit, within the Light Paths limits.
 void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
-                     vec2 lens_u) {
+                     vec2 lens_u, inout RNG_STATE rng) {
     if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
     // The camera's frame is rigid (scene_features.cpp checks it): its inverse is the
     // transpose, and camera-space distances and angles are the world's.
@@ -159,7 +168,7 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
     if (cos_surface <= 0.0) return;
     vec3 f = connection_f(s, dir, to_camera, path_bounces, u_leaf);
     if (f == vec3(0.0)) return;
-    if (!camera_sees(s.position, s.geometric_normal, to_camera, distance)) return;
+    if (!camera_sees(s.position, s.geometric_normal, to_camera, distance, rng)) return;
     uint i = min(uint(pixel.y), image_height - 1u) * image_width +
              min(uint(pixel.x), image_width - 1u);
     light_splat_add(i, flux * f * (cos_surface * importance));

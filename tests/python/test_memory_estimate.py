@@ -88,8 +88,8 @@ def test_estimate_is_what_the_renderer_allocates(glslppm, case):
 
 @pytest.mark.parametrize("scene_kind", ["mirror", "depth of field", "cut-out", "diffuse"])
 def test_estimate_decides_light_tracing_as_the_renderer(glslppm, scene_kind):
-    """Light tracing's splats are allocated where the scene has a mirror or glass and no
-    cut-out or other exclusion (with depth of field too: it connects through the lens); the
+    """Light tracing's splats are allocated where the scene has a mirror or glass (with depth
+    of field and cut-outs too: it connects through the lens and through cut-outs); the
     estimate decides the same from the scene before anything is prepared."""
     g = glslppm
     if scene_kind == "diffuse":
@@ -100,7 +100,7 @@ def test_estimate_decides_light_tracing_as_the_renderer(glslppm, scene_kind):
                              cut_out=scene_kind == "cut-out")
     settings = g.Settings(width=SIZE, height=SIZE, photons_per_pass=PHOTONS)
     estimate, _ = assert_estimate_is_allocation(g, scene, settings)
-    assert estimate["light_tracing"] == (scene_kind in ("mirror", "depth of field"))
+    assert estimate["light_tracing"] == (scene_kind != "diffuse")
     # Without a scene (the add-on asks before it exports) the splats are counted wherever
     # the settings allow light tracing: never less than the renderer allocates.
     assert g.memory_estimate(settings)["gpu"] >= estimate["gpu"]
