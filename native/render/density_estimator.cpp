@@ -11,19 +11,19 @@ namespace glslppm {
 namespace {
 
 constexpr std::array<DensityEstimator, 2> kEstimators = {{
+    // Hachisuka and Jensen 2009, "Stochastic Progressive Photon Mapping".
     {.id = Estimator::Sppm,
      .name = "sppm",
      .title = "SPPM",
-     .paper = "Hachisuka and Jensen 2009, Stochastic Progressive Photon Mapping",
      .define = nullptr,
      .independent_passes = false,
      .photon_paths = PhotonPaths::AcrossPasses,
      .film = FilmResolve::FluxOverPixelRadius,
      .pass_radius_of = nullptr},
+    // Knaus and Zwicker 2011, "Progressive Photon Mapping: A Probabilistic Approach".
     {.id = Estimator::Pppm,
      .name = "pppm",
      .title = "PPPM",
-     .paper = "Knaus and Zwicker 2011, Progressive Photon Mapping: A Probabilistic Approach",
      .define = "ESTIMATOR_PPPM",
      .independent_passes = true,
      .photon_paths = PhotonPaths::WithinPass,

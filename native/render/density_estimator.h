@@ -54,7 +54,6 @@ struct DensityEstimator {
     Estimator id;
     const char* name;   // RenderSettings, the CLI's --estimator, the farm's glslppm.estimator
     const char* title;  // in messages: "SPPM's passes depend on each other"
-    const char* paper;
     // The programs' #define (the variant's name gets "estimator=<name>"); nullptr: none,
     // the shaders' default (SPPM).
     const char* define;
