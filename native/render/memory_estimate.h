@@ -2,7 +2,7 @@
 // owner: allocate_pass_state (renderer_setup.cpp) allocates these sizes, plan_tiles
 // (tiled_render.cpp) splits a frame by them, and the add-on's refusal
 // (addon/engine/memory.py) asks for them through the module's memory_estimate before
-// anything is allocated. The scene's own buffers (BVH, materials, lights, images) are not
+// anything is allocated. The scene's own buffers (BVH, materials, emitters, images) are not
 // counted: they do not grow with the resolution or the photons per pass.
 #pragma once
 

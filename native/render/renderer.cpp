@@ -287,7 +287,7 @@ bool Renderer::update_tables(const Scene& scene) {
             const EmitterTable& emitters = p.emitters;
             g.replace_buffer(g.buffers.emitter_records,
                              emitters.records.size() * sizeof(emitters.records[0]),
-                             emitters.records.data(), "lights");
+                             emitters.records.data(), "emitters");
             g.scene.emitters = emitters;
             g.scene.frame = p.frame;
             g.scene.initial_radius = p.initial_radius;

@@ -106,7 +106,8 @@ void upload_scene(Renderer::Gpu& g, const Scene& scene, const PreparedScene& pre
     }
     const EmitterTable& emitters = g.scene.emitters;
     g.buffers.emitter_records =
-        g.make_buffer(BINDING_EMITTERS, bytes(emitters.records), emitters.records.data(), "lights");
+        g.make_buffer(BINDING_EMITTERS, bytes(emitters.records), emitters.records.data(),
+                      "emitters");
     g.buffers.materials = g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
                                         prepared.material_records.data(), "materials");
     g.buffers.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
