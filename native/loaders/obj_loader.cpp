@@ -263,10 +263,10 @@ Material MaterialConverter::convert(const tinyobj::material_t& m) {
         out.emission = glm::vec3(0.0f);
     }
     if (!std::isfinite(out.ior)) out.ior = 1.5f;
-    // A glslppm2015 light's map_Kd scales what it emits (its colour is black).
-    const bool textured_light = glm::dot(out.emission, out.emission) > 0.0f &&
+    // A glslppm2015 emitter's map_Kd scales what it emits (its colour is black).
+    const bool textured_emitter = glm::dot(out.emission, out.emission) > 0.0f &&
                                 source.convention == MtlConvention::Glslppm2015;
-    (textured_light ? out.emission_texture : out.color_texture) =
+    (textured_emitter ? out.emission_texture : out.color_texture) =
         texture(m.diffuse_texname, m.diffuse_texopt, element);
     if (!m.bump_texname.empty() || !m.normal_texname.empty())
         warn(element, "bump and normal maps are not supported: ignored");
@@ -344,10 +344,11 @@ void MeshBuilder::add_face(std::span<const tinyobj::index_t> corners, std::uint3
     }
 }
 
-// The original glslppm's lights emit around their vertex normals; one-sided emission here
-// leaves the front of the winding. Lights whose winding faces against their normals are
-// turned round (nothing sees them, so only their emission's side changes).
-void face_lights_along_normals(OwnedMesh& mesh, const std::vector<Material>& materials) {
+// The original glslppm's emitters (emissive meshes) emit around their vertex normals;
+// one-sided emission here leaves the front of the winding. Emitters whose winding faces
+// against their normals are turned round (nothing sees them, so only their emission's side
+// changes).
+void face_emitters_along_normals(OwnedMesh& mesh, const std::vector<Material>& materials) {
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Material& m = materials[mesh.material_ids[t]];
         if (m.emission_two_sided || !(glm::dot(m.emission, m.emission) > 0.0f)) continue;
@@ -443,7 +444,7 @@ LoadedScene load_obj(std::istream& obj, const Source& source, float aspect) {
         fill_missing_normals(*mesh);
     if (attrib.texcoords.empty()) mesh->uvs.clear();
     if (source.convention == MtlConvention::Glslppm2015 && builder.any_normals)
-        face_lights_along_normals(*mesh, out.scene.materials);
+        face_emitters_along_normals(*mesh, out.scene.materials);
 
     Scene scene = make_scene(mesh);
     scene.materials = std::move(out.scene.materials);

@@ -124,7 +124,7 @@ float frame_camera(const Camera& cam, const RenderSettings& settings, const Pack
 }
 
 // Light tracing's fixed-point unit (shaders/common/light_splats.glsl): a photon of the mean
-// flux (the lights' total power) splatted from the scene's radius onto the axis, as a
+// flux (the emitters' total power) splatted from the scene's radius onto the axis, as a
 // perspective splat's Phi f cos / (d^2 cos^3) reads (Phi f cos alone, orthographic), lands
 // at 2^40 units. Splats 2^22 times larger fit in 2^62 and the 64-bit sums still hold 2^30 of
 // them a pixel and pass; splats 2^30 times smaller keep 10 bits. Only the precision

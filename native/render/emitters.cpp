@@ -115,7 +115,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     };
 
     // Emissive triangles radiate L over their area: power pi L A from each side that emits.
-    // The scene's own materials emit from both sides, as Cycles' mesh lights do, unless they
+    // The scene's own materials emit from both sides, as Cycles' emissive meshes do, unless they
     // say otherwise; the materials after them are area lights' (render/area_lights.h),
     // one-sided as Blender's.
     table.triangle_records.assign(bvh.triangle_count, -1);

@@ -1,6 +1,8 @@
-// The lights photons start from, as the GPU reads them (shaders/common/emitters.glsl):
-// emissive triangles, point, spot and sun lights and the environment, each with its
-// emitted power, picked in proportion to it. A GpuEmitter (render/gpu_layout.h) per emitter:
+// The emitters photons start from and light samples pick, as the GPU reads them
+// (shaders/common/emitters.glsl): emissive triangles (meshes' emission and area lights'),
+// point, spot and sun lights and the environment, each with its emitted power, picked in
+// proportion to it (docs/architecture.md, "Words": a light is the scene's object, an emitter
+// a record of this table). A GpuEmitter (render/gpu_layout.h) per emitter:
 //   [0] (a.xyz, intBitsToFloat(kind))
 //   [1] (b.xyz, b.w)       triangle: v1, two-sided 0/1; point: (0, radius); spot: axis,
 //                          cos(half angle);
@@ -49,7 +51,8 @@ struct EmitterTable {
     std::size_t first_light = 0, light_count = 0;
 };
 
-// Bounding sphere of the scene (distant lights shine through its disc).
+// Bounding sphere of the scene (distant emitters, the sun and the world, shine through its
+// disc).
 struct SceneBounds {
     glm::vec3 lo{0.0f}, hi{0.0f};
     glm::vec3 center() const { return 0.5f * (lo + hi); }

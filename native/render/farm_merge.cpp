@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "render/density_estimator.h"
 #include "render/film_merge.h"
 
 namespace glslppm {
@@ -131,13 +132,18 @@ std::string describe_difference(const std::set<std::string>& a, const std::strin
     return in_a + (!in_a.empty() && !in_b.empty() ? "; " : "") + in_b;
 }
 
-// Throws unless `in` renders the same frame as `first`: PPPM, the same scene, seed, settings,
-// size and render passes.
+// Throws unless `in` renders the same frame as `first`: an estimator of independent passes
+// (render/density_estimator.h), the same scene, seed, settings, size and render passes.
 void check_same_frame(const FarmInput& first, const FarmInput& in) {
-    const std::string& estimator = field(in, "glslppm.estimator");
-    if (estimator != "pppm")
-        throw FarmMergeError(in.path + ": glslppm.estimator is " + estimator +
-                             ": only pppm renders merge (SPPM's passes depend on each other)");
+    const std::string& name = field(in, "glslppm.estimator");
+    const DensityEstimator* estimator = find_density_estimator(name);
+    if (!estimator || !estimator->independent_passes)
+        throw FarmMergeError(in.path + ": glslppm.estimator is " + name + ": only " +
+                             independent_estimator_names() + " renders merge (" +
+                             (estimator
+                                  ? std::string(estimator->title) + "'s passes depend on each other"
+                                  : "not an estimator") +
+                             ")");
     for (const char* name : {"glslppm.scene_hash", "glslppm.seed"}) {
         if (field(in, name) != field(first, name))
             throw FarmMergeError(in.path + ": " + name + " " + field(in, name) + " differs from " +

@@ -49,8 +49,8 @@ struct FarmInput {
 // channel of every layer weighted by the files' pass counts, as Renderer::film and
 // render_passes merge their workers' (each pass is a mean over the passes run, Depth and
 // the Normals too). Throws FarmMergeError naming the file and field: a missing attribute, an
-// estimator other than pppm, a different scene hash, seed, setting, size or set of render
-// passes, pass sets that overlap.
+// estimator whose passes depend on each other (render/density_estimator.h: all but pppm), a
+// different scene hash, seed, setting, size or set of render passes, pass sets that overlap.
 ExrChannels merge_farm_renders(const std::vector<FarmInput>& inputs);
 
 // glslppm-merge: reads the files, merges them and writes `out` with the whole's attributes,

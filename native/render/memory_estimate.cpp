@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "render/density_estimator.h"
 #include "render/gpu_layout.h"
 #include "render/render_passes.h"
 #include "render/scene_preparation.h"
@@ -52,21 +53,6 @@ std::uint32_t hash_cell_count(std::uint32_t photon_threads) {
     return static_cast<std::uint32_t>(p);
 }
 
-std::uint32_t photon_slot(std::uint32_t photon_threads, Estimator estimator) {
-    return estimator == Estimator::Pppm ? (photon_threads + 15) / 16 * 16 : photon_threads;
-}
-
-std::uint32_t photon_steps_per_gather(std::uint32_t slot, Estimator estimator,
-                                      std::int64_t driver_largest, int max_bounces) {
-    if (estimator != Estimator::Pppm) return 1;
-    const std::size_t gib = std::size_t(1) << 30;
-    const std::size_t cap =
-        std::min(driver_largest > 0 ? static_cast<std::size_t>(driver_largest) : gib, gib);
-    return static_cast<std::uint32_t>(
-        std::clamp<std::size_t>(cap / (std::max<std::size_t>(slot, 1) * kPhotonBytes), 1,
-                                static_cast<std::size_t>(max_bounces) + 1));
-}
-
 PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* scene,
                                 std::int64_t driver_largest) {
     PassStateShape s;
@@ -81,10 +67,10 @@ PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* sce
               : settings.light_tracing && !layout.photon_split && !settings.full_variant;
     s.exact_hash = settings.hash == HashMode::Exact;
     s.paper_rng = settings.rng == RngKind::Paper;
-    s.photon_slot = photon_slot(settings.photons_per_pass, settings.estimator);
-    s.steps_per_gather =
-        photon_steps_per_gather(static_cast<std::uint32_t>(s.photon_slot), settings.estimator,
-                                driver_largest, settings.max_bounces);
+    const DensityEstimator& estimator = density_estimator(settings.estimator);
+    s.photon_slot = estimator.photon_slot(settings.photons_per_pass);
+    s.steps_per_gather = estimator.photon_steps_per_gather(
+        static_cast<std::uint32_t>(s.photon_slot), driver_largest, settings.max_bounces);
     return s;
 }
 

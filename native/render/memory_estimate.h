@@ -2,7 +2,7 @@
 // owner: allocate_pass_state (renderer_setup.cpp) allocates these sizes, plan_tiles
 // (tiled_render.cpp) splits a frame by them, and the add-on's refusal
 // (addon/engine/memory.py) asks for them through the module's memory_estimate before
-// anything is allocated. The scene's own buffers (BVH, materials, lights, images) are not
+// anything is allocated. The scene's own buffers (BVH, materials, emitters, images) are not
 // counted: they do not grow with the resolution or the photons per pass.
 #pragma once
 
@@ -21,8 +21,9 @@ struct PassStateShape {
     bool light_tracing = false;   // light tracing's splats (kLightSplatBytes a pixel)
     bool exact_hash = false;      // the exact hash's sorted photon indices
     bool paper_rng = false;       // a generator state per pixel and per photon thread
-    // The stored photons: photon_slot each step, steps_per_gather steps (PPPM stores several
-    // steps side by side; SPPM one step of photon_threads).
+    // The stored photons: photon_slot each step, steps_per_gather steps (the estimator's:
+    // render/density_estimator.h; PPPM stores several steps side by side, SPPM one step of
+    // photon_threads).
     std::size_t photon_slot = 0, steps_per_gather = 1;
 };
 
@@ -47,16 +48,6 @@ PassStateBytes pass_state_bytes(const PassStateShape& shape);
 
 // The photon hash's cells: the next power of two of twice the photons, at least 1024.
 std::uint32_t hash_cell_count(std::uint32_t photon_threads);
-
-// PPPM's slot of one photon step (photon_threads rounded up to 16, the offset alignment);
-// SPPM's is photon_threads.
-std::uint32_t photon_slot(std::uint32_t photon_threads, Estimator estimator);
-
-// PPPM: the photon steps stored side by side, as many as one storage buffer of at most
-// 1 GiB (and at most the driver's largest, driver_largest; 0: unknown) holds, at most
-// max_bounces + 1; SPPM: 1.
-std::uint32_t photon_steps_per_gather(std::uint32_t slot, Estimator estimator,
-                                      std::int64_t driver_largest, int max_bounces);
 
 // The pass state of a render of `settings` on a device whose largest storage buffer is
 // `driver_largest` (0: unknown). `scene` decides light tracing's splats as scene

@@ -4,51 +4,47 @@
 #include <algorithm>
 #include <iterator>
 
+#include "render/density_estimator.h"
 #include "render/pipeline.h"
-#include "render/pppm_schedule.h"
 
 namespace glslppm {
 
+// The estimator's differences (render/density_estimator.h): the pass's radius (begin_pass),
+// how many photon steps a pass traces and whether they are stored side by side before the
+// hash and gather.
 void Renderer::Gpu::run_pass(std::uint64_t pass_index) {
-    const bool pppm = settings.estimator == Estimator::Pppm;
+    const DensityEstimator& estimator = density_estimator(settings.estimator);
     begin_pass(pass_index);
     trace_eye(pass_index);
-    const std::uint32_t steps = pppm ? static_cast<std::uint32_t>(settings.max_bounces) + 1u : 1u;
+    const std::uint32_t steps = estimator.photon_steps_per_pass(settings.max_bounces);
     for (std::uint32_t step = 0; step < steps; ++step) {
         const std::uint32_t slot = step % steps_per_gather;
         trace_photons(pass_index, step);
-        if (slot + 1 < steps_per_gather && step + 1 < steps) continue;
-        if (!pppm) {
+        if (slot + 1 < steps_per_gather && step + 1 < steps) continue;  // a slot still free
+        if (estimator.photon_paths == PhotonPaths::AcrossPasses) {
             hash_photons(scene.photon_threads);
             gather(true);
-            continue;
+        } else {
+            gather_stored_steps(slot + 1, step + 1 == steps_per_gather || step + 1 == steps);
         }
-        // PPPM: the steps stored so far, hashed and gathered as one set of photons.
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons);
-        const std::uint32_t stored = (slot + 1) * photon_slot;
-        scene.frame.photon_threads = stored;
-        upload_frame();
-        hash_photons(stored);
-        gather(step + 1 == steps_per_gather || step + 1 == steps);
-        scene.frame.photon_threads = scene.photon_threads;
-        upload_frame();
     }
     end_pass();
 }
 
-// The frame's pass constants. PPPM: pass `pass_index`'s radius r_1 s(i), its estimate's
-// factor and the hash cells of that radius, from the index alone.
+// The frame's pass constants. An estimator with a radius per pass (PPPM): pass
+// `pass_index`'s radius r_1 s(i), its estimate's factor and the hash cells of that radius,
+// from the index alone.
 void Renderer::Gpu::begin_pass(std::uint64_t pass_index) {
+    const DensityEstimator& estimator = density_estimator(settings.estimator);
     FrameBlock& frame = scene.frame;
     frame.pass_index = static_cast<std::uint32_t>(pass_index);
     frame.photon_step = 0;
-    if (settings.estimator == Estimator::Pppm) {
-        const float r =
-            pppm_pass_radius(scene.initial_radius, frame.radius_floor, pass_index, settings.alpha);
-        frame.pass_radius = r;
-        // Every photon thread starts one path per pass (photon_trace.comp): N_emitted.
-        frame.pass_scale = static_cast<float>(
-            1.0 / (3.14159265358979323846 * double(r) * double(r) * double(scene.photon_threads)));
+    if (estimator.pass_radius_of) {
+        const PassRadius pass =
+            estimator.pass_radius(scene.initial_radius, frame.radius_floor, pass_index,
+                                  settings.alpha, scene.photon_threads);
+        frame.pass_radius = pass.radius;
+        frame.pass_scale = pass.scale;
         // The hash grid's cells take r (hash_cell_size() in common/hash_grid.glsl).
     }
     upload_frame();
@@ -63,14 +59,14 @@ void Renderer::Gpu::trace_eye(std::uint64_t pass_index) {
     mark(1);
 }
 
-// photon_trace.comp: one bounce of every photon path. PPPM: step `step` of the pass, stored
-// in its slot of the photon buffer.
+// photon_trace.comp: one bounce of every photon path. PhotonPaths::WithinPass: step `step`
+// of the pass, stored in its slot of the photon buffer.
 void Renderer::Gpu::trace_photons(std::uint64_t pass_index, std::uint32_t step) {
     if (step > 0) {
         scene.frame.photon_step = step;
         upload_frame();
     }
-    if (settings.estimator == Estimator::Pppm) {
+    if (density_estimator(settings.estimator).photon_paths == PhotonPaths::WithinPass) {
         const GLsizeiptr slot_bytes = GLsizeiptr(photon_slot * kPhotonBytes);
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons,
                           (step % steps_per_gather) * slot_bytes, slot_bytes);
@@ -106,6 +102,19 @@ void Renderer::Gpu::hash_photons(std::uint32_t stored) {
     }
     dispatch(*programs.hash_b, stored);
     glMemoryBarrier(ssbo);
+}
+
+// PhotonPaths::WithinPass: the `stored_steps` steps stored side by side so far, hashed and
+// gathered as one set of photons.
+void Renderer::Gpu::gather_stored_steps(std::uint32_t stored_steps, bool mark_stage) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_PHOTONS, buffers.photons);
+    const std::uint32_t stored = stored_steps * photon_slot;
+    scene.frame.photon_threads = stored;
+    upload_frame();
+    hash_photons(stored);
+    gather(mark_stage);
+    scene.frame.photon_threads = scene.photon_threads;
+    upload_frame();
 }
 
 // gather.comp: each visible point's photons and its progressive update.
@@ -155,7 +164,7 @@ void Renderer::Gpu::restart_film() {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     passes = 0;
-    pass_indices.clear();  // PPPM: a restarted film has run no pass index
+    pass_indices.clear();  // independent passes: a restarted film has run no pass index
     seconds = submit_seconds = wait_seconds = 0.0;
     std::fill(std::begin(timer.seconds), std::end(timer.seconds), 0.0);
 }

@@ -21,6 +21,7 @@
 #include "gl/buffer_reader.h"
 #include "gl/gl_thread.h"
 #include "gl/shader_program.h"
+#include "render/density_estimator.h"
 #include "render/gpu_layout.h"
 #include "render/renderer.h"
 #include "render/scene_preparation.h"
@@ -100,11 +101,11 @@ struct Renderer::Gpu {
     PipelineBuffers buffers;
     StageTimer timer;
 
-    // PPPM: photon steps stored side by side before one hash and gather, and each step's
-    // slot in the photon buffer (photon_threads rounded up to 16); SPPM: 1 and photon_threads.
+    // Photon steps stored side by side before one hash and gather, and each step's slot in
+    // the photon buffer (DensityEstimator::photon_steps_per_gather, photon_slot).
     std::uint32_t steps_per_gather = 1, photon_slot = 0;
     std::uint64_t passes = 0;
-    std::vector<std::uint64_t> pass_indices;  // PPPM: the indices this worker ran
+    std::vector<std::uint64_t> pass_indices;  // independent passes: the indices this worker ran
     double seconds = 0.0;
     double submit_seconds = 0.0, wait_seconds = 0.0;  // host time within `seconds` (run_workers)
     std::atomic<bool> cancel{false};
@@ -128,16 +129,18 @@ struct Renderer::Gpu {
     Counters read_counters();
     void release();
 
-    // A pass as its stages (pass_stages.cpp). SPPM: pass_index is the count of passes run
-    // before. PPPM: any index; the photon paths are traced in max_bounces + 1 steps (a photon
-    // may land a (max_bounces + 1)th time: common/bounces.glsl), stored side by side and
-    // hashed and gathered steps_per_gather at a time.
+    // A pass as its stages (pass_stages.cpp), with the estimator's differences asked of its
+    // description (render/density_estimator.h). Passes that depend on each other (SPPM):
+    // pass_index is the count of passes run before. Independent passes (PPPM): any index.
+    // PhotonPaths::WithinPass traces the photon paths in photon_steps_per_pass steps, stored
+    // side by side and hashed and gathered steps_per_gather at a time (gather_stored_steps).
     void run_pass(std::uint64_t pass_index);
     void begin_pass(std::uint64_t pass_index);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     void hash_photons(std::uint32_t stored);
     void gather(bool mark_stage);
+    void gather_stored_steps(std::uint32_t stored_steps, bool mark_stage);
     void end_pass();
     // The film's first state (a new renderer, a restart): no passes, every pixel's radius
     // the initial one, no direct light, every photon path to start from a light, counts

@@ -121,7 +121,7 @@ std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass
         if (eye) value += glm::vec3(record[at]) * resolve.inv_passes;
         if (photon_pair) {
             const glm::vec3 tau(record[photon_at]);
-            if (resolve.pppm) {
+            if (resolve.mean_of_passes) {
                 value += tau * resolve.inv_passes;
             } else {
                 const float r = pixel_stats[2 * i + 1].x;

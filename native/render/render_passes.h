@@ -73,7 +73,9 @@ std::vector<std::pair<std::string, std::string>> pass_defines(const PassLayout& 
 struct PassResolve {
     float inv_passes = 0.0f;           // 1 / passes
     float inv_photons_emitted = 0.0f;  // 1 / photon paths started (SPPM)
-    bool pppm = false;
+    // The photon passes are the mean of the passes' own estimates (FilmResolve::MeanOfPasses,
+    // render/density_estimator.h: PPPM), else tau / (pi R^2 N_emitted).
+    bool mean_of_passes = false;
 };
 
 // One pass's image, height x width x 4 (channels beyond the pass's are 0, alpha 1), from the

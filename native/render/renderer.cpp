@@ -88,22 +88,32 @@ void Renderer::stop() {
 }
 
 int Renderer::run(int passes) {
-    if (settings_.estimator == Estimator::Pppm) {
-        // The next indices, past any that run_passes() already ran.
-        std::vector<std::uint64_t> ran_before;
-        for (const auto& g : gpus_)
-            ran_before.insert(ran_before.end(), g->pass_indices.begin(), g->pass_indices.end());
-        std::sort(ran_before.begin(), ran_before.end());
-        std::vector<std::uint64_t> indices;
-        for (std::uint64_t i = next_pass_; indices.size() < static_cast<std::size_t>(std::max(passes, 0)); ++i)
-            if (!std::binary_search(ran_before.begin(), ran_before.end(), i)) indices.push_back(i);
-        const int done = run_workers(indices);
-        // A cancelled run leaves the indices it did not reach for the next one.
-        std::vector<std::uint64_t> ran;
-        for (const auto& g : gpus_) ran.insert(ran.end(), g->pass_indices.begin(), g->pass_indices.end());
-        for (std::uint64_t i : ran) next_pass_ = std::max(next_pass_, i + 1);
-        return done;
-    }
+    return density_estimator(settings_.estimator).independent_passes ? run_independent(passes)
+                                                                     : run_in_order(passes);
+}
+
+// Independent passes: the next indices, past any that run_passes() already ran, dealt to
+// the workers.
+int Renderer::run_independent(int passes) {
+    std::vector<std::uint64_t> ran_before;
+    for (const auto& g : gpus_)
+        ran_before.insert(ran_before.end(), g->pass_indices.begin(), g->pass_indices.end());
+    std::sort(ran_before.begin(), ran_before.end());
+    std::vector<std::uint64_t> indices;
+    for (std::uint64_t i = next_pass_;
+         indices.size() < static_cast<std::size_t>(std::max(passes, 0)); ++i)
+        if (!std::binary_search(ran_before.begin(), ran_before.end(), i)) indices.push_back(i);
+    const int done = run_workers(indices);
+    // A cancelled run leaves the indices it did not reach for the next one.
+    std::vector<std::uint64_t> ran;
+    for (const auto& g : gpus_)
+        ran.insert(ran.end(), g->pass_indices.begin(), g->pass_indices.end());
+    for (std::uint64_t i : ran) next_pass_ = std::max(next_pass_, i + 1);
+    return done;
+}
+
+// Passes that depend on each other: in order, on the one worker.
+int Renderer::run_in_order(int passes) {
     Gpu& g = *gpus_[0];
     // Runs queue on the GL thread one after another (two callers never interleave); the
     // time counted is this run's own, measured on that thread.
@@ -124,8 +134,11 @@ int Renderer::run(int passes) {
 }
 
 int Renderer::run_passes(const std::vector<std::uint64_t>& indices) {
-    if (settings_.estimator != Estimator::Pppm)
-        throw std::invalid_argument("run_passes: needs estimator pppm (SPPM's passes run in order)");
+    const DensityEstimator& estimator = density_estimator(settings_.estimator);
+    if (!estimator.independent_passes)
+        throw std::invalid_argument("run_passes: needs estimator " +
+                                    independent_estimator_names() + " (" + estimator.title +
+                                    "'s passes run in order)");
     std::vector<std::uint64_t> sorted = indices;
     std::sort(sorted.begin(), sorted.end());
     for (std::size_t k = 1; k < sorted.size(); ++k)
@@ -199,8 +212,8 @@ int Renderer::run_workers(const std::vector<std::uint64_t>& indices) {
     return done;
 }
 
-// The viewport's restarts apply to every worker, each on its own GL thread. PPPM: the pass
-// indices start again from settings.first_pass (a restarted film has run none).
+// The viewport's restarts apply to every worker, each on its own GL thread. Independent
+// passes: the indices start again from settings.first_pass (a restarted film has run none).
 void Renderer::restart_passes() {
     next_pass_ = settings_.first_pass;
     seconds_ = 0.0;
@@ -238,7 +251,7 @@ bool Renderer::set_camera(const Camera& camera) {
                                              : frame_camera(camera, g.settings, *g.bvh,
                                                             g.scene.bounds, frame);
             g.scene.frame = frame;
-            g.scene.initial_radius = radius;  // PPPM's pass radii scale from it too
+            g.scene.initial_radius = radius;  // a radius per pass scales from it too
             g.restart_film();
             ++g.camera_updates;
             ++g.film_resets;
@@ -274,7 +287,7 @@ bool Renderer::update_tables(const Scene& scene) {
             const EmitterTable& emitters = p.emitters;
             g.replace_buffer(g.buffers.emitter_records,
                              emitters.records.size() * sizeof(emitters.records[0]),
-                             emitters.records.data(), "lights");
+                             emitters.records.data(), "emitters");
             g.scene.emitters = emitters;
             g.scene.frame = p.frame;
             g.scene.initial_radius = p.initial_radius;

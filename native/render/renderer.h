@@ -100,12 +100,12 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     // Runs `passes` passes and waits for the GPU to finish them; returns how many ran
-    // (fewer when cancel() was called meanwhile). PPPM: the next pass indices from
-    // settings.first_pass on (skipping any run_passes() ran), dealt to the workers as they
-    // become free.
+    // (fewer when cancel() was called meanwhile). An estimator of independent passes (PPPM,
+    // render/density_estimator.h): the next pass indices from settings.first_pass on
+    // (skipping any run_passes() ran), dealt to the workers as they become free.
     int run(int passes);
-    // PPPM only: runs exactly these pass indices (none run before by this renderer:
-    // std::invalid_argument), dealt to the workers as they become free.
+    // Independent passes only (PPPM): runs exactly these pass indices (none run before by
+    // this renderer: std::invalid_argument), dealt to the workers as they become free.
     int run_passes(const std::vector<std::uint64_t>& indices);
     // Stops a run in progress after its current pass; safe from any thread.
     void cancel();
@@ -116,8 +116,8 @@ public:
     // carry it past 2^32.
     void debug_set_photons_emitted(std::uint64_t count);
     // Starts the image again: no passes, every pixel's radius back to the initial one, the
-    // photon paths and 64-bit counts restarted, on every worker; PPPM: run() starts again
-    // from settings.first_pass. Scene, MTBVH and programs stay.
+    // photon paths and 64-bit counts restarted, on every worker; independent passes: run()
+    // starts again from settings.first_pass. Scene, MTBVH and programs stay.
     void reset_film();
     // Looks through another camera at the same image size, then reset_film(); no MTBVH
     // build, no upload but the frame constants. Returns false and changes nothing when the
@@ -161,13 +161,15 @@ public:
 private:
     static void set_up(Gpu& g, int device, const Scene& scene, const RenderSettings& settings,
                        const PreparedScene& prepared, const CancelFlag* cancel);
+    int run_independent(int passes);  // run()'s next pass indices, dealt to the workers
+    int run_in_order(int passes);     // run()'s passes that depend on each other: one worker
     int run_workers(const std::vector<std::uint64_t>& indices);
     void restart_passes();  // after a restart of every worker's film
     std::vector<float> merged_film();  // several workers' films, merged by their passes
 
     RenderSettings settings_;
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
-    std::uint64_t next_pass_ = 0;             // PPPM: run()'s next pass index
+    std::uint64_t next_pass_ = 0;             // independent passes: run()'s next pass index
     std::atomic<bool> stopped_{false};        // stop(): no pass runs any more
     std::size_t flatten_max_triangles_ = 0;   // the devices' bound (render/instancing.h)
     double seconds_ = 0.0;                    // wall time of runs with several workers

@@ -9,7 +9,6 @@
 #include <epoxy/gl.h>
 
 #include "render/film_merge.h"
-#include "render/pppm_schedule.h"
 
 namespace glslppm {
 
@@ -46,7 +45,7 @@ std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<
     r.inv_passes = passes ? 1.0f / static_cast<float>(passes) : 0.0f;
     r.inv_photons_emitted =
         emitted ? static_cast<float>(1.0 / static_cast<double>(emitted)) : 0.0f;
-    r.pppm = settings.estimator == Estimator::Pppm;
+    r.mean_of_passes = density_estimator(settings.estimator).film == FilmResolve::MeanOfPasses;
     std::vector<std::vector<float>> images;
     for (RenderPass pass : wanted)
         images.push_back(resolve_render_pass(layout, pass, films, stats, pixels, r));
@@ -138,7 +137,7 @@ RenderStats Renderer::stats() {
     RenderStats s;
     std::vector<glm::vec2> radius_stats(kRadiusStatsThreads);
     std::vector<std::uint64_t> indices;
-    const bool pppm = settings_.estimator == Estimator::Pppm;
+    const DensityEstimator& estimator = density_estimator(settings_.estimator);
     for (std::size_t k = 0; k < gpus_.size(); ++k) {
         Gpu& w = *gpus_[k];
         DeviceStats d;
@@ -150,11 +149,11 @@ RenderStats Renderer::stats() {
             d.submit_seconds = w.submit_seconds;
             d.wait_seconds = w.wait_seconds;
             c = w.read_counters();
-            if (pppm) {
+            if (estimator.independent_passes)
                 indices.insert(indices.end(), w.pass_indices.begin(), w.pass_indices.end());
-            } else {
-                // The radii reduced on the GPU: a few KiB read back, not every pixel's
-                // statistics.
+            if (!estimator.pass_radius_of) {
+                // Each pixel's own radius, reduced on the GPU: a few KiB read back, not every
+                // pixel's statistics.
                 w.programs.radius_reduce->use();
                 glDispatchCompute(1, 1, 1);
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -179,13 +178,16 @@ RenderStats Renderer::stats() {
     s.radius_floor = g.scene.frame.radius_floor;
     s.estimator = to_string(settings_.estimator);
     s.scene_hash = scene_hash_;
-    if (pppm) {
-        // Every pixel has the pass's radius: that of the latest pass index run.
+    if (estimator.independent_passes)
         s.pass_ranges = pass_ranges(indices);
+    else if (s.passes)
+        s.pass_ranges.push_back({0, s.passes});
+    if (estimator.pass_radius_of) {
+        // Every pixel has the pass's radius: that of the latest pass index run.
         const std::uint64_t last = s.pass_ranges.empty() ? settings_.first_pass
                                                          : s.pass_ranges.back().second - 1;
-        s.mean_radius = s.max_radius = pppm_pass_radius(g.scene.initial_radius, g.scene.frame.radius_floor,
-                                                        last, settings_.alpha);
+        s.mean_radius = s.max_radius = estimator.pass_radius_of(
+            g.scene.initial_radius, g.scene.frame.radius_floor, last, settings_.alpha);
     } else {
         double sum = 0.0, largest = 0.0;
         for (const glm::vec2& t : radius_stats) {
@@ -194,7 +196,6 @@ RenderStats Renderer::stats() {
         }
         s.mean_radius = g.scene.pixels ? sum / g.scene.pixels : 0.0;
         s.max_radius = largest;
-        if (s.passes) s.pass_ranges.push_back({0, s.passes});
     }
     s.initial_radius = g.scene.initial_radius;
     s.renderer = g.thread->info().renderer;

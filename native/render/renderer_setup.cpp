@@ -106,16 +106,16 @@ void upload_scene(Renderer::Gpu& g, const Scene& scene, const PreparedScene& pre
     }
     const EmitterTable& emitters = g.scene.emitters;
     g.buffers.emitter_records =
-        g.make_buffer(BINDING_EMITTERS, bytes(emitters.records), emitters.records.data(), "lights");
+        g.make_buffer(BINDING_EMITTERS, bytes(emitters.records), emitters.records.data(),
+                      "emitters");
     g.buffers.materials = g.make_buffer(BINDING_MATERIALS, bytes(prepared.material_records),
                                         prepared.material_records.data(), "materials");
     g.buffers.counters = g.make_buffer(BINDING_COUNTERS, sizeof(Counters), nullptr, "counters");
 }
 
-// PPPM: the photon steps of a pass are stored side by side and hashed and gathered
-// together, as many as fit in a storage buffer of at most 1 GiB; SPPM stores one step. Each
-// step's slot is rounded up to 16 photons (offset alignment); the padding stays zero, "not
-// stored". The sizes are render/memory_estimate.h's, which the memory estimate gives too.
+// The photon steps of a pass stored side by side, and each step's slot, are the estimator's
+// (DensityEstimator::photon_steps_per_gather, photon_slot). The sizes are
+// render/memory_estimate.h's, which the memory estimate gives too.
 PassStateShape worker_pass_state_shape(const Renderer::Gpu& g) {
     const RenderSettings& settings = g.settings;
     PassStateShape shape;
@@ -126,12 +126,12 @@ PassStateShape worker_pass_state_shape(const Renderer::Gpu& g) {
     shape.light_tracing = g.scene.light_tracing;
     shape.exact_hash = settings.hash == HashMode::Exact;
     shape.paper_rng = settings.rng == RngKind::Paper;
-    shape.photon_slot = photon_slot(g.scene.photon_threads, settings.estimator);
+    const DensityEstimator& estimator = density_estimator(settings.estimator);
+    shape.photon_slot = estimator.photon_slot(g.scene.photon_threads);
     GLint64 largest = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
-    shape.steps_per_gather =
-        photon_steps_per_gather(static_cast<std::uint32_t>(shape.photon_slot), settings.estimator,
-                                largest, settings.max_bounces);
+    shape.steps_per_gather = estimator.photon_steps_per_gather(
+        static_cast<std::uint32_t>(shape.photon_slot), largest, settings.max_bounces);
     return shape;
 }
 

@@ -5,6 +5,7 @@
 // and sizes, light tracing.
 #include <algorithm>
 
+#include "render/density_estimator.h"
 #include "render/specializations.h"
 
 namespace glslppm {
@@ -55,7 +56,8 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     f.names.push_back("rng=" + to_string(settings.rng));
     f.names.push_back("hash=" + to_string(settings.hash));
     f.names.push_back("direct=" + to_string(settings.direct_light));
-    if (settings.estimator == Estimator::Pppm) f.add("ESTIMATOR_PPPM", "estimator=pppm");
+    const DensityEstimator& estimator = density_estimator(settings.estimator);
+    if (estimator.define) f.add(estimator.define, "estimator=" + std::string(estimator.name));
     const PassLayout passes =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
     for (const auto& d : pass_defines(passes)) p.defines.push_back(d);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "render/density_estimator.h"
+
 namespace glslppm {
 
 HashMode parse_hash_mode(const std::string& name) {
@@ -26,9 +28,11 @@ DirectLight parse_direct_light(const std::string& name) {
 }
 
 Estimator parse_estimator(const std::string& name) {
-    if (name == "sppm") return Estimator::Sppm;
-    if (name == "pppm") return Estimator::Pppm;
-    throw std::invalid_argument("estimator: '" + name + "' is not an estimator (sppm, pppm)");
+    if (const DensityEstimator* e = find_density_estimator(name)) return e->id;
+    std::string names;
+    for (const DensityEstimator& e : density_estimators())
+        names += (names.empty() ? "" : ", ") + std::string(e.name);
+    throw std::invalid_argument("estimator: '" + name + "' is not an estimator (" + names + ")");
 }
 
 Instancing parse_instancing(const std::string& name) {
@@ -63,9 +67,7 @@ std::string to_string(DirectLight direct) {
            : direct == DirectLight::SampledNoMis ? "sampled-no-mis"
                                                  : "photons";
 }
-std::string to_string(Estimator estimator) {
-    return estimator == Estimator::Pppm ? "pppm" : "sppm";
-}
+std::string to_string(Estimator estimator) { return density_estimator(estimator).name; }
 
 void validate(const RenderSettings& s) {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
@@ -92,14 +94,18 @@ void validate(const RenderSettings& s) {
             fail(std::string(name) + ": " + std::to_string(value) + " is outside 0..1024");
     if (s.leaf_size < 1 || s.leaf_size > 64)
         fail("leaf_size: " + std::to_string(s.leaf_size) + " is outside 1..64");
-    if (s.estimator == Estimator::Pppm && s.rng == RngKind::Paper)
-        fail("estimator: pppm needs rng pcg (the paper's generator carries its state from "
-             "one pass to the next, so a pass could not be run on its own)");
-    if (s.estimator == Estimator::Sppm && s.devices.size() > 1)
-        fail("devices: several devices need estimator pppm (SPPM's passes depend on each "
-             "other and cannot be split)");
-    if (s.estimator == Estimator::Sppm && s.first_pass != 0)
-        fail("first_pass: only estimator pppm can start at a pass other than 0");
+    // What an estimator's passes allow (render/density_estimator.h).
+    const DensityEstimator& estimator = density_estimator(s.estimator);
+    if (estimator.independent_passes && s.rng == RngKind::Paper)
+        fail("estimator: " + std::string(estimator.name) +
+             " needs rng pcg (the paper's generator carries its state from one pass to the "
+             "next, so a pass could not be run on its own)");
+    if (!estimator.independent_passes && s.devices.size() > 1)
+        fail("devices: several devices need estimator " + independent_estimator_names() + " (" +
+             estimator.title + "'s passes depend on each other and cannot be split)");
+    if (!estimator.independent_passes && s.first_pass != 0)
+        fail("first_pass: only estimator " + independent_estimator_names() +
+             " can start at a pass other than 0");
     if (s.first_pass > (std::uint64_t(1) << 52))
         fail("first_pass: " + std::to_string(s.first_pass) + " is above 2^52");
     for (std::size_t k = 0; k < s.devices.size(); ++k) {

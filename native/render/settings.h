@@ -22,7 +22,8 @@ enum class DirectLight { Sampled, Photons, SampledNoMis };
 // own photon count, so pass k+1 depends on pass k. PPPM (Knaus and Zwicker 2011) gives pass i
 // the radius r_1 s(i) and its own estimate, seeded by (seed, i) alone: the image is the mean
 // of the passes' estimates, so any set of pass indices can run on any device or machine and
-// the means merge exactly (render/film_merge.h).
+// the means merge exactly (render/film_merge.h). What each one decides is its description
+// in render/density_estimator.h.
 enum class Estimator { Sppm, Pppm };
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.

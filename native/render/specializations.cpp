@@ -17,7 +17,7 @@ bool depth_of_field(const Inputs& in) {
     return c.projection == Projection::Perspective && c.aperture_radius > 0.0f;
 }
 bool emits(const Inputs& in, EmitterKind kind) { return in.p.emitters.has[static_cast<int>(kind)]; }
-bool area_lights(const Inputs& in) { return emits(in, EmitterKind::Triangle); }
+bool triangle_emitters(const Inputs& in) { return emits(in, EmitterKind::Triangle); }
 bool point_lights(const Inputs& in) { return emits(in, EmitterKind::Point); }
 bool spot_lights(const Inputs& in) { return emits(in, EmitterKind::Spot); }
 bool sun_lights(const Inputs& in) { return emits(in, EmitterKind::Sun); }
@@ -95,7 +95,7 @@ bool shadowless_surfaces(const Inputs& in) {
 // plastic's visible point holds its diffuse base alone). Not with two levels: their
 // triangles are numbered per mesh, and instanced meshes' emission is not in the table.
 bool emitter_mis_applies(const Inputs& in) {
-    return in.settings.direct_light == DirectLight::Sampled && area_lights(in) &&
+    return in.settings.direct_light == DirectLight::Sampled && triangle_emitters(in) &&
            !in.p.instancing.two_level;
 }
 bool emitter_mis(const Inputs& in) {
@@ -130,7 +130,7 @@ const Specialization kRows[] = {
     {"depth-of-field", "HAS_DEPTH_OF_FIELD", "a perspective camera with an aperture",
      "H100 1080p +0.6% / +1.3% / +1.8%, llvmpipe 128^2 +0.4%", G::Scene, true, depth_of_field},
     {"area-lights", "HAS_TRIANGLE_EMITTERS", "emissive triangles (mesh emission, area lights)",
-     "every benchmark scene needs it: not measured alone", G::Scene, true, area_lights},
+     "every benchmark scene needs it: not measured alone", G::Scene, true, triangle_emitters},
     {"point-lights", "HAS_POINT_LIGHTS", "a point light",
      "H100 1080p -0.6% / +1.2% / +1.5%, llvmpipe 128^2 +3.6%", G::Scene, true, point_lights},
     {"spot-lights", "HAS_SPOT_LIGHTS", "a spot light",

@@ -70,7 +70,7 @@ struct Material {
     glm::vec3 emission{0.0f};  // emitted radiance
     std::int32_t color_texture = -1;  // index into Scene::textures: colour = color * texel
     // Blender's meshes emit from both faces (Cycles); false: from the front face only, along
-    // the winding's normal (the built-in scenes' ceiling lights, single-sided glTF materials).
+    // the winding's normal (the built-in scenes' emissive ceilings, single-sided glTF materials).
     bool emission_two_sided = true;
     // Blender's ray visibility: camera rays pass through surfaces not visible to the camera;
     // photons pass through (depositing on diffuse ones) surfaces that cast no shadow.
@@ -78,7 +78,7 @@ struct Material {
     bool casts_shadow = true;
     // Eye rays after a bounce (reflected or refracted) pass through it when false. With
     // visible_to_camera false too no eye path sees the surface: the original glslppm's
-    // lights, which its rays never hit (MtlConvention::Glslppm2015).
+    // emitters, which its rays never hit (MtlConvention::Glslppm2015).
     bool visible_in_reflections = true;
     // Microfacet lobes (conductor, dielectric, plastic's layer): Blender's roughness, GGX
     // alpha = roughness^2, times the texture's channel where there is one.

@@ -1,4 +1,5 @@
-// Starting photon paths at the lights. An emitter is picked with probability proportional
+// Starting photon paths at the emitters (docs/architecture.md, "Words": the lights' records,
+// emissive triangles, the world). An emitter is picked with probability proportional
 // to its power (the cumulative table lives in each record's c.w), then a position and a
 // direction are sampled; the flux carried is the sample's contribution over its pdf, so that
 // the photons' mean flux is the total emitted power (see native/render/emitters.h).

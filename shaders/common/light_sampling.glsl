@@ -2,9 +2,9 @@
 // picked by power from the table photons start from (emitters.glsl), one point or direction
 // on it, one shadow ray. The estimate of the reflected direct radiance is
 //   f(wo, wi) L_e(wi) cos(theta) / (p_pick p(wi)),
-// p(wi) the light's own density per solid angle (an area density times d^2 / cos(theta_l)
-// where the light has a surface: d(omega) = cos(theta_l) dA / d^2), a one-sample Monte
-// Carlo estimate of the reflection integral over the lights (the area form of Kajiya 1986's
+// p(wi) the emitter's own density per solid angle (an area density times d^2 / cos(theta_l)
+// where the emitter has a surface: d(omega) = cos(theta_l) dA / d^2), a one-sample Monte
+// Carlo estimate of the reflection integral over the emitters (the area form of Kajiya 1986's
 // rendering equation). Each record holds power / p_pick, so the estimates below are
 // written in that. Used when the photon stage stores only photons that have scattered at
 // least once (DIRECT_LIGHT_SAMPLED): the two estimates then split the light at a visible
@@ -206,10 +206,10 @@ float environment_light_pdf(vec3 wi, vec3 side, bool transmits) {
 #ifdef HAS_EMITTER_MIS
 // Multiple importance sampling of emissive triangles (mesh emission and area lights; Veach
 // 1997, section 9.2, the balance heuristic): at a glossy visible point a light sample is
-// noisy where the lobe is narrow and the light large or near (a small highlight), a BSDF
-// sample where the light is small. Each estimate weighs its direction by its own density over
+// noisy where the lobe is narrow and the emitter large or near (a small highlight), a BSDF
+// sample where the emitter is small. Each estimate weighs its direction by its own density over
 // the sum of both, so the two add up to the emitter's whole direct light. Nothing else adds
-// it: the eye path ends at this point, photons store no first hit from a light
+// it: the eye path ends at this point, photons store no first hit from an emitter
 // (DIRECT_LIGHT_SAMPLED), and the BSDF sample adds only emission, never light reflected
 // where it lands (docs/direct_light.md, "The whole direct light, once").
 
@@ -295,8 +295,8 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 // with an environment, one BSDF sample `u_bsdf` also looks for it, and the two estimates of
 // the world's light are combined by the balance heuristic (Veach's multiple importance
 // sampling). With HAS_EMITTER_MIS the same BSDF sample looks for emissive triangles too at
-// glossy lobes, weighed against light samples of them alike. Other lights (points, spots,
-// suns: delta lights no BSDF sample can hit) come from their light samples alone.
+// glossy lobes, weighed against light samples of them alike. Other emitters (point, spot
+// and sun lights: delta lights no BSDF sample can hit) come from their light samples alone.
 vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
                                 float pick, vec4 u, vec3 u_bsdf, inout uint rays) {
     vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;

@@ -67,6 +67,18 @@ TEST(FarmMerge, RefusesFilesWhosePassesDiffer) {
               "c.exr: render passes differ from a.exr's: ViewLayer.Depth.R only in c.exr");
 }
 
+// Only an estimator of independent passes (render/density_estimator.h) merges.
+TEST(FarmMerge, RefusesEstimatorsWhosePassesDependOnEachOther) {
+    FarmInput sppm = job("s.exr", 1, 3, 5.0f);
+    sppm.exr.attributes["glslppm.estimator"] = "sppm";
+    EXPECT_EQ(refusal(sppm), "s.exr: glslppm.estimator is sppm: only pppm renders merge (SPPM's "
+                             "passes depend on each other)");
+    FarmInput unknown = job("u.exr", 1, 3, 5.0f);
+    unknown.exr.attributes["glslppm.estimator"] = "vcm";
+    EXPECT_EQ(refusal(unknown),
+              "u.exr: glslppm.estimator is vcm: only pppm renders merge (not an estimator)");
+}
+
 TEST(FarmMerge, FilesKeepTheirLayerNamesThroughAWriteAndRead) {
     const std::string path = ::testing::TempDir() + "farm_merge_test.exr";
     const FarmInput in = job(path, 0, 2, 0.25f);

@@ -53,19 +53,21 @@ TEST(MemoryEstimate, PassesSplatsAndTheExactHash) {
     EXPECT_EQ(b.largest_photon_buffer, 4096u * 48);  // the paths and photons, above the cells
 }
 
+// The slots and steps themselves: tests/native/density_estimator_test.cpp.
 TEST(MemoryEstimate, PppmStoresStepsSideBySide) {
-    EXPECT_EQ(photon_slot(1000, Estimator::Pppm), 1008u);
-    EXPECT_EQ(photon_slot(1000, Estimator::Sppm), 1000u);
-    EXPECT_EQ(photon_steps_per_gather(1008, Estimator::Sppm, 1, 9), 1u);
-    EXPECT_EQ(photon_steps_per_gather(1008, Estimator::Pppm, 0, 9), 10u);  // 1 GiB holds 10
-    EXPECT_EQ(photon_steps_per_gather(1008, Estimator::Pppm, 3 * 1008 * 48, 9), 3u);
-    EXPECT_EQ(photon_steps_per_gather(1008, Estimator::Pppm, 16, 9), 1u);
     RenderSettings settings;
     settings.width = settings.height = 8;
     settings.photons_per_pass = 1000;
     settings.estimator = Estimator::Pppm;
     const PassStateShape shape = pass_state_shape(settings, nullptr, 3 * 1008 * 48);
+    EXPECT_EQ(shape.photon_slot, 1008u);
+    EXPECT_EQ(shape.steps_per_gather, 3u);
     EXPECT_EQ(pass_state_bytes(shape).photons, 3u * 1008 * 48);
+    settings.estimator = Estimator::Sppm;
+    const PassStateShape one_step = pass_state_shape(settings, nullptr, 3 * 1008 * 48);
+    EXPECT_EQ(one_step.photon_slot, 1000u);
+    EXPECT_EQ(one_step.steps_per_gather, 1u);
+    EXPECT_EQ(pass_state_bytes(one_step).photons, 1000u * 48);
 }
 
 TEST(MemoryEstimate, LightTracingAsSceneFeaturesDecidesIt) {

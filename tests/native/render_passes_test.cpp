@@ -60,7 +60,7 @@ TEST(RenderPasses, ResolveIsTheMeanAndSppmsDensityEstimate) {
     const auto indirect = resolve_render_pass(layout, RenderPass::Indirect, films, stats, 1, r);
     const double pi = 3.14159265358979;
     EXPECT_NEAR(indirect[1], 4.0 / (pi * 0.25 * 1000.0), 1e-9);
-    r.pppm = true;  // the mean of the passes' own estimates
+    r.mean_of_passes = true;  // the mean of the passes' own estimates
     EXPECT_FLOAT_EQ(resolve_render_pass(layout, RenderPass::Indirect, films, stats, 1, r)[2],
                     1.5f);
     EXPECT_THROW(resolve_render_pass(layout, RenderPass::Normal, films, stats, 1, r),
