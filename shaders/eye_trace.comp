@@ -33,6 +33,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef USES_EMITTERS
 #include "common/emitters.glsl"
 #endif
+#include "common/light_groups.glsl"
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif
@@ -51,11 +52,15 @@ layout(local_size_x = LOCAL_SIZE) in;
 #endif
 
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
-// the light split as well: emission, the world, or light sampled at the visible point.
-#ifdef PASS_STRIDE
-#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; part += light_; }
+// the light split as well: emission, the world, or light sampled at the visible point; with
+// light groups into its emitter's group too (common/light_groups.glsl; `group` is a code).
+#ifdef LIGHT_GROUPS
+#define ADD_LIGHT(part, group, value) \
+    { vec3 light_ = (value); direct += light_; part += light_; light_group_add(group, light_, throughput); }
+#elif defined(PASS_STRIDE)
+#define ADD_LIGHT(part, group, value) { vec3 light_ = (value); direct += light_; part += light_; }
 #else
-#define ADD_LIGHT(part, value) direct += (value)
+#define ADD_LIGHT(part, group, value) direct += (value)
 #endif
 
 // A fresh jittered camera ray through pixel (x, y). The lens numbers are drawn only where
@@ -122,6 +127,9 @@ void main() {
 #ifdef DENOISING_FEATURES
     DenoisingFeatures features = start_denoising_features();
 #endif
+#ifdef LIGHT_GROUPS
+    light_groups_begin();
+#endif
 #ifdef FILM_TRANSPARENT
     // How much of this sample leaves the scene unseen: the film's alpha is 1 - its mean.
     // The world is then not seen by such rays (Blender's Film > Transparent).
@@ -140,7 +148,7 @@ void main() {
         if (!seen_by_camera &&
             hit_sphere_light(ray.origin, ray.dir, hit.triangle < 0 ? 1e30 : hit.t,
                              sphere_radiance)) {
-            ADD_LIGHT(emitted, throughput * sphere_radiance);
+            ADD_LIGHT(emitted, sphere_light_group_code, throughput * sphere_radiance);
             break;
         }
 #endif
@@ -158,7 +166,7 @@ void main() {
 #endif
 #endif
             vec3 sky = environment_radiance(ray.dir);
-            ADD_LIGHT(world, throughput * sky);
+            ADD_LIGHT(world, WORLD_GROUP_CODE, throughput * sky);
 #ifdef DENOISING_FEATURES
             add_feature_light(features, sky);
 #endif
@@ -182,7 +190,8 @@ void main() {
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
             if (front && !hidden) {
-                ADD_LIGHT(emitted, throughput * material_emission(s.material));
+                ADD_LIGHT(emitted, material_group_code(s.material),
+                          throughput * material_emission(s.material));
 #ifdef DENOISING_FEATURES
                 add_feature_light(features, material_emission(s.material));
 #endif
@@ -205,7 +214,7 @@ void main() {
                                 s.vertex_color, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
             vec3 emission = material_emission_at(s.material, sh.material, texture_point(s));
-            ADD_LIGHT(emitted, throughput * emission);
+            ADD_LIGHT(emitted, material_group_code(s.material), throughput * emission);
 #ifdef DENOISING_FEATURES
             add_feature_light(features, emission);
 #endif
@@ -238,7 +247,7 @@ void main() {
                           pack_octahedral(sh.entering ? s.geometric_normal : -s.geometric_normal)
                               << VISIBLE_POINT_NORMAL_SHIFT;
 #ifdef DIRECT_LIGHT_SAMPLED
-            ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
+            ADD_LIGHT(sampled, LIGHT_GROUP_SAMPLED, throughput * direct_light_sampled_lobes(
                                    s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
                                    light_pick, light_u, u_dir, rays));
 #endif
@@ -304,6 +313,9 @@ void main() {
 #endif
 #ifdef PASS_DIRECT
     pass_add(i, PASS_DIRECT, vec4(sampled, 0.0));
+#endif
+#ifdef LIGHT_GROUPS
+    store_light_groups(i);
 #endif
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);

@@ -74,8 +74,9 @@ void main() {
     // which light sampling counts instead), and its later scatters by kind.
     uint path_bounces = uint(photon_path_record(i, PHOTON_PATH_DIR).w);
     vec3 flux = photon_path_record(i, PHOTON_PATH_FLUX).xyz;
+    load_photon_group(i);  // with light groups: the path's (common/sppm_buffers.glsl)
 #ifdef TRACKS_PATH_CLASS
-    float path_class = photon_path_record(i, PHOTON_PATH_FLUX).w;
+    float path_class = photon_path_class_of(photon_path_record(i, PHOTON_PATH_FLUX).w);
 #endif
 #ifdef ESTIMATOR_PPPM
     // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
@@ -217,9 +218,9 @@ void main() {
     store_photon_path_record(i, PHOTON_PATH_ORIGIN, vec4(origin, bounces));
     store_photon_path_record(i, PHOTON_PATH_DIR, vec4(dir, float(path_bounces)));
 #ifdef TRACKS_PATH_CLASS
-    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, path_class));
+    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, photon_path_word(path_class)));
 #else
-    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, 0.0));
+    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, photon_path_word(0.0)));
 #endif
     store_photon_record(i, PHOTON_INCOMING,
                         vec4(incoming, photon_record_word(stored_class, stored_bounces)));

@@ -296,7 +296,9 @@ int main(int argc, char** argv) {
             if (!o.out.empty()) film = renderer.film();
             if (o.multilayer)
                 layers = render_pass_layers(film, o.settings.passes,
-                                    renderer.render_passes(o.settings.passes));
+                                            renderer.render_passes(o.settings.passes),
+                                            renderer.light_groups(),
+                                            renderer.light_group_passes());
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());

@@ -57,7 +57,8 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     f.names.push_back("direct=" + to_string(settings.direct_light));
     if (settings.estimator == Estimator::Pppm) f.add("ESTIMATOR_PPPM", "estimator=pppm");
     const PassLayout passes =
-        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons,
+                    static_cast<int>(f.in.scene.light_groups.size()));
     for (const auto& d : pass_defines(passes)) p.defines.push_back(d);
     if (!passes.passes.empty()) {
         std::string names;
