@@ -55,8 +55,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 // the light split as well: emission, the world, or light sampled at the visible point; with
 // light groups into its emitter's group too (common/light_groups.glsl; `group` is a code).
 #ifdef LIGHT_GROUPS
-#define ADD_LIGHT(part, group, value) \
-    { vec3 light_ = (value); direct += light_; part += light_; light_group_add(group, light_, throughput); }
+#define ADD_LIGHT(part, group, value)                                  \
+    { vec3 light_ = (value); direct += light_; part += light_;         \
+      light_group_add(group, light_, throughput); }
 #elif defined(PASS_STRIDE)
 #define ADD_LIGHT(part, group, value) { vec3 light_ = (value); direct += light_; part += light_; }
 #else
