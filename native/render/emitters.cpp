@@ -84,6 +84,24 @@ glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2,
     return sum / static_cast<float>(n * n);
 }
 
+// Each emitter's pick probability (its weight over the total) and the cumulative table
+// pick_emitter searches (the last entry 2, above any u), into the records.
+void write_pick_table(std::vector<GpuEmitter>& list, const std::vector<double>& weights,
+                      EmitterTable& table) {
+    double total = 0.0;
+    for (const double w : weights) total += w;
+    double running = 0.0;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const double p = weights[k] / total;
+        running += p;
+        list[k].c.w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
+        list[k].power.w = static_cast<float>(p);
+        for (const glm::vec4& v : {list[k].a, list[k].b, list[k].c, list[k].power})
+            table.records.push_back(v);
+    }
+    table.count = list.size();
+}
+
 }  // namespace
 
 SceneBounds scene_bounds(const PackedBvh& bvh) {
@@ -205,18 +223,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         throw SceneError(
             "the scene has no lights: nothing emits (add a light, an emissive material or a "
             "world colour)");
-    double total = 0.0;
-    for (const double w : weights) total += w;
-    double running = 0.0;
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const double p = weights[k] / total;
-        running += p;
-        list[k].c.w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
-        list[k].power.w = static_cast<float>(p);
-        for (const glm::vec4& v : {list[k].a, list[k].b, list[k].c, list[k].power})
-            table.records.push_back(v);
-    }
-    table.count = list.size();
+    write_pick_table(list, weights, table);
     return table;
 }
 
