@@ -33,6 +33,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef USES_EMITTERS
 #include "common/emitters.glsl"
 #endif
+#include "common/light_groups.glsl"
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif
@@ -51,23 +52,32 @@ layout(local_size_x = LOCAL_SIZE) in;
 #endif
 
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
-// the light split as well: emission, the world, or light sampled at the visible point.
-#ifdef PASS_STRIDE
-#define ADD_LIGHT(part, value) { vec3 light_ = (value); direct += light_; passes.part += light_; }
+// the light split as well: emission, the world, or light sampled at the visible point; with
+// light groups into its emitter's group too (common/light_groups.glsl; `group` is a code).
+#ifdef LIGHT_GROUPS
+#define ADD_LIGHT(part, group, value)              \
+    {                                              \
+        vec3 light_ = (value);                     \
+        direct += light_;                          \
+        passes.part += light_;                     \
+        light_group_add(group, light_, throughput); \
+    }
+#elif defined(PASS_STRIDE)
+#define ADD_LIGHT(part, group, value) { vec3 light_ = (value); direct += light_; passes.part += light_; }
 #else
-#define ADD_LIGHT(part, value) direct += (value)
+#define ADD_LIGHT(part, group, value) direct += (value)
 #endif
 // Light the path sees on a surface or the world: Combined, its part, and the denoising
 // albedo's light.
 #ifdef DENOISING_FEATURES
-#define SEE_LIGHT(part, radiance)            \
-    {                                        \
-        vec3 seen_ = (radiance);             \
-        ADD_LIGHT(part, throughput * seen_); \
-        add_feature_light(features, seen_);  \
+#define SEE_LIGHT(part, group, radiance)            \
+    {                                               \
+        vec3 seen_ = (radiance);                    \
+        ADD_LIGHT(part, group, throughput * seen_); \
+        add_feature_light(features, seen_);         \
     }
 #else
-#define SEE_LIGHT(part, radiance) ADD_LIGHT(part, throughput * (radiance))
+#define SEE_LIGHT(part, group, radiance) ADD_LIGHT(part, group, throughput * (radiance))
 #endif
 
 // The numbers of the pixel's light sample, drawn first, so that draws only some variants
@@ -122,7 +132,12 @@ struct EyePasses {
     bool first_found;
 };
 
+// Light groups (common/light_groups.glsl) are render passes too: their sums start and are
+// stored with the others'.
 EyePasses start_eye_passes() {
+#ifdef LIGHT_GROUPS
+    light_groups_begin();
+#endif
     return EyePasses(vec3(0.0), vec3(0.0), vec3(0.0), 1e10, vec3(0.0), false);
 }
 
@@ -148,6 +163,9 @@ void store_eye_passes(uint i, EyePasses passes) {
 #endif
 #ifdef PASS_DIRECT
     pass_add(i, PASS_DIRECT, vec4(passes.sampled, 0.0));
+#endif
+#ifdef LIGHT_GROUPS
+    store_light_groups(i);
 #endif
 }
 #endif
@@ -277,7 +295,7 @@ void main() {
         // After a mirror or glass, a point or spot light's sphere in front of the surface.
         vec3 sphere_radiance;
         if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
-            ADD_LIGHT(emitted, throughput * sphere_radiance);
+            ADD_LIGHT(emitted, sphere_light_group_code, throughput * sphere_radiance);
             break;
         }
 #endif
@@ -286,7 +304,7 @@ void main() {
             if (leaves_through_film(seen_by_camera, through_glass, throughput, transparent))
                 break;
 #endif
-            SEE_LIGHT(world, environment_radiance(ray.dir));
+            SEE_LIGHT(world, WORLD_GROUP_CODE, environment_radiance(ray.dir));
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -300,13 +318,13 @@ void main() {
             continue;
         }
 #ifdef HAS_ABSORPTION
-        // The segment just traced ran inside an absorbing object if it left through its back.
-        // (After the hidden surfaces: a ray passing an object it does not see is not inside.)
+        // Inside an absorbing object if the ray left through its back (not a hidden one's).
         throughput *= segment_transmittance(s.material, front, ray.origin, s.position);
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden) SEE_LIGHT(emitted, material_emission(s.material));
+            if (front && !hidden)
+                SEE_LIGHT(emitted, material_group_code(s.material), material_emission(s.material));
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -319,13 +337,13 @@ void main() {
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            SEE_LIGHT(emitted, material_emission_at(s.material, sh.material, texture_point(s)));
+            SEE_LIGHT(emitted, material_group_code(s.material),
+                      material_emission_at(s.material, sh.material, texture_point(s)));
 #ifdef DENOISING_FEATURES
         add_feature_surface_at(features, s, sh, wo);
 #endif
         if (last_surface) break;
-        // Smooth lobes are followed by sampling; the rest hold the visible point, which
-        // stands for them with the probability of not following.
+        // Smooth lobes are followed; the rest hold the visible point (hold_visible_point).
         float p_smooth = bsdf_smooth_probability(sh, wo);
         float u_lobe = rng_next(rng);
         vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
@@ -334,7 +352,7 @@ void main() {
             hold_visible_point(i, s, sh, wo, throughput, p_smooth > 0.0, eye_bounces);
             held = true;
 #ifdef DIRECT_LIGHT_SAMPLED
-            ADD_LIGHT(sampled, throughput * direct_light_sampled_lobes(
+            ADD_LIGHT(sampled, LIGHT_GROUP_SAMPLED, throughput * direct_light_sampled_lobes(
                                    s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
                                    light_numbers.pick, light_numbers.u, u_dir, rays));
 #endif

@@ -26,10 +26,22 @@ layout(local_size_x = LOCAL_SIZE) in;
 shared float group_max_radius[LOCAL_SIZE];
 
 // A photon's share of Phi, and with the light split's passes of its path class's share too
-// (common/pass_films.glsl): the classes' sums add up to Phi.
+// (common/pass_films.glsl): the classes' sums add up to Phi. With light groups, its
+// emitter's group's share (common/light_groups.glsl): the groups' and no group's add up to Phi.
 #ifdef PASS_PHOTON_SPLIT
+#define ADD_PHOTON_CLASS(p, light) phi_class[photon_class(p)] += light;
+#else
+#define ADD_PHOTON_CLASS(p, light)
+#endif
+#ifdef LIGHT_GROUPS
+#define ADD_PHOTON_GROUP(p, light) \
+    { uint code_ = photon_group_of(p); if (code_ > 0u) phi_group[code_ - 1u] += light; }
+#else
+#define ADD_PHOTON_GROUP(p, light)
+#endif
+#if defined(PASS_PHOTON_SPLIT) || defined(LIGHT_GROUPS)
 #define ADD_PHOTON(p, value) \
-    { vec3 light_ = (value); phi += light_; phi_class[photon_class(p)] += light_; }
+    { vec3 light_ = (value); phi += light_; ADD_PHOTON_CLASS(p, light_) ADD_PHOTON_GROUP(p, light_) }
 #else
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
@@ -70,9 +82,9 @@ bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
             (c > PHOTON_SIDE_MIN_COS && a <= slack && b <= slack));
 }
 
-#ifdef PASS_PHOTON_SPLIT
-// One class's photons into its pass, updated as Combined's tau is: PPPM adds the pass's
-// estimate, SPPM adds and shrinks with the radius.
+#if defined(PASS_PHOTON_SPLIT) || defined(LIGHT_GROUPS)
+// One class's (or light group's) photons into its pass, updated as Combined's tau is: PPPM
+// adds the pass's estimate, SPPM adds and shrinks with the radius.
 void update_photon_pass(uint i, uint offset, vec3 weighted_phi, float shrink) {
 #ifdef ESTIMATOR_PPPM
     pass_add(i, offset, vec4(weighted_phi * pass_scale, 0.0));
@@ -81,7 +93,9 @@ void update_photon_pass(uint i, uint offset, vec3 weighted_phi, float shrink) {
     pass_films[k].xyz = (pass_films[k].xyz + weighted_phi) * shrink;
 #endif
 }
+#endif
 
+#ifdef PASS_PHOTON_SPLIT
 void update_photon_passes(uint i, vec3 weight, vec3 phi_class[3], float shrink) {
 #ifdef PASS_DIRECT_PHOTONS
     update_photon_pass(i, PASS_DIRECT + 2u, weight * phi_class[0], shrink);
@@ -92,6 +106,14 @@ void update_photon_passes(uint i, vec3 weight, vec3 phi_class[3], float shrink) 
 #ifdef PASS_CAUSTICS
     update_photon_pass(i, PASS_CAUSTICS, weight * phi_class[2], shrink);
 #endif
+}
+#endif
+
+#ifdef LIGHT_GROUPS
+// Each group's photons into its tau, after its eye pair (common/light_groups.glsl).
+void update_light_group_passes(uint i, vec3 weight, vec3 phi_group[LIGHT_GROUPS], float shrink) {
+    for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g)
+        update_photon_pass(i, LIGHT_GROUP_FIRST + 4u * g + 2u, weight * phi_group[g], shrink);
 }
 #endif
 
@@ -121,6 +143,9 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
                     uint eye_bounces, bool lambert, inout float m, inout vec3 phi
 #ifdef PASS_PHOTON_SPLIT
                     , inout vec3 phi_class[3]
+#endif
+#ifdef LIGHT_GROUPS
+                    , inout vec3 phi_group[LIGHT_GROUPS]
 #endif
 ) {
     // The side photons must have arrived on (sppm_buffers.glsl, photon_side_word): either
@@ -208,9 +233,16 @@ void main() {
             vec3 phi = vec3(0.0);
 #ifdef PASS_PHOTON_SPLIT
             vec3 phi_class[3] = vec3[3](vec3(0.0), vec3(0.0), vec3(0.0));
-#define PHOTON_CLASSES , phi_class
+#define PHOTON_SPLIT_CLASSES , phi_class
 #else
-#define PHOTON_CLASSES
+#define PHOTON_SPLIT_CLASSES
+#endif
+#ifdef LIGHT_GROUPS
+            vec3 phi_group[LIGHT_GROUPS];
+            for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g) phi_group[g] = vec3(0.0);
+#define PHOTON_CLASSES PHOTON_SPLIT_CLASSES, phi_group
+#else
+#define PHOTON_CLASSES PHOTON_SPLIT_CLASSES
 #endif
             // A Lambert point's f is one colour on its side: its loop evaluates nothing else.
             // (Called with a constant, each call compiles to its own loop; a loop whose lanes
@@ -236,6 +268,9 @@ void main() {
 #ifdef PASS_PHOTON_SPLIT
                 update_photon_passes(i, weight, phi_class, 1.0);
 #endif
+#ifdef LIGHT_GROUPS
+                update_light_group_passes(i, weight, phi_group, 1.0);
+#endif
             }
 #else
             if (m > 0.0) {
@@ -250,6 +285,9 @@ void main() {
                 radius_after = r_new;
 #ifdef PASS_PHOTON_SPLIT
                 update_photon_passes(i, weight, phi_class, shrink);
+#endif
+#ifdef LIGHT_GROUPS
+                update_light_group_passes(i, weight, phi_group, shrink);
 #endif
             }
 #endif

@@ -145,9 +145,10 @@ void main() {
     vec3 dir = photon_path_record(i, PHOTON_PATH_DIR).xyz;
     uint path_bounces = uint(photon_path_record(i, PHOTON_PATH_DIR).w);
     vec3 flux = photon_path_record(i, PHOTON_PATH_FLUX).xyz;
+    load_photon_group(i);  // with light groups: the path's (common/sppm_buffers.glsl)
     float path_class = 0.0;  // PHOTON_PATH_DIRECT, LIGHT_PATH_UNSCATTERED (TRACKS_PATH_CLASS)
 #ifdef TRACKS_PATH_CLASS
-    path_class = photon_path_record(i, PHOTON_PATH_FLUX).w;
+    path_class = photon_path_class_of(photon_path_record(i, PHOTON_PATH_FLUX).w);
 #endif
 #ifdef ESTIMATOR_PPPM
     // Passes are independent (Knaus and Zwicker 2011): every path starts at a pass's first
@@ -193,8 +194,7 @@ void main() {
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces > float(max_bounces)) bounces = -1.0;
         } else {
-            // Stored where a visible point can gather it, then on by sampling the whole
-            // material, Russian roulette on the sample's weight.
+            // Stored where a visible point gathers it; on by the material's sample and RR.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
             if (stores_photon(s.material, sh, path_bounces)) {
@@ -246,7 +246,7 @@ void main() {
 
     store_photon_path_record(i, PHOTON_PATH_ORIGIN, vec4(origin, bounces));
     store_photon_path_record(i, PHOTON_PATH_DIR, vec4(dir, float(path_bounces)));
-    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, path_class));
+    store_photon_path_record(i, PHOTON_PATH_FLUX, vec4(flux, photon_path_word(path_class)));
     store_photon_record(i, PHOTON_INCOMING,
                         vec4(incoming, photon_record_word(stored_class, stored_bounces)));
     store_photon_record(i, PHOTON_POSITION, position_key);

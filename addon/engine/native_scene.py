@@ -10,18 +10,29 @@ from .light_paths import bounce_limits
 def native_material(native, material):
     fields = asdict(material)
     fields["vertex_color"] = material.vertex_color is not None  # the attribute's name is export's
-    return native.Material(**fields)
+    group = fields.pop("light_group")
+    result = native.Material(**fields)
+    result.light_group = group
+    return result
+
+
+def native_light(native, light):
+    fields = asdict(light)
+    group = fields.pop("light_group")
+    result = native.Light(**fields)
+    result.light_group = group
+    return result
 
 
 def native_scene(native, data):
     materials = [native_material(native, material) for material in data.materials]
-    lights = [native.Light(**asdict(light)) for light in data.lights]
+    lights = [native_light(native, light) for light in data.lights]
     camera = native.Camera(**asdict(data.camera))
     # Fields, not asdict(): asdict would deep-copy every texture's pixels.
     textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name,
                                uv_map=texture.uv_map, position_map=texture.position_map)
                 for texture in data.textures]
-    return native.Scene(
+    scene = native.Scene(
         positions=data.positions, indices=data.indices, normals=data.normals,
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
         lights=lights, camera=camera, environment=tuple(data.environment),
@@ -29,6 +40,11 @@ def native_scene(native, data):
         environment_to_world=data.environment_to_world,
         instance_meshes=data.instance_meshes or None, instances=data.instances,
         instance_mesh=data.instance_mesh, tangents=data.tangents, colors=data.colors)
+    # Light groups (docs/light_groups.md): every group of the view layer gets its pass, as
+    # in Cycles, whether an emitter uses it or not.
+    scene.light_groups = list(data.light_groups)
+    scene.world_light_group = data.world_light_group
+    return scene
 
 
 def film_options(scene):

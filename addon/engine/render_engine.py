@@ -253,6 +253,8 @@ class GlslppmEngineMixin:
         combined = result.layers[0].passes["Combined"]
         extra = (render_passes.result_passes(result, native, self.view_layer)
                  if self.view_layer else {})
+        self._group_passes = (render_passes.result_group_passes(result, self.view_layer)
+                              if self.view_layer else {})
         start = time.perf_counter()
         film_ok = False
         abandoned = False
@@ -422,6 +424,11 @@ class GlslppmEngineMixin:
         if extra:
             images = renderer.render_passes(list(extra), bottom_up=True)
             for name, render_pass in extra.items():
+                _set_rect(render_pass, images[name])
+        groups = getattr(self, "_group_passes", None)
+        if groups:
+            images = renderer.light_group_passes(bottom_up=True)
+            for name, render_pass in groups.items():
                 _set_rect(render_pass, images[name])
         return True
 

@@ -44,6 +44,25 @@ def register(engine, native, scene, view_layer):
     for _, blender_name, channels, letters in catalog(native, view_layer):
         engine.register_pass(scene, view_layer, blender_name, channels, letters,
                              _PASS_TYPES[letters])
+    for name in light_group_names(view_layer):
+        engine.register_pass(scene, view_layer, light_group_pass(name), 3, "RGB", 'COLOR')
+
+
+def light_group_names(view_layer):
+    """The view layer's Light Groups (Blender 3.2+; docs/light_groups.md), in order."""
+    return [group.name for group in getattr(view_layer, "lightgroups", None) or ()]
+
+
+def light_group_pass(name):
+    """Cycles' name of a light group's pass."""
+    return "Combined_" + name
+
+
+def result_group_passes(result, view_layer):
+    """{light group name: the result's RenderPass} for the groups a result has."""
+    by_name = {p.name: p for p in result.layers[0].passes}
+    return {name: by_name[light_group_pass(name)] for name in light_group_names(view_layer)
+            if light_group_pass(name) in by_name}
 
 
 def result_passes(result, native, view_layer):

@@ -19,6 +19,7 @@ from .camera import convert_camera
 from .curves import TriangleBudget, curves_object, hair_systems, point_cloud
 from .image import TextureTable
 from .light import convert_light
+from .light_groups import group_indices, group_of
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .scene_data import SceneData
@@ -84,6 +85,7 @@ class SceneBuilder:
         self.textures = TextureTable(self.warn)
         self.check_cancel = CancelPoll(None)
         self.instance_meshes = []
+        self.light_group_indices = {}  # the view layer's light groups (export/light_groups.py)
         self._instance_mesh_index = {}
         self._instance_matrices = []
         self._instance_mesh_ids = []
@@ -264,6 +266,7 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
 
 def _export(depsgraph, scene, camera_object, width, height, frame, builder, start, camera):
     geometry_cache = {}
+    builder.light_group_indices = group_indices(depsgraph.view_layer)
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
                             builder.warn)
@@ -272,8 +275,12 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         instance_count += 1
         obj = instance.object
         if obj.type == 'LIGHT':
+            first = len(builder.lights)
             convert_light(obj.data, instance.matrix_world, builder,
                           getattr(obj, "visible_camera", True))
+            group = group_of(obj, builder.light_group_indices)
+            builder.lights[first:] = [replace(light, light_group=group)
+                                      for light in builder.lights[first:]]
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
             if instance.is_instance:
@@ -298,8 +305,12 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     if camera is None:
         camera = convert_camera(camera_object.evaluated_get(depsgraph), width, height,
                                 builder.warn, frame)
+    first_world_light = len(builder.lights)
     environment, environment_texture, environment_to_world = _add_world(
         scene, camera, width, height, builder)
+    world_group = group_of(scene.world, builder.light_group_indices)
+    builder.lights[first_world_light:] = [replace(light, light_group=world_group)
+                                          for light in builder.lights[first_world_light:]]
     if scene.render.use_motion_blur:
         builder.warn("motion blur is not supported; the frame renders at one instant "
                      "(Output > Motion Blur)")
@@ -314,6 +325,8 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         warnings=builder.warnings,
         instance_meshes=builder.instance_meshes, instances=instance_matrices,
         instance_mesh=instance_mesh, material_keys=builder.material_keys,
+        light_groups=list(builder.light_group_indices),
+        world_light_group=world_group,
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "instance_table": 0 if instance_mesh is None else len(instance_mesh),
@@ -501,15 +514,22 @@ def _slot_materials(obj, builder, matrix=None):
                                   for slot in obj.material_slots):
         textures = builder.textures.for_object(object_spaces(obj, matrix))
 
+    # An object in a light group gets its own copies of its materials, marked with the
+    # group: the group of what emits is its material's (docs/light_groups.md).
+    group = group_of(obj, builder.light_group_indices)
+
     def key(material):
         if textures.spaces is not None and reads_object_coordinates(material):
-            return (_material_key(material), visibility, obj.name_full)
-        return (_material_key(material), visibility)
+            return (_material_key(material), visibility, obj.name_full, group)
+        return (_material_key(material), visibility) + ((group,) if group >= 0 else ())
+
+    def grouped(entries):
+        return [replace(m, light_group=group) for m in entries] if group >= 0 else entries
 
     slot_materials = np.array(
         [builder.material_id(key(slot.material),
-                             lambda slot=slot: _flagged(convert_material(
-                                 slot.material, builder.warn, textures), visibility))
+                             lambda slot=slot: grouped(_flagged(convert_material(
+                                 slot.material, builder.warn, textures), visibility)))
          for slot in obj.material_slots] or
         [builder.material_id((None, visibility),
                              lambda: _flagged([DEFAULT_MATERIAL], visibility))],

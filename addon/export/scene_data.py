@@ -47,6 +47,7 @@ class MaterialData:
     # None; the module's Material takes only whether there is one (engine/native_scene.py).
     vertex_color: object = None
     absorption: tuple = (0.0, 0.0, 0.0)  # sigma_a per world unit inside (the whole material's)
+    light_group: int = -1            # index into SceneData.light_groups (its object's), -1 none
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
@@ -88,6 +89,7 @@ class LightData:
     size_x: float = 1.0
     size_y: float = 1.0
     visible_to_camera: bool = True
+    light_group: int = -1            # index into SceneData.light_groups, -1 none
 
 
 @dataclass
@@ -138,6 +140,10 @@ class SceneData:
     material_keys: list = field(default_factory=list)
     tangents: object = None          # float32 (V, 4) or None: normal maps' tangent frames
     colors: object = None            # float32 (V, 3) or None: linear vertex colours
+    # The view layer's Light Groups (docs/light_groups.md): their names in order, and the
+    # world's (an index, -1 none); lights and materials carry their own.
+    light_groups: list = field(default_factory=list)
+    world_light_group: int = -1
 
     @property
     def triangle_count(self):

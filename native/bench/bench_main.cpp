@@ -43,7 +43,7 @@ void usage(std::FILE* out) {
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
                          "--hash M --rng G --direct sampled|photons|sampled-no-mis --glossy-threshold R "
                          "--device D --scene S --light-tracing on|off "
-                         "--render-passes all|depth,...] [--json]\n"
+                         "--render-passes all|depth,...] [--light-groups N] [--json]\n"
                          "       glslppm-bench rays [--rays N --batches B --scenes a,b --leaf 1,2,4,8 "
                          "--layout mtbvh,tbvh] [--json]\n"
                          "       glslppm-bench converge [--scene S --passes K --alpha a,b "

@@ -12,6 +12,7 @@
 
 #include "bench/bench_scene.h"
 #include "render/renderer.h"
+#include "scene/light_groups.h"
 
 using namespace glslppm;
 
@@ -25,6 +26,7 @@ int bench_passes(int argc, char** argv) {
     // report its passes/s (the scaling) and how far the merged film is from its film.
     bool against_one_device = false;
     std::string scene_spec = "cornell";
+    int light_groups = 0;
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return static_cast<double>(option_integer(a, argc, argv, i)); };
@@ -34,6 +36,8 @@ int bench_passes(int argc, char** argv) {
         else if (a == "--render-passes" && i + 1 < argc)
             settings.passes = parse_render_pass_list(argv[++i]);
         else if (a == "--warmup") warmup = static_cast<int>(next());
+        // Light groups (docs/light_groups.md): the scene's emitters dealt into N groups.
+        else if (a == "--light-groups") light_groups = static_cast<int>(next());
         else if (a == "--json") json = true;
         else if (a == "--against-one-device") against_one_device = true;
         else {
@@ -44,7 +48,8 @@ int bench_passes(int argc, char** argv) {
     try {
         const float aspect = float(settings.width) / float(settings.height);
         const auto setup_start = std::chrono::steady_clock::now();
-        const Scene scene = make_bench_scene(scene_spec, aspect);
+        Scene scene = make_bench_scene(scene_spec, aspect);
+        if (light_groups > 0) assign_light_groups_round_robin(scene, light_groups);
         Renderer renderer(scene, settings);
         // Scene generation, validation, BVH build, GL set-up and compiles.
         const double setup_seconds = std::chrono::duration<double>(

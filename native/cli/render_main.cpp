@@ -19,6 +19,7 @@
 #include "loaders/scene_file.h"
 #include "render/farm_merge.h"
 #include "render/renderer.h"
+#include "scene/light_groups.h"
 #include "render/tiled_render.h"
 #include "procedural/cornell_box.h"
 
@@ -38,6 +39,7 @@ struct Options {
     std::string environment;  // equirectangular map
     bool has_environment_color = false;
     glm::vec3 environment_color{0.0f};
+    int light_groups = 0;     // --light-groups N: the emitters dealt into N groups
 };
 
 // The CLI renders final images, so its size and photon count are larger than
@@ -82,6 +84,9 @@ std::string usage() {
         "  --light-tracing on|off    caustics seen directly by light tracing (default %s;\n"
         "                            docs/light_tracing.md)\n"
         "  --seed N                  random seed (default %llu)\n"
+        "  --light-groups N          deal the emitters (emissive materials, lights, the world)\n"
+        "                            into N light groups group0...: --passes-out writes each\n"
+        "                            group's Combined_groupK layer (docs/light_groups.md)\n"
         "  --scene FILE              render a .gltf, .glb or .obj file instead (a file without a\n"
         "                            camera gets one that frames the whole scene)\n"
         "  --mtl-convention standard|glslppm2015  how an .obj's MTL reads: the MTL specification\n"
@@ -180,6 +185,7 @@ Options parse(int argc, char** argv) {
         }
         else if (a == "--json") o.json = true;
         else if (a == "--scene") o.scene_file = value();
+        else if (a == "--light-groups") o.light_groups = static_cast<int>(number());
         else if (a == "--mtl-convention") o.scene_options.mtl = parse_mtl_convention(value());
         else if (a == "--environment") o.environment = value();
         else if (a == "--environment-color") {
@@ -214,6 +220,7 @@ Scene build_scene(const Options& o, std::vector<std::string>& warnings) {
         scene.environment = glm::vec3(1.0f);
     }
     if (o.has_environment_color) scene.environment = o.environment_color;
+    if (o.light_groups > 0) assign_light_groups_round_robin(scene, o.light_groups);
     for (const std::string& w : warnings) std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());
     return scene;
 }
@@ -252,6 +259,11 @@ int main(int argc, char** argv) {
         RenderStats s;
         std::vector<float> film;
         if (plan.tiles.size() > 1) {
+            if (o.multilayer && !scene.light_groups.empty())
+                throw std::invalid_argument(
+                    "--light-groups with --passes-out: a frame of " +
+                    std::to_string(plan.tiles.size()) +
+                    " tiles does not write its light groups' layers yet (docs/light_groups.md)");
             if (o.passes <= 0)
                 throw std::invalid_argument("a " + std::to_string(o.settings.width) + "x" +
                                             std::to_string(o.settings.height) + " frame renders in " +
@@ -296,7 +308,9 @@ int main(int argc, char** argv) {
             if (!o.out.empty()) film = renderer.film();
             if (o.multilayer)
                 layers = render_pass_layers(film, o.settings.passes,
-                                    renderer.render_passes(o.settings.passes));
+                                            renderer.render_passes(o.settings.passes),
+                                            renderer.light_groups(),
+                                            renderer.light_group_passes());
         }
         for (const std::string& w : s.warnings) {  // the renderer's own (downscaled images, ...)
             std::fprintf(stderr, "glslppm-render: warning: %s\n", w.c_str());

@@ -117,7 +117,10 @@ void bind_materials(py::module_& m) {
              py::arg("bump_distance") = 1.0f, py::arg("emission_texture") = -1,
              py::arg("f82_tint") = std::array<float, 3>{1.0f, 1.0f, 1.0f},
              py::arg("visible_in_reflections") = true, py::arg("vertex_color") = false,
-             py::arg("absorption") = std::array<float, 3>{0.0f, 0.0f, 0.0f});
+             py::arg("absorption") = std::array<float, 3>{0.0f, 0.0f, 0.0f})
+        .def_readwrite("light_group", &Material::light_group,
+                       "The light group of what emits with this material: an index into "
+                       "Scene.light_groups, -1: none (docs/light_groups.md).");
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

@@ -95,6 +95,31 @@ py::dict render_pass_arrays(PyRenderer& r, const std::vector<std::string>& names
 
 }  // namespace
 
+// Renderer.light_group_passes: {group name: height x width x 3}, as render_passes gives a pass.
+py::dict light_group_arrays(PyRenderer& r, bool bottom_up) {
+    const std::shared_ptr<Renderer> renderer = r.get();
+    std::vector<std::vector<float>> images;
+    {
+        py::gil_scoped_release release;
+        images = renderer->light_group_passes();
+    }
+    const RenderSettings& s = renderer->settings();
+    py::dict out;
+    const std::size_t row = std::size_t(s.width);
+    for (std::size_t k = 0; k < images.size(); ++k) {
+        py::array_t<float> a({s.height, s.width, 3});
+        float* dst = a.mutable_data();
+        for (std::size_t y = 0; y < std::size_t(s.height); ++y) {
+            const std::size_t from = (bottom_up ? std::size_t(s.height) - 1 - y : y) * row;
+            for (std::size_t x = 0; x < row; ++x)
+                for (int c = 0; c < 3; ++c)
+                    dst[(y * row + x) * 3 + c] = images[k][4 * (from + x) + c];
+        }
+        out[py::str(renderer->light_groups()[k])] = a;
+    }
+    return out;
+}
+
 py::dict stats_dict(const RenderStats& s) {
     py::dict d;
     d["passes"] = s.passes;
@@ -204,10 +229,13 @@ void bind_renderer(py::module_& m) {
             const RenderSettings& settings = renderer->settings();
             write_multilayer_exr(path, settings.width, settings.height,
                                  render_pass_layers(renderer->film(), settings.passes,
-                                                    renderer->render_passes(settings.passes)),
+                                                    renderer->render_passes(settings.passes),
+                                                    renderer->light_groups(),
+                                                    renderer->light_group_passes()),
                                  farm_attributes(settings, renderer->stats()));
         }, py::arg("path"),
-           "Writes Combined and every enabled render pass as one multi-layer EXR with the farm "
+           "Writes Combined, every enabled render pass and every light group's pass "
+           "(Combined_<group>) as one multi-layer EXR with the farm "
            "attributes, as glslppm-render --passes-out does: a farm job's file for "
            "glslppm-merge.")
         .def("cancel", [](PyRenderer& r) { r.get()->cancel(); },
@@ -277,6 +305,11 @@ void bind_renderer(py::module_& m) {
         "One of the settings' passes (docs/passes.md) as film() gives Combined: height x width "
         "x 1 (depth) or 3, the mean over the passes run; row 0 at the top (bottom_up: at the "
         "bottom, as Blender stores rows).")
+        .def("light_group_passes", &light_group_arrays, py::arg("bottom_up") = false,
+             "Every light group's pass (Scene.light_groups; docs/light_groups.md) as "
+             "{name: height x width x 3}, as render_passes gives a pass: the light of the "
+             "group's lights, emissive materials and world; with the light of no group they "
+             "sum to film(). {} without groups.")
         .def("render_passes", &render_pass_arrays, py::arg("names"), py::arg("bottom_up") = false,
              "Several passes as render_pass() gives one, {name: array}, with one read back "
              "from the GPU.")

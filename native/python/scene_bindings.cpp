@@ -242,7 +242,9 @@ void bind_scene(py::module_& m) {
              py::arg("radius") = 0.0f, py::arg("angle") = 0.0f, py::arg("spot_cosine") = false,
              py::arg("to_world") = py::none(), py::arg("shape") = "square",
              py::arg("size_x") = 1.0f, py::arg("size_y") = 1.0f,
-             py::arg("visible_to_camera") = true);
+             py::arg("visible_to_camera") = true)
+        .def_readwrite("light_group", &Light::light_group,
+                       "Index into Scene.light_groups, -1: none (docs/light_groups.md).");
 
     py::class_<Camera>(m, "Camera")
         .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
@@ -291,6 +293,11 @@ void bind_scene(py::module_& m) {
              py::arg("instance_mesh") = py::none(),
              py::arg("instance_material_offset") = py::none(), py::arg("tangents") = py::none(),
              py::arg("colors") = py::none())
+        .def_readwrite("light_groups", &Scene::light_groups,
+                       "Light groups' names (Blender's View Layer > Light Groups): each gets a "
+                       "pass, Renderer.light_group_passes() (docs/light_groups.md).")
+        .def_readwrite("world_light_group", &Scene::world_light_group,
+                       "The world's light group: an index into light_groups, -1: none.")
         .def_property_readonly("instance_count", [](const Scene& s) { return s.instances.size(); })
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def("arrays", [](const Scene& s) {

@@ -94,6 +94,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
         Material m;
         m.color = glm::vec3(0.0f);
         m.emission = light.color * (light.power / (kPi * area));
+        m.light_group = light.light_group;
         const auto material = static_cast<std::uint32_t>(g.materials.size());
         g.materials.push_back(m);
         g.flags.push_back(kMaterialLightSurface |

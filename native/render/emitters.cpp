@@ -84,6 +84,24 @@ glm::vec3 mean_texel(const Texture& t, glm::vec2 w0, glm::vec2 w1, glm::vec2 w2,
     return sum / static_cast<float>(n * n);
 }
 
+// Each emitter's pick probability (its weight over the total) and the cumulative table
+// pick_emitter searches (the last entry 2, above any u), into the records.
+void write_pick_table(std::vector<GpuEmitter>& list, const std::vector<double>& weights,
+                      EmitterTable& table) {
+    double total = 0.0;
+    for (const double w : weights) total += w;
+    double running = 0.0;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        const double p = weights[k] / total;
+        running += p;
+        list[k].c.w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
+        list[k].power.w = static_cast<float>(p);
+        for (const glm::vec4& v : {list[k].a, list[k].b, list[k].c, list[k].power})
+            table.records.push_back(v);
+    }
+    table.count = list.size();
+}
+
 }  // namespace
 
 SceneBounds scene_bounds(const PackedBvh& bvh) {
@@ -102,11 +120,14 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     std::vector<double> weights;  // what each emitter is picked by: its power
     // `power` is what the record holds (the shader's flux is power / pick probability);
     // `emitted`, where given, the power the emitter radiates on average (a textured one).
+    // `group`: the emitter's light group (-1 none), whose code rides above the kind's bits.
+    int group = -1;
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power,
                    glm::vec3 emitted = glm::vec3(-1.0f)) {
         if (emitted.x < 0.0f) emitted = power;
         if (!(weight_of(emitted) > 0.0f)) return -1;  // dark; bad values were rejected earlier
-        list.push_back(GpuEmitter{glm::vec4(a, as_float(static_cast<int>(kind))), b,
+        const int kind_word = static_cast<int>(kind) | (group + 1) << EMITTER_GROUP_SHIFT;
+        list.push_back(GpuEmitter{glm::vec4(a, as_float(kind_word)), b,
                                   glm::vec4(c, 0.0f), glm::vec4(power, 0.0f)});
         weights.push_back(weight_of(emitted));
         table.has[static_cast<int>(kind)] = true;
@@ -123,6 +144,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         const int material = std::bit_cast<int>(bvh.triangles[3 * t].w);
         const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
         if (weight_of(emission) <= 0.0f) continue;
+        group = materials[static_cast<std::size_t>(material)].light_group;
         const glm::vec3 v0(bvh.triangles[3 * t]), v1(bvh.triangles[3 * t + 1]),
             v2(bvh.triangles[3 * t + 2]);
         // In double: the cross product squares the edges (float overflows at 1e10 scale).
@@ -155,6 +177,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     table.first_light = list.size();
     for (const Light& light : scene.lights) {
         const glm::vec3 color = light.color * light.power;
+        group = light.light_group;
         switch (light.kind) {
             case LightKind::Point:
                 // A sphere of the light's radius (0: a point), radiating the power evenly.
@@ -187,6 +210,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     table.light_count = list.size() - table.first_light;
     // The environment radiates onto the bounding disc from every direction: power
     // pi r^2 * (integral of L over the sphere); a constant L gives 4 pi * pi r^2 * L.
+    group = scene.world_light_group;
     if (environment) {
         add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
             environment->integral * (kPi * r * r));
@@ -199,18 +223,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         throw SceneError(
             "the scene has no lights: nothing emits (add a light, an emissive material or a "
             "world colour)");
-    double total = 0.0;
-    for (const double w : weights) total += w;
-    double running = 0.0;
-    for (std::size_t k = 0; k < list.size(); ++k) {
-        const double p = weights[k] / total;
-        running += p;
-        list[k].c.w = k + 1 == list.size() ? 2.0f : static_cast<float>(running);
-        list[k].power.w = static_cast<float>(p);
-        for (const glm::vec4& v : {list[k].a, list[k].b, list[k].c, list[k].power})
-            table.records.push_back(v);
-    }
-    table.count = list.size();
+    write_pick_table(list, weights, table);
     return table;
 }
 

@@ -192,7 +192,7 @@ struct GpuMaterial {
     // Beer-Lambert sigma_a inside the object (Material::absorption; shaders/common/
     // absorption.glsl). Its own vec4, 16 bytes more per material: the five before are full.
     glm::vec3 absorption;
-    float unused;
+    float light_group_code;  // Material::light_group + 1 (0: none), common/light_groups.glsl
 };
 static_assert(sizeof(GpuMaterial) == MATERIAL_VEC4 * 16 &&
               offsetof(GpuMaterial, color) == MATERIAL_COLOR * 16 &&

@@ -59,8 +59,10 @@ PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* sce
     s.pixels = std::size_t(settings.width) * std::size_t(settings.height);
     s.photon_threads = settings.photons_per_pass;
     s.hash_cells = hash_cell_count(settings.photons_per_pass);
+    // Light groups add 4 vec4 (64 bytes) per group and pixel (docs/light_groups.md).
     const PassLayout layout =
-        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons,
+                    scene ? static_cast<int>(scene->light_groups.size()) : 0);
     s.pass_stride = static_cast<std::size_t>(layout.stride);
     s.light_tracing =
         scene ? light_tracing_expected(*scene, settings)

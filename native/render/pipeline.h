@@ -158,7 +158,9 @@ struct Renderer::Gpu {
     // Render passes of this worker's passes (their mean), resolved on the CPU from the pass
     // films and the pixel statistics, as resolve_film() resolves Combined on the GPU: one
     // read back for all of them.
-    std::vector<std::vector<float>> resolve_passes(const std::vector<RenderPass>& wanted);
+    // The passes asked, then with `groups` every light group's (render_passes.h).
+    std::vector<std::vector<float>> resolve_passes(const std::vector<RenderPass>& wanted,
+                                                   bool groups = false);
 
     static std::uint64_t total(std::uint32_t lo, std::uint32_t hi) {
         return (static_cast<std::uint64_t>(hi) << 32) | lo;

@@ -74,7 +74,8 @@ int PassLayout::offset(RenderPass pass) const {
     return -1;
 }
 
-PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photons) {
+PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photons,
+                       int light_groups) {
     PassLayout layout;
     for (const RenderPassInfo& p : render_pass_catalog())
         if (std::find(enabled.begin(), enabled.end(), p.pass) != enabled.end())
@@ -87,13 +88,20 @@ PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photo
         layout.direct_photons || has(RenderPass::Indirect) || has(RenderPass::Caustics);
     for (RenderPass p : layout.passes)
         layout.stride += p == RenderPass::Direct && layout.direct_photons ? 4 : 2;
+    layout.light_groups = light_groups;
+    layout.light_group_first = layout.stride;
+    layout.stride += 4 * light_groups;
     return layout;
 }
 
 std::vector<std::pair<std::string, std::string>> pass_defines(const PassLayout& layout) {
     std::vector<std::pair<std::string, std::string>> defines;
-    if (layout.passes.empty()) return defines;
+    if (layout.stride == 0) return defines;
     defines.push_back({"PASS_STRIDE", std::to_string(layout.stride) + "u"});
+    if (layout.light_groups > 0) {
+        defines.push_back({"LIGHT_GROUPS", std::to_string(layout.light_groups)});
+        defines.push_back({"LIGHT_GROUP_FIRST", std::to_string(layout.light_group_first) + "u"});
+    }
     for (RenderPass p : layout.passes)
         defines.push_back({render_pass_info(p).define, std::to_string(layout.offset(p)) + "u"});
     if (layout.photon_split) defines.push_back({"PASS_PHOTON_SPLIT", "1"});
@@ -101,18 +109,15 @@ std::vector<std::pair<std::string, std::string>> pass_defines(const PassLayout& 
     return defines;
 }
 
-std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass,
-                                       const std::vector<glm::vec4>& pass_films,
-                                       const std::vector<glm::vec4>& pixel_stats,
-                                       std::size_t pixels, const PassResolve& resolve) {
-    const int at = layout.offset(pass);
-    if (at < 0)
-        throw std::invalid_argument(std::string("render pass '") + render_pass_info(pass).name +
-                                    "' was not enabled in the settings' passes");
-    const bool photons = pass == RenderPass::Indirect || pass == RenderPass::Caustics;
-    const bool eye = !photons;
-    const bool photon_pair = photons || (pass == RenderPass::Direct && layout.direct_photons);
-    const int photon_at = pass == RenderPass::Direct ? at + 2 : at;
+namespace {
+
+// One image from an eye pair at `eye_at` and a photon pair at `photon_at` (-1: none).
+std::vector<float> resolve_pass_pairs(const PassLayout& layout, int eye_at, int photon_at,
+                                      const std::vector<glm::vec4>& pass_films,
+                                      const std::vector<glm::vec4>& pixel_stats,
+                                      std::size_t pixels, const PassResolve& resolve) {
+    const bool eye = eye_at >= 0, photon_pair = photon_at >= 0;
+    const int at = eye_at;
     std::vector<float> out(pixels * 4, 0.0f);
     for (std::size_t i = 0; i < pixels; ++i) {
         const glm::vec4* record = &pass_films[i * static_cast<std::size_t>(layout.stride)];
@@ -137,14 +142,50 @@ std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass
     return out;
 }
 
+}  // namespace
+
+std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass,
+                                       const std::vector<glm::vec4>& pass_films,
+                                       const std::vector<glm::vec4>& pixel_stats,
+                                       std::size_t pixels, const PassResolve& resolve) {
+    const int at = layout.offset(pass);
+    if (at < 0)
+        throw std::invalid_argument(std::string("render pass '") + render_pass_info(pass).name +
+                                    "' was not enabled in the settings' passes");
+    const bool photons = pass == RenderPass::Indirect || pass == RenderPass::Caustics;
+    const bool eye = !photons;
+    const bool photon_pair = photons || (pass == RenderPass::Direct && layout.direct_photons);
+    const int photon_at = pass == RenderPass::Direct ? at + 2 : at;
+    return resolve_pass_pairs(layout, eye ? at : -1, photon_pair ? photon_at : -1, pass_films,
+                              pixel_stats, pixels, resolve);
+}
+
+std::vector<float> resolve_light_group(const PassLayout& layout, int group,
+                                       const std::vector<glm::vec4>& pass_films,
+                                       const std::vector<glm::vec4>& pixel_stats,
+                                       std::size_t pixels, const PassResolve& resolve) {
+    if (group < 0 || group >= layout.light_groups)
+        throw std::invalid_argument("light group " + std::to_string(group) +
+                                    " is not one of the scene's " +
+                                    std::to_string(layout.light_groups));
+    const int at = layout.light_group_offset(group);
+    return resolve_pass_pairs(layout, at, at + 2, pass_films, pixel_stats, pixels, resolve);
+}
+
+std::string light_group_pass_name(const std::string& group) { return "Combined_" + group; }
+
 std::vector<ExrPass> render_pass_layers(const std::vector<float>& film,
                                         const std::vector<RenderPass>& passes,
-                                        const std::vector<std::vector<float>>& images) {
+                                        const std::vector<std::vector<float>>& images,
+                                        const std::vector<std::string>& light_groups,
+                                        const std::vector<std::vector<float>>& group_images) {
     std::vector<ExrPass> layers = {{"Combined", "RGBA", film}};
     for (std::size_t k = 0; k < passes.size(); ++k) {
         const RenderPassInfo& info = render_pass_info(passes[k]);
         layers.push_back({info.blender, info.channel_names, images[k]});
     }
+    for (std::size_t g = 0; g < group_images.size(); ++g)
+        layers.push_back({light_group_pass_name(light_groups[g]), "RGB", group_images[g]});
     return layers;
 }
 

@@ -59,10 +59,18 @@ struct PassLayout {
     int stride = 0;                     // vec4 per pixel
     bool photon_split = false;          // photons carry their path's class (PASS_PHOTON_SPLIT)
     bool direct_photons = false;        // Direct has a photon pair (direct light = photons)
+    // Light groups (docs/light_groups.md), after the passes: per group an eye pair (emission,
+    // the world and light samples of the group's emitters) and a photon pair (its photons'
+    // tau, scaled by the radius updates as Combined's is).
+    int light_groups = 0;
+    int light_group_offset(int group) const { return light_group_first + 4 * group; }
+    int light_group_first = 0;  // vec4 from the pixel's first
 };
 
-// `direct_photons`: the render's direct light comes from photons (DirectLight::Photons).
-PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photons);
+// `direct_photons`: the render's direct light comes from photons (DirectLight::Photons);
+// `light_groups`: the scene's (Scene::light_groups).
+PassLayout pass_layout(const std::vector<RenderPass>& enabled, bool direct_photons,
+                       int light_groups = 0);
 
 // The programs' #defines: PASS_STRIDE, PASS_<NAME> = offset for each enabled pass, and
 // PASS_PHOTON_SPLIT where photons must carry their class. None when no pass
@@ -87,11 +95,24 @@ std::vector<float> resolve_render_pass(const PassLayout& layout, RenderPass pass
                                        const std::vector<glm::vec4>& pixel_stats,
                                        std::size_t pixels, const PassResolve& resolve);
 
+// Light group `group`'s image, height x width x 4 (alpha 1), resolved as Direct with photons:
+// its eye pair's mean plus its photons' tau / (pi R^2 N_emitted), or PPPM's mean.
+std::vector<float> resolve_light_group(const PassLayout& layout, int group,
+                                       const std::vector<glm::vec4>& pass_films,
+                                       const std::vector<glm::vec4>& pixel_stats,
+                                       std::size_t pixels, const PassResolve& resolve);
+
+// Cycles' name of a light group's pass: "Combined_<group>".
+std::string light_group_pass_name(const std::string& group);
+
 // A render as the layers of a multi-layer EXR (glslppm-render --passes-out, the module's
 // Renderer.write_passes_exr): Combined (RGBA), then each pass under Blender's pass and channel
 // names; `images` are the passes' images in the order of `passes`.
+// Then each light group's as "Combined_<name>" (RGB), where given.
 std::vector<ExrPass> render_pass_layers(const std::vector<float>& film,
                                         const std::vector<RenderPass>& passes,
-                                        const std::vector<std::vector<float>>& images);
+                                        const std::vector<std::vector<float>>& images,
+                                        const std::vector<std::string>& light_groups = {},
+                                        const std::vector<std::vector<float>>& group_images = {});
 
 }  // namespace glslppm

@@ -36,7 +36,7 @@ BvhStats traced_bvh_stats(const PreparedScene& p) {
 }  // namespace
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CancelFlag* cancel)
-    : settings_(settings), next_pass_(settings.first_pass) {
+    : settings_(settings), light_groups_(scene.light_groups), next_pass_(settings.first_pass) {
     const std::vector<int> devices =
         settings.devices.empty() ? std::vector<int>{settings.device} : settings.devices;
     // Flattening instances pays up to a larger size on a GPU than on llvmpipe; with several

@@ -144,6 +144,10 @@ public:
     // Several at once, in the order asked, with one read back of the pass films per worker
     // (what the add-on streams into Blender's result).
     std::vector<std::vector<float>> render_passes(const std::vector<RenderPass>& wanted);
+    // Every light group's pass (Scene::light_groups, docs/light_groups.md), in the scene's
+    // order, as render_pass gives a pass: height x width x 4 floats; none without groups.
+    std::vector<std::vector<float>> light_group_passes();
+    const std::vector<std::string>& light_groups() const { return light_groups_; }
     RenderStats stats();
     // The photons stored by the last pass, 12 floats each: position, key bits, direction
     // towards where it came from, the record word (shaders/common/sppm_buffers.glsl: its
@@ -166,8 +170,12 @@ private:
     int run_workers(const std::vector<std::uint64_t>& indices);
     void restart_passes();  // after a restart of every worker's film
     std::vector<float> merged_film();  // several workers' films, merged by their passes
+    // Passes and then, with `groups`, every light group's, merged over the workers.
+    std::vector<std::vector<float>> merged_passes(const std::vector<RenderPass>& wanted,
+                                                  bool groups);
 
     RenderSettings settings_;
+    std::vector<std::string> light_groups_;   // the scene's light groups' names
     std::vector<std::unique_ptr<Gpu>> gpus_;  // one worker per device
     std::uint64_t next_pass_ = 0;             // independent passes: run()'s next pass index
     std::atomic<bool> stopped_{false};        // stop(): no pass runs any more

@@ -31,7 +31,8 @@ void Renderer::Gpu::resolve_film_into(float* out, bool bottom_up) {
                         bottom_up ? std::size_t(settings.width) * 16 : 0);
 }
 
-std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<RenderPass>& wanted) {
+std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<RenderPass>& wanted,
+                                                              bool groups) {
     const std::uint32_t pixels = scene.pixels;
     const PassLayout& layout = scene.pass_layout;
     std::vector<glm::vec4> films(std::size_t(pixels) * layout.stride);
@@ -49,6 +50,8 @@ std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<
     std::vector<std::vector<float>> images;
     for (RenderPass pass : wanted)
         images.push_back(resolve_render_pass(layout, pass, films, stats, pixels, r));
+    for (int group = 0; groups && group < layout.light_groups; ++group)
+        images.push_back(resolve_light_group(layout, group, films, stats, pixels, r));
     return images;
 }
 
@@ -104,18 +107,28 @@ std::vector<std::vector<float>> Renderer::render_passes(const std::vector<Render
             throw std::invalid_argument(std::string("render pass '") +
                                         render_pass_info(pass).name +
                                         "' was not enabled: add it to the settings' passes");
+    return merged_passes(wanted, false);
+}
+
+std::vector<std::vector<float>> Renderer::light_group_passes() {
+    if (light_groups_.empty()) return {};
+    return merged_passes({}, true);
+}
+
+std::vector<std::vector<float>> Renderer::merged_passes(const std::vector<RenderPass>& wanted,
+                                                        bool groups) {
     // As film(): each worker's pass is the mean of its passes, merged by their counts.
     std::vector<std::vector<std::vector<float>>> per_worker;  // worker, pass, pixels
     std::vector<std::uint64_t> passes;
     for (auto& g : gpus_) {
         g->thread->call([&] {
-            per_worker.push_back(g->resolve_passes(wanted));
+            per_worker.push_back(g->resolve_passes(wanted, groups));
             passes.push_back(g->passes);
         });
     }
     if (per_worker.size() == 1) return std::move(per_worker[0]);
     std::vector<std::vector<float>> merged;
-    for (std::size_t k = 0; k < wanted.size(); ++k) {
+    for (std::size_t k = 0; k < per_worker[0].size(); ++k) {
         std::vector<const std::vector<float>*> views;
         for (const auto& worker : per_worker) views.push_back(&worker[k]);
         merged.push_back(merge_films(views, passes));

@@ -59,7 +59,8 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     const DensityEstimator& estimator = density_estimator(settings.estimator);
     if (estimator.define) f.add(estimator.define, "estimator=" + std::string(estimator.name));
     const PassLayout passes =
-        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons);
+        pass_layout(settings.passes, settings.direct_light == DirectLight::Photons,
+                    static_cast<int>(f.in.scene.light_groups.size()));
     for (const auto& d : pass_defines(passes)) p.defines.push_back(d);
     if (!passes.passes.empty()) {
         std::string names;

@@ -40,6 +40,14 @@ std::vector<std::pair<std::string, std::string>> sphere_light_defines(const Inpu
 }
 bool has_analytic_lights(const Inputs& in) { return in.p.emitters.light_count > 0; }
 
+// Light groups (docs/light_groups.md): the group count and the pass films' offset come with
+// the pass layout (render_passes.cpp, pass_defines); the world's group is the eye stage's.
+bool light_groups(const Inputs& in) { return !in.scene.light_groups.empty(); }
+std::vector<std::pair<std::string, std::string>> light_group_defines(const Inputs& in) {
+    return {{"LIGHT_GROUP_PASSES", "1"},
+            {"WORLD_LIGHT_GROUP", std::to_string(in.scene.world_light_group)}};
+}
+
 bool textures(const Inputs& in) { return in.p.textures.materials; }
 // Generated and Object coordinates: textures looked up at the world position beside the uv
 // (TexturePoint in common/textures.glsl).
@@ -181,6 +189,12 @@ const Specialization kRows[] = {
     {"instances", "GLSLPPM_INSTANCES", "instances kept on two levels (Settings.instancing)",
      "not in the full variant: the geometry's buffers follow the instancing decision",
      G::DirectLight, false, two_level, two_level},
+    {"light-groups", "LIGHT_GROUP_PASSES",
+     "light groups (Scene.light_groups): a pass per group, photons and light samples carrying "
+     "their emitter's group",
+     "not measured yet (docs/light_groups.md); not in the full variant: it stands for the "
+     "scene's groups, whose films the pass layout holds",
+     G::Last, false, light_groups, light_groups, light_group_defines},
     {"light-tracing", "HAS_LIGHT_TRACING",
      "a mirror or glass, with light tracing on (no light split)",
      "H100 1080p +40.6% on cornell-diffuse (the other scenes need it); "
@@ -204,15 +218,16 @@ bool rigid_frame(const glm::mat4& m) {
 
 std::span<const Specialization> specializations() { return kRows; }
 
-// The light split's passes (its Caustics pass would miss the splats), a camera frame with
-// scale or shear, and the full variant (a material edit must not switch the film's buffers)
-// rule light tracing out. A thin lens connects through a point of its disc.
+// The light split's passes (its Caustics pass would miss the splats), light groups (the
+// splats carry no group yet), a camera frame with scale or shear, and the full variant (a
+// material edit must not switch the film's buffers) rule light tracing out. A thin lens
+// connects through a point of its disc.
 bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
     const Camera& camera = scene.camera;
     const bool photon_split =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
     return settings.light_tracing && rigid_frame(camera.to_world) && !photon_split &&
-           !settings.full_variant;
+           !settings.full_variant && scene.light_groups.empty();
 }
 
 bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {

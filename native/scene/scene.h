@@ -127,6 +127,10 @@ struct Material {
     // length t inside keeps exp(-sigma_a t) (Beer-Lambert). Read on the triangle's own
     // material (a Mix's root) when a ray leaves through its back face; zero: none.
     glm::vec3 absorption{0.0f};
+    // Blender's light group of the objects that emit with this material (Scene::light_groups;
+    // -1: none). Emission is per material here, so the add-on gives an emissive material
+    // shared by objects of different groups one copy per group.
+    std::int32_t light_group = -1;
 };
 
 // Blender's Image Texture extensions, as Cycles reads texels outside the image: Repeat wraps,
@@ -191,6 +195,7 @@ struct Light {
     float size_x = 1.0f;
     float size_y = 1.0f;
     bool visible_to_camera = true;  // area: seen by camera rays (and specular chains)
+    std::int32_t light_group = -1;  // index into Scene::light_groups, -1: none
 };
 
 enum class Projection : std::uint32_t { Perspective = 0, Orthographic = 1 };
@@ -237,6 +242,11 @@ struct Scene {
     // scene (identity for Blender's Z-up scenes).
     std::int32_t environment_texture = -1;
     glm::mat3 environment_to_world{1.0f};
+    // Blender's light groups (View Layer > Light Groups; docs/light_groups.md): their names, in
+    // pass order. Each gets a Combined-like pass of the light from its lights, emissive
+    // materials and (world_light_group) the world; empty: no group passes are compiled.
+    std::vector<std::string> light_groups;
+    std::int32_t world_light_group = -1;
 };
 
 // A scene that owns its arrays (procedural scenes, loaders, tests).

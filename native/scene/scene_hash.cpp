@@ -151,6 +151,16 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
     h.value(s.environment);
     h.value(s.environment_texture);
     h.value(s.environment_to_world);
+    if (!s.light_groups.empty()) {  // scenes without groups keep their old hash
+        h.value(static_cast<std::uint64_t>(s.light_groups.size()));
+        for (const std::string& name : s.light_groups) {
+            h.value(static_cast<std::uint64_t>(name.size()));
+            for (const char c : name) h.value(static_cast<std::uint32_t>(c));
+        }
+        for (const Material& m : s.materials) h.value(m.light_group);
+        for (const Light& l : s.lights) h.value(l.light_group);
+        h.value(s.world_light_group);
+    }
     return h.result();
 }
 

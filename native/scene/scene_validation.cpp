@@ -185,6 +185,26 @@ void validate_texture(const Texture& t, const std::string& name) {
                                            "encoding");
 }
 
+// Every group index names a group of Scene::light_groups (or is -1); the stored photon's
+// record word holds at most MAX_LIGHT_GROUPS (shaders/common/records.glsl).
+void validate_light_groups(const Scene& scene) {
+    const auto count = static_cast<std::int64_t>(scene.light_groups.size());
+    if (count > MAX_LIGHT_GROUPS)
+        Checker::fail("light_groups", std::to_string(count) + " groups; at most " +
+                                          std::to_string(MAX_LIGHT_GROUPS) + " are supported");
+    const auto check = [&](std::int32_t group, const std::string& name) {
+        if (group < -1 || group >= count)
+            Checker::fail(name, "light group " + std::to_string(group) +
+                                    " is not -1 or one of the " + std::to_string(count) +
+                                    " light_groups");
+    };
+    for (std::size_t k = 0; k < scene.materials.size(); ++k)
+        check(scene.materials[k].light_group, "materials[" + std::to_string(k) + "].light_group");
+    for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        check(scene.lights[k].light_group, "lights[" + std::to_string(k) + "].light_group");
+    check(scene.world_light_group, "world_light_group");
+}
+
 }  // namespace
 
 void validate_scene(const Scene& scene) {
@@ -204,6 +224,7 @@ void validate_scene(const Scene& scene) {
                            scene.textures.size());
     if (!finite(glm::mat4(scene.environment_to_world)))
         Checker::fail("environment_to_world", "has a NaN or infinite entry");
+    validate_light_groups(scene);
 }
 
 }  // namespace glslppm

@@ -77,7 +77,10 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
     vec4 b = emitter_record(k, EMITTER_B);
     vec4 c = emitter_record(k, EMITTER_C);
     vec4 d = emitter_record(k, EMITTER_POWER);
-    int kind = floatBitsToInt(a.w);
+    int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
+#if defined(LIGHT_GROUPS) && defined(USES_PHOTON_PATHS)
+    photon_group_code = emitter_group_code(k);  // the path carries its emitter's group
+#endif
     float u1 = rng_next(rng), u2 = rng_next(rng);
     float u3 = rng_next(rng), u4 = rng_next(rng);
     vec3 power = d.rgb / d.w;  // d.rgb holds the emitter's power: flux / pick probability

@@ -14,6 +14,15 @@
 
 #include "common/lobes.glsl"
 #include "common/emitters.glsl"
+#include "common/light_groups.glsl"
+
+// With light groups each part of the result goes to its emitter's group as well
+// (common/light_groups.glsl); the parts sum to the result.
+#ifdef LIGHT_GROUPS
+#define LIGHT_GROUP_PART(code, part) light_group_sampled_add(code, part)
+#else
+#define LIGHT_GROUP_PART(code, part)
+#endif
 
 #ifdef BVH_ANY_HIT_FILTER
 // The random number a shadow ray crosses cut-outs with (set before any_hit).
@@ -77,7 +86,7 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     vec4 b = emitter_record(k, EMITTER_B);
     vec4 c = emitter_record(k, EMITTER_C);
     vec4 d = emitter_record(k, EMITTER_POWER);
-    int kind = floatBitsToInt(a.w);
+    int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
     float u1 = u.x, u2 = u.y, u3 = u.z, u4 = u.w;
     vec3 power = d.rgb / d.w;  // the emitter's power over its pick probability
 #ifdef HAS_TRIANGLE_EMITTERS
@@ -264,7 +273,11 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
         if (hit.triangle < 0) {
 #ifdef HAS_ENVIRONMENT
             float p_light = environment_light_pdf(wi, side, transmits);
-            if (p_light > 0.0) sum += environment_radiance(wi) / (p_bsdf + p_light);
+            if (p_light > 0.0) {
+                vec3 term = environment_radiance(wi) / (p_bsdf + p_light);
+                sum += term;
+                LIGHT_GROUP_PART(WORLD_GROUP_CODE, light_group_bsdf_weight * term);
+            }
 #endif
             break;
         }
@@ -275,8 +288,10 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
         if (k >= 0) {
             // The light sample's distance is from p, whatever the ray crossed on the way.
             float p_light = triangle_light_pdf(uint(k), wi, length(q - p));
-            sum += triangle_emitter_radiance(uint(k), t, vec2(hit.u, hit.v), wi) /
-                   (p_bsdf + p_light);
+            vec3 term = triangle_emitter_radiance(uint(k), t, vec2(hit.u, hit.v), wi) /
+                        (p_bsdf + p_light);
+            sum += term;
+            LIGHT_GROUP_PART(emitter_group_code(uint(k)), light_group_bsdf_weight * term);
         }
 #ifdef BVH_ANY_HIT_FILTER
         if (!shadow_passes(floatBitsToInt(triangles[3 * t].w), t, hit.u, hit.v)) break;
@@ -351,7 +366,9 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
                 weight = p_light / (p_light + bsdf_pdf(sh, wo, ls.wi));
             }
 #endif
-            result += f * ls.radiance_over_pdf * (cos_theta * weight);
+            vec3 part = f * ls.radiance_over_pdf * (cos_theta * weight);
+            result += part;
+            LIGHT_GROUP_PART(emitter_group_code(picked), part);
         }
     }
 #ifdef HAS_EMITTER_MIS
@@ -370,6 +387,9 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
 #endif
         if (p_bsdf > 0.0 && any(greaterThan(f_rough, vec3(0.0)))) {
             uint seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+#ifdef LIGHT_GROUPS
+            light_group_bsdf_weight = f_rough * abs(dot(ng, wi));
+#endif
             result += f_rough * abs(dot(ng, wi)) *
                       light_along_bsdf_sample(p, ng, wi, p_bsdf, triangle_mis, ng_wo,
                                               transmits, seed, rays);
@@ -390,9 +410,12 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
 #ifdef HAS_NORMAL_MAP
             f_rough *= shading_cosine_ratio(wi, sh.n, ng);
 #endif
-            if (!any_hit(escape))
-                result += f_rough * environment_radiance(wi) *
-                          (abs(dot(ng, wi)) / (p_bsdf + p_light));
+            if (!any_hit(escape)) {
+                vec3 part = f_rough * environment_radiance(wi) *
+                            (abs(dot(ng, wi)) / (p_bsdf + p_light));
+                result += part;
+                LIGHT_GROUP_PART(WORLD_GROUP_CODE, part);
+            }
         }
     }
 #endif

@@ -20,7 +20,7 @@
 #define MATERIAL_MIX_RECORD 3        // (mix a, mix b, mix factor, mix factor's texture)
 #define MATERIAL_OPTIONS 4           // (options, mix ior, albedo table, normal map word)
 #define MATERIAL_EMISSION_TEXTURE 5  // (emission texture, F82 tint rgb)
-#define MATERIAL_ABSORPTION 6        // (sigma_a rgb, unused)
+#define MATERIAL_ABSORPTION 6        // (sigma_a rgb, light group code: group + 1, 0 none)
 
 // MaterialKind (native/scene/scene.h): the `kind` field.
 #define MATERIAL_DIFFUSE 0
@@ -86,6 +86,10 @@
 #define EMITTER_B 1      // (v1, two-sided) / (0, radius) / (spot axis, cos half angle) / ...
 #define EMITTER_C 2      // (v2 or spot's (smooth width, radius, falloff), cumulative pick)
 #define EMITTER_POWER 3  // (power rgb, pick probability)
+// EMITTER_A's w holds the kind's int bits in its low byte and, from EMITTER_GROUP_SHIFT, the
+// emitter's light group code (common/light_groups.glsl: the group + 1, 0 for none).
+#define EMITTER_KIND_MASK 255
+#define EMITTER_GROUP_SHIFT 8
 // EmitterKind.
 #define EMITTER_TRIANGLE 0
 #define EMITTER_POINT 1
@@ -104,6 +108,11 @@
 #define PHOTON_PATH_ORIGIN 0  // (origin, bounces so far or -1 to start anew from a light)
 #define PHOTON_PATH_DIR 1     // (direction, bounce word)
 #define PHOTON_PATH_FLUX 2    // (flux rgb, path class)
+
+// --- Light groups (common/light_groups.glsl, docs/light_groups.md) ---
+// A group's code is its index + 1 (0: no group); the stored photon's record word keeps it in
+// 6 bits, so a scene has at most this many groups.
+#define MAX_LIGHT_GROUPS 63
 
 // --- Visible points, one per pixel (common/visible_points.glsl names the fields) ---
 #define VISIBLE_POINT_VEC4 4u

@@ -9,7 +9,13 @@
 #ifdef USES_EMITTERS
 layout(std430, binding = BINDING_EMITTERS) readonly buffer Emitters { vec4 emitters[]; };
 vec4 emitter_record(uint k, uint field) { return emitters[EMITTER_VEC4 * k + field]; }
-int emitter_kind(uint k) { return floatBitsToInt(emitter_record(k, EMITTER_A).w); }
+int emitter_kind(uint k) {
+    return floatBitsToInt(emitter_record(k, EMITTER_A).w) & EMITTER_KIND_MASK;
+}
+// The emitter's light group code (common/light_groups.glsl): its group + 1, 0 for none.
+uint emitter_group_code(uint k) {
+    return uint(floatBitsToInt(emitter_record(k, EMITTER_A).w)) >> EMITTER_GROUP_SHIFT;
+}
 #endif
 
 // Materials, MATERIAL_VEC4 each (GpuMaterial in native/render/gpu_layout.h), then albedo

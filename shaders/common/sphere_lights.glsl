@@ -12,6 +12,11 @@
 
 #include "common/emitters.glsl"
 
+#ifdef LIGHT_GROUPS
+// The light group code of the sphere light hit_sphere_light found last (light_groups.glsl).
+uint sphere_light_group_code = 0u;
+#endif
+
 // The nearest sphere light the ray meets before origin + t_max ray_dir: true, with its
 // radiance.
 bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance) {
@@ -23,7 +28,7 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
     for (uint k = SPHERE_LIGHT_FIRST; k < SPHERE_LIGHT_FIRST + SPHERE_LIGHT_RECORDS; ++k) {
         vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
         vec4 c = emitter_record(k, EMITTER_C);
-        int kind = floatBitsToInt(a.w);
+        int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
         float r = kind == EMITTER_POINT ? b.w : (kind == EMITTER_SPOT ? c.y : 0.0);
         if (r <= 0.0) continue;
         // |origin + t dir - centre| = r, dir of unit length; the nearer root outside.
@@ -50,6 +55,9 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
         nearest = t;
         radiance = l;
         found = true;
+#ifdef LIGHT_GROUPS
+        sphere_light_group_code = uint(floatBitsToInt(a.w)) >> EMITTER_GROUP_SHIFT;
+#endif
     }
     return found;
 }

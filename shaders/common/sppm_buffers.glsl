@@ -44,6 +44,21 @@ vec4 photon_path_record(uint i, uint field) { return photon_paths[PHOTON_PATH_VE
 void store_photon_path_record(uint i, uint field, vec4 value) {
     photon_paths[PHOTON_PATH_VEC4 * i + field] = value;
 }
+
+// A path's flux.w: its class (common/pass_films.glsl) and, with light groups, 4 times the
+// group code of the emitter it started from (common/light_groups.glsl; exact in a float).
+#ifdef LIGHT_GROUPS
+uint photon_group_code = 0u;  // the traced path's, set by load_photon_group or emit_photon
+void load_photon_group(uint i) {
+    photon_group_code = uint(photon_path_record(i, PHOTON_PATH_FLUX).w) >> 2;
+}
+float photon_path_class_of(float word) { return float(uint(word) & 3u); }
+float photon_path_word(float path_class) { return path_class + 4.0 * float(photon_group_code); }
+#else
+void load_photon_group(uint i) {}
+float photon_path_class_of(float word) { return word; }
+float photon_path_word(float path_class) { return path_class; }
+#endif
 #endif
 
 #ifdef USES_PHOTONS
@@ -89,16 +104,41 @@ const float PHOTON_SIDE_MIN_COS = 0.5;
 // (11 bits a coordinate, about 1e-3 rad) tilts a coplanar photon's heights by up to 1e-3 r.
 const float PHOTON_WALL_TOLERANCE = 0.01;
 
+#ifndef LIGHT_GROUPS
 float photon_record_word(float path_class, uint bounces) {
     return float(uint(path_class) + 4u * bounces);
 }
 
+uint photon_record_bits(uint p) { return uint(photon_record(p, PHOTON_INCOMING).w); }
+#else
+// With light groups the word's 24 bits and the group code's 6 are the bits of a normal float
+// (no driver may flush or canonicalise it): the word's low 23 in the mantissa, its top bit in
+// the sign, and the exponent field 1 + 2 code (1 to 127).
+#ifdef USES_PHOTON_PATHS
+float photon_record_word(float path_class, uint bounces) {
+    uint word = uint(path_class) + 4u * bounces;
+    return uintBitsToFloat(0x00800000u | (word & 0x7FFFFFu) | ((word >> 23) << 31) |
+                           (photon_group_code << 24));
+}
+#endif
+
+uint photon_record_bits(uint p) {
+    uint b = floatBitsToUint(photon_record(p, PHOTON_INCOMING).w);
+    return (b & 0x7FFFFFu) | ((b >> 31) << 23);
+}
+
+// The group code of the emitter photon p came from (0: none).
+uint photon_group_of(uint p) {
+    return (floatBitsToUint(photon_record(p, PHOTON_INCOMING).w) >> 24) & 63u;
+}
+#endif
+
 uint photon_class(uint p) {
-    return uint(photon_record(p, PHOTON_INCOMING).w) & 3u;
+    return photon_record_bits(p) & 3u;
 }
 
 uint photon_bounces(uint p) {
-    return uint(photon_record(p, PHOTON_INCOMING).w) >> 2;
+    return photon_record_bits(p) >> 2;
 }
 #endif
 
