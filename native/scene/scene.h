@@ -12,6 +12,7 @@
 
 #include "common/records.glsl"  // the enums' values, shared with the shaders
 #include "scene/mesh.h"
+#include "scene/motion.h"
 
 namespace glslppm {
 
@@ -237,6 +238,8 @@ struct Scene {
     // scene (identity for Blender's Z-up scenes).
     std::int32_t environment_texture = -1;
     glm::mat3 environment_to_world{1.0f};
+    // Motion blur (scene/motion.h): empty renders the frame at one instant.
+    SceneMotion motion;
 };
 
 // A scene that owns its arrays (procedural scenes, loaders, tests).
