@@ -132,3 +132,24 @@ def use_nodes(datablock):
     if not USE_NODES_DEPRECATED:
         datablock.use_nodes = True
     return datablock.node_tree
+
+
+# Motion blur's settings (docs/motion_blur.md): the shutter's position is Cycles'
+# (scene.cycles.motion_blur_position) up to 3.x and the scene's (scene.render) from 4.x; the
+# per-object switch and steps are Cycles' object settings (object.cycles) where the object
+# has none of its own (newer versions spell them on the object).
+def motion_blur_position(scene):
+    """'START', 'CENTER' or 'END': where the shutter sits around the frame."""
+    for owner in (scene.render, getattr(scene, "cycles", None)):
+        position = getattr(owner, "motion_blur_position", None)
+        if position is not None:
+            return position
+    return 'CENTER'
+
+
+def object_motion_blur(obj):
+    """(use motion blur, Blender's motion steps) for an object; (True, 1) where unset."""
+    for owner in (obj, getattr(obj, "cycles", None)):
+        if owner is not None and hasattr(owner, "use_motion_blur"):
+            return bool(owner.use_motion_blur), max(1, int(getattr(owner, "motion_steps", 1)))
+    return True, 1

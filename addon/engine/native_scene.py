@@ -21,7 +21,7 @@ def native_scene(native, data):
     textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name,
                                uv_map=texture.uv_map, position_map=texture.position_map)
                 for texture in data.textures]
-    return native.Scene(
+    scene = native.Scene(
         positions=data.positions, indices=data.indices, normals=data.normals,
         uvs=data.uvs, material_ids=data.material_ids, materials=materials,
         lights=lights, camera=camera, environment=tuple(data.environment),
@@ -29,6 +29,9 @@ def native_scene(native, data):
         environment_to_world=data.environment_to_world,
         instance_meshes=data.instance_meshes or None, instances=data.instances,
         instance_mesh=data.instance_mesh, tangents=data.tangents, colors=data.colors)
+    if data.motion:
+        scene.set_motion(**data.motion)
+    return scene
 
 
 def film_options(scene):

@@ -138,6 +138,8 @@ class SceneData:
     material_keys: list = field(default_factory=list)
     tangents: object = None          # float32 (V, 4) or None: normal maps' tangent frames
     colors: object = None            # float32 (V, 3) or None: linear vertex colours
+    # Motion blur (export/motion.py): the module's Scene.set_motion arguments, or None.
+    motion: dict = None
 
     @property
     def triangle_count(self):
