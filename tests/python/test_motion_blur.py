@@ -343,3 +343,36 @@ def test_a_spinning_instance_is_the_mean_of_still_frames_at_the_pass_times(glslp
     assert difference.max() <= 1e-6
     # The stills differ from each other: the square did turn.
     assert np.abs(stills[0] - stills[1]).max() > 0.1 * RADIANCE
+
+
+def test_moving_emitters_and_set_camera_fall_back_to_still(glslppm):
+    """Instances that emit light are flattened (photons start from world-space emitters), so
+    their motion is dropped with a warning that says so; a camera given by set_camera (the
+    viewport's) stands still, while the instances keep moving."""
+    g = glslppm
+    scene = sweep_scene(g, "strip")
+    p, t = quad((0, -1, 0), (STRIP, -1, 0), (STRIP, 1, 0), (0, 1, 0))
+    lamp = g.Scene(np.float32([[10, 10, -5], [11, 10, -5], [10, 11, -5]]),
+                   np.array([[0, 1, 2]], np.uint32),
+                   materials=[g.Material("diffuse", color=(0.5,) * 3, emission=(1, 1, 1))],
+                   camera=g.Camera(translation(0, 0, 4), projection="orthographic",
+                                   ortho_scale=2 * HALF),
+                   instance_meshes=[{"positions": p, "indices": t}],
+                   instances=np.array([translation(0.0)]), instance_mesh=np.zeros(1, np.uint32))
+    lamp.set_motion(shutter_open=0.0, shutter_length=1.0,
+                    instances=[(0, [0.0, 1.0], np.array([translation(0.0), translation(1.0)]))])
+    _, stats = render(g, lamp, passes=1)
+    assert stats["motion"] == "none" and stats["instancing"] == "flattened"
+    assert "motion blur of instances that emit light is not done: they render at the " \
+           "frame's time" in stats["warnings"]
+    cams = np.array([translation(0, 0, 4), translation(1, 0, 4)])
+    scene.set_motion(shutter_open=OPEN, shutter_length=SHUTTER,
+                     instances=[(0, [-1.0, 1.0], np.array([translation(strip_left(-1.0)),
+                                                          translation(strip_left(1.0))]))],
+                     camera_times=[-1.0, 1.0], camera_to_world=cams)
+    r = g.Renderer(scene, g.Settings(width=WIDTH, height=HEIGHT, photons_per_pass=1024))
+    assert r.stats()["motion"] == "camera,instances"
+    assert r.set_camera(g.Camera(translation(0, 0, 4), projection="orthographic",
+                                 ortho_scale=2 * HALF))
+    assert r.stats()["motion"] == "instances"
+    r.close()
