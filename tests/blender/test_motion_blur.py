@@ -91,6 +91,34 @@ def test_keyframed_strip_renders_the_box_filtered_sweep():
         assert abs(measured / exact - 1) < 0.003
 
 
+def test_keyframed_camera_blurs_the_still_strip_the_same_way():
+    """The strip stands at its frame place and the camera runs the other way at SPEED: the
+    same sweep (the camera's matrices at the steps go to the module, the strip stays a
+    placed-once mesh)."""
+    helpers.load_native()
+    scene, strip = _moving_strip_scene('CENTER')
+    strip.animation_data_clear()
+    strip.location = (-0.25, 0, 0)
+    camera = scene.camera
+    for frame in (0, 2):
+        camera.location = (-SPEED * (frame - 1), 0, 4)
+        camera.keyframe_insert("location", frame=frame)
+    for curve in camera.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = 'LINEAR'
+    scene.frame_set(1)
+    image, error, _ = helpers.render_recorded("motion_blur_camera")
+    assert error is None, error
+    stats = helpers.last_render_stats()
+    assert stats["motion"] == "camera" and stats["instances"] == 0, stats.get("motion")
+    rows = image[..., 0].astype(np.float64) / (ALBEDO * SUN / math.pi)
+    want = analytic_columns(SHUTTER, -0.25 - SPEED * SHUTTER / 2)
+    worst = float(np.abs(rows - want[None, :]).max())
+    error = spread(rows.mean(axis=0)) / spread(want) - 1
+    print(f"  camera: worst pixel {worst:.3f} of L, spread {error:+.3%}")
+    assert worst < 0.1 and abs(error) < 0.003
+
+
 def test_motion_blur_off_renders_the_frame_still():
     """Motion blur off: no motion goes to the module, the strip stands at its frame place
     (full coverage over 8 columns) and the frame is untouched."""
