@@ -178,6 +178,17 @@ std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
     return plan;
 }
 
+std::shared_ptr<const MotionPlan> MotionPlan::with_still_instances() const {
+    if (!camera) return nullptr;
+    auto plan = std::make_shared<MotionPlan>();
+    plan->shutter_open = shutter_open;
+    plan->shutter_length = shutter_length;
+    plan->camera = std::make_unique<TransformMotion>(*camera);
+    plan->camera_fov_x = camera_fov_x;
+    plan->frame_camera = frame_camera;
+    return plan;
+}
+
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
     validate_motion(scene);
     const SceneMotion& m = scene.motion;

@@ -65,6 +65,8 @@ struct MotionPlan {
     Camera camera_at(double t) const;
     // The same instances' motion under a camera that stands still; null if none move.
     std::shared_ptr<const MotionPlan> with_still_camera() const;
+    // The same camera motion with every instance still; null if the camera stands still.
+    std::shared_ptr<const MotionPlan> with_still_instances() const;
 };
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
 

@@ -79,17 +79,10 @@ void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
     if (!scene.instances.empty())
         instanced_scene_bounds(geometry.mesh, scene, p.bounds.lo, p.bounds.hi);
     if (instances_move && !p.instancing.two_level) {
+        // Flattened (they emit light): photons start from world-space emitters.
         p.warnings.push_back("motion blur of instances that emit light is not done: they "
                              "render at the frame's time");
-        auto still = std::make_shared<MotionPlan>();
-        still->shutter_open = motion->shutter_open;
-        still->shutter_length = motion->shutter_length;
-        still->frame_camera = motion->frame_camera;
-        if (motion->camera) {
-            still->camera = std::make_unique<TransformMotion>(*motion->camera);
-            still->camera_fov_x = motion->camera_fov_x;
-        }
-        motion = still->camera ? std::move(still) : nullptr;
+        motion = motion->with_still_instances();
     } else if (instances_move) {
         grow_bounds_over_motion(scene, *motion, p.bounds.lo, p.bounds.hi);
     }

@@ -366,6 +366,11 @@ def test_moving_emitters_and_set_camera_fall_back_to_still(glslppm):
     assert "motion blur of instances that emit light is not done: they render at the " \
            "frame's time" in stats["warnings"]
     cams = np.array([translation(0, 0, 4), translation(1, 0, 4)])
+    lamp.set_motion(shutter_open=0.0, shutter_length=1.0,
+                    instances=[(0, [0.0, 1.0], np.array([translation(0.0), translation(1.0)]))],
+                    camera_times=[0.0, 1.0], camera_to_world=cams)
+    _, stats = render(g, lamp, passes=1)
+    assert stats["motion"] == "camera" and stats["instancing"] == "flattened"
     scene.set_motion(shutter_open=OPEN, shutter_length=SHUTTER,
                      instances=[(0, [-1.0, 1.0], np.array([translation(strip_left(-1.0)),
                                                           translation(strip_left(1.0))]))],
