@@ -132,3 +132,25 @@ def use_nodes(datablock):
     if not USE_NODES_DEPRECATED:
         datablock.use_nodes = True
     return datablock.node_tree
+
+
+# Motion blur's settings (docs/motion_blur.md): the shutter's position is Cycles'
+# (scene.cycles.motion_blur_position) on 3.4, and scene.render's where a version has it there;
+# the per-object switch and steps are the object's own where it has them, else Cycles'
+# (object.cycles, 3.4). Looked up by name rather than version: only 3.4 is measured here
+# (tests/blender/test_motion_blur.py), 4.x and 5.x not yet.
+def motion_blur_position(scene):
+    """'START', 'CENTER' or 'END': where the shutter sits around the frame."""
+    for owner in (scene.render, getattr(scene, "cycles", None)):
+        position = getattr(owner, "motion_blur_position", None)
+        if position is not None:
+            return position
+    return 'CENTER'
+
+
+def object_motion_blur(obj):
+    """(use motion blur, Blender's motion steps) for an object; (True, 1) where unset."""
+    for owner in (obj, getattr(obj, "cycles", None)):
+        if owner is not None and hasattr(owner, "use_motion_blur"):
+            return bool(owner.use_motion_blur), max(1, int(getattr(owner, "motion_steps", 1)))
+    return True, 1

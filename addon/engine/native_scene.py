@@ -44,6 +44,8 @@ def native_scene(native, data):
     # in Cycles, whether an emitter uses it or not.
     scene.light_groups = list(data.light_groups)
     scene.world_light_group = data.world_light_group
+    if data.motion:
+        scene.set_motion(**data.motion)
     return scene
 
 

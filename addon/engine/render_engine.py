@@ -114,7 +114,7 @@ class GlslppmEngineMixin:
         camera_object = self.camera_override or scene.camera
         try:
             data = export_scene(depsgraph, camera_object, width, height, self.should_stop,
-                                frame)
+                                frame, engine=None if self.is_preview else self)
         except ExportError as error:
             self._fail(str(error), width, height)
             return

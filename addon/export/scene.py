@@ -15,13 +15,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from .camera import convert_camera
+from .camera import _without_scale, convert_camera, horizontal_fov
 from .curves import TriangleBudget, curves_object, hair_systems, point_cloud
 from .image import TextureTable
 from .light import convert_light
 from .light_groups import group_indices, group_of
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
+from .motion import instance_key, object_steps, sample_motion, unsupported_motion_warnings
 from .scene_data import SceneData
 from .texture_mapping import object_spaces, reads_object_coordinates
 from .visibility import object_visibility
@@ -188,6 +189,8 @@ class SceneBuilder:
         if index >= 0:
             self._instance_matrices.append(matrix)
             self._instance_mesh_ids.append(index)
+            return len(self._instance_mesh_ids) - 1  # the row in the instance table
+        return None
 
     def instance_table(self):
         """((N, 4, 4) float32 matrices, (N,) uint32 mesh indices), or (None, None)."""
@@ -245,11 +248,13 @@ def _concatenate(arrays, dtype):
 
 
 def export_scene(depsgraph, camera_object, width, height, test_break=None, frame=None,
-                 camera=None):
+                 camera=None, engine=None):
     """SceneData for an evaluated depsgraph; raises ExportError for a scene that
     cannot render (no camera). test_break() returning True stops early (None).
     frame (a RenderFrame) gives the pixels' shape and the render region. camera (a
-    CameraData: the 3D view's, for the rendered viewport) replaces camera_object's."""
+    CameraData: the 3D view's, for the rendered viewport) replaces camera_object's.
+    engine (a final render's RenderEngine): with Blender's motion blur on, the objects and
+    the camera are sampled at the motion steps (export/motion.py); none in the viewport."""
     start = time.perf_counter()
     scene = depsgraph.scene
     if camera_object is None and camera is None:
@@ -257,16 +262,23 @@ def export_scene(depsgraph, camera_object, width, height, test_break=None, frame
                           "active camera")
     builder = SceneBuilder()
     builder.check_cancel = CancelPoll(test_break)
+    motion = None
+    if engine is not None and camera is None:
+        size = frame.film_size if frame is not None else (width, height)
+        motion = sample_motion(engine, depsgraph, camera_object,
+                               lambda cam: horizontal_fov(cam.data, *size), GEOMETRY_TYPES)
     try:
         return _export(depsgraph, scene, camera_object, width, height, frame, builder, start,
-                       camera)
+                       camera, motion)
     except _Cancelled:
         return None
 
 
-def _export(depsgraph, scene, camera_object, width, height, frame, builder, start, camera):
+def _export(depsgraph, scene, camera_object, width, height, frame, builder, start, camera,
+            motion=None):
     geometry_cache = {}
     builder.light_group_indices = group_indices(depsgraph.view_layer)
+    moving = []  # (instance table row, times, matrices) of objects that move in the shutter
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
                             builder.warn)
@@ -283,9 +295,13 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                                       for light in builder.lights[first:]]
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
-            if instance.is_instance:
-                _export_instance(obj, np.array(instance.matrix_world, dtype=np.float32),
-                                 builder, geometry_cache)
+            steps = object_steps(motion, instance_key(instance)) if motion else None
+            if instance.is_instance or steps is not None:
+                # A moving object is an instance: the module moves it per pass.
+                row = _export_instance(obj, np.array(instance.matrix_world, dtype=np.float32),
+                                       builder, geometry_cache)
+                if steps is not None and row is not None:
+                    moving.append((row, *steps))
             else:
                 _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                         geometry_cache)
@@ -311,9 +327,9 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     world_group = group_of(scene.world, builder.light_group_indices)
     builder.lights[first_world_light:] = [replace(light, light_group=world_group)
                                           for light in builder.lights[first_world_light:]]
-    if scene.render.use_motion_blur:
-        builder.warn("motion blur is not supported; the frame renders at one instant "
-                     "(Output > Motion Blur)")
+    if motion is not None:
+        for warning in unsupported_motion_warnings(scene, scene.objects):
+            builder.warn(warning)
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
         tangents=builder.tangents(), colors=builder.colors(),
@@ -327,11 +343,29 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         instance_mesh=instance_mesh, material_keys=builder.material_keys,
         light_groups=list(builder.light_group_indices),
         world_light_group=world_group,
+        motion=_motion_arguments(motion, moving),
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "instance_table": 0 if instance_mesh is None else len(instance_mesh),
                "instance_meshes": len(builder.instance_meshes),
                "dropped_triangles": builder.dropped_triangles})
+
+
+def _motion_arguments(motion, moving):
+    """Scene.set_motion's arguments: the moving objects' rows and steps, and the camera's
+    steps where it moves or zooms; None when nothing moves."""
+    if motion is None:
+        return None
+    arguments = {"shutter_open": motion.shutter_open, "shutter_length": motion.shutter_length,
+                 "instances": moving}
+    cameras = motion.camera
+    if cameras and (any(not np.array_equal(m, cameras[0]) for m in cameras) or
+                    len(set(motion.camera_fov_x)) > 1):
+        arguments.update(camera_times=motion.times,
+                         camera_to_world=np.ascontiguousarray(
+                             [_without_scale(m) for m in cameras], dtype=np.float32),
+                         camera_fov_x=motion.camera_fov_x)
+    return arguments if len(arguments) > 3 or moving else None
 
 
 def _add_world(scene, camera, width, height, builder):
@@ -452,7 +486,7 @@ def _export_instance(obj, matrix, builder, geometry_cache):
         return None if geometry is None else _instance_mesh(geometry, slot_materials, obj,
                                                             builder)
 
-    builder.add_instance(key, matrix, make_mesh)
+    return builder.add_instance(key, matrix, make_mesh)
 
 
 def _instance_mesh(geometry, slot_materials, obj, builder):

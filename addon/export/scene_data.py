@@ -144,6 +144,8 @@ class SceneData:
     # world's (an index, -1 none); lights and materials carry their own.
     light_groups: list = field(default_factory=list)
     world_light_group: int = -1
+    # Motion blur (export/motion.py): the module's Scene.set_motion arguments, or None.
+    motion: dict = None
 
     @property
     def triangle_count(self):

@@ -56,7 +56,7 @@ void usage(std::FILE* out) {
                          "--moves K] [--json]\n"
                          "  scenes: cornell, cornell-diffuse, cornell-glossy, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
-                         "file\n");
+                         "file; any of them +motion (instances and camera move: motion blur)\n");
 }
 
 }  // namespace

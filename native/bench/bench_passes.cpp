@@ -153,6 +153,11 @@ int bench_passes(int argc, char** argv) {
                 {"instancing_reason", after.instancing_reason},
                 {"instances", after.instances},
                 {"instanced_triangles", after.instanced_triangles},
+                // Motion blur (--scene S+motion): what moves and the host's refit per pass.
+                {"motion", after.motion},
+                {"moving_instances", after.moving_instances},
+                {"motion_refit_ms_per_pass",
+                 after.passes ? 1e3 * after.motion_refit_seconds / double(after.passes) : 0.0},
                 {"gpu_bytes", after.gpu_bytes},
                 {"gpu_bytes_per_pixel", after.gpu_bytes_per_pixel},
                 {"gpu_bytes_per_photon", after.gpu_bytes_per_photon},
@@ -178,6 +183,11 @@ int bench_passes(int argc, char** argv) {
                         after.instancing.c_str(), after.instancing_reason.c_str(),
                         after.instances, after.instanced_triangles, after.triangles,
                         after.bvh_seconds, after.gpu_bytes, setup_seconds, film_seconds * 1e3);
+            if (after.motion != "none")
+                std::printf("  motion: %s, %zu moving instances, refit %.3f ms/pass (host)\n",
+                            after.motion.c_str(), after.moving_instances,
+                            after.passes ? 1e3 * after.motion_refit_seconds / double(after.passes)
+                                         : 0.0);
             std::printf("  %.2f passes/s  %.3f Mphotons/s  %.2f Mrays/s (%s)\n", passes / seconds,
                         photons / seconds * 1e-6, rays / seconds * 1e-6,
                         to_string(settings.estimator).c_str());

@@ -85,7 +85,47 @@ std::size_t parse_count(const std::string& text) {
     return static_cast<std::size_t>(value * scale + 0.5);
 }
 
+namespace {
+
+// `+motion` (docs/motion_blur.md): over a shutter of half a frame centred on it, every
+// instance turns 10 degrees either way about its own z and drifts by a tenth of its size,
+// and the camera dollies 2% of its distance to the origin (steps at -1, 0, +1).
+void add_bench_motion(Scene& scene) {
+    SceneMotion& m = scene.motion;
+    m.shutter_open = -0.25f;
+    m.shutter_length = 0.5f;
+    const std::vector<float> times{-1.0f, 0.0f, 1.0f};
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const glm::mat4& frame = scene.instances[i].to_world;
+        InstanceMotion motion{static_cast<std::uint32_t>(i), {times, {}}};
+        for (float t : times) {
+            const float angle = 0.1745f * t, c = std::cos(angle), s = std::sin(angle);
+            glm::mat4 turn(1.0f);
+            turn[0] = glm::vec4(c, s, 0, 0);
+            turn[1] = glm::vec4(-s, c, 0, 0);
+            turn[3] = glm::vec4(0.1f * t, 0, 0, 1);
+            motion.steps.to_world.push_back(frame * turn);
+        }
+        m.instances.push_back(std::move(motion));
+    }
+    const glm::vec3 eye(scene.camera.to_world[3]), forward(-scene.camera.to_world[2]);
+    for (float t : times) {
+        glm::mat4 c = scene.camera.to_world;
+        c[3] = glm::vec4(eye + forward * (0.02f * t * glm::length(eye)), 1.0f);
+        m.camera.times.push_back(t);
+        m.camera.to_world.push_back(c);
+    }
+}
+
+}  // namespace
+
 Scene make_bench_scene(const std::string& spec, float aspect) {
+    const std::string motion = "+motion";
+    if (spec.size() > motion.size() && spec.ends_with(motion)) {
+        Scene scene = make_bench_scene(spec.substr(0, spec.size() - motion.size()), aspect);
+        add_bench_motion(scene);
+        return scene;
+    }
     if (spec == "cornell") return make_cornell_box();
     if (spec == "cornell-diffuse") {
         CornellBoxOptions options;
@@ -128,7 +168,7 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
     throw std::invalid_argument("--scene '" + spec +
                                 "' is not cornell, cornell-diffuse, cornell-glossy, caustic, furnace, "
                                 "million[:N], instances:NxM "
-                                "or a .gltf/.glb/.obj file");
+                                "or a .gltf/.glb/.obj file (any of them +motion)");
 }
 
 double parse_number(const std::string& option, const std::string& text) {

@@ -5,7 +5,9 @@
 // all emit Le = 1 and reflect a = 0.5, seen from its centre: the radiance is known exactly,
 // see furnace_radiance), `instances:NxM` (N instances of one bumpy sphere of about M
 // triangles in the same room: scenes/instances_scene.h; instances:1xM is the mesh once), or
-// a scene file (.gltf, .glb, .obj; native/loaders/scene_file.h).
+// a scene file (.gltf, .glb, .obj; native/loaders/scene_file.h). Any of them with `+motion`
+// (e.g. instances:10000x100k+motion): every instance and the camera move in a shutter of
+// half a frame (motion blur, docs/motion_blur.md).
 // `aspect` is the render's width / height.
 #pragma once
 

@@ -32,8 +32,17 @@ void check_transform(const glm::mat4& m, std::size_t index) {
                                     std::to_string(det) + ")");
 }
 
-// The instance's record (layout in two_level_bvh.h); A^-1 inverted in double, then rounded.
+// The instance's record (layout in two_level_bvh.h).
 void write_record(glm::vec4* rec, const glm::mat4& m, glm::ivec4 bases, std::uint32_t mesh) {
+    rec[6] = glm::vec4(int_bits(bases.x), int_bits(bases.y), int_bits(bases.z), int_bits(bases.w));
+    rec[7] = glm::vec4(int_bits(static_cast<std::int32_t>(mesh)), 0.0f, 0.0f, 0.0f);
+    write_instance_transform(rec, m);
+}
+
+}  // namespace
+
+// A^-1 inverted in double, then rounded.
+void write_instance_transform(glm::vec4* rec, const glm::mat4& m) {
     const glm::mat3 a(m);
     const glm::dmat3 a_inv = glm::inverse(glm::dmat3(a));
     const glm::vec3 t(m[3]);
@@ -42,12 +51,8 @@ void write_record(glm::vec4* rec, const glm::mat4& m, glm::ivec4 bases, std::uin
                            static_cast<float>(a_inv[2][k]), t[k]);
         rec[3 + k] = glm::vec4(a[0][k], a[1][k], a[2][k], t[k]);
     }
-    rec[6] = glm::vec4(int_bits(bases.x), int_bits(bases.y), int_bits(bases.z), int_bits(bases.w));
-    const float sign = glm::determinant(glm::dmat3(a)) < 0.0 ? -1.0f : 1.0f;
-    rec[7] = glm::vec4(int_bits(static_cast<std::int32_t>(mesh)), sign, 0.0f, 0.0f);
+    rec[7].y = glm::determinant(glm::dmat3(a)) < 0.0 ? -1.0f : 1.0f;
 }
-
-}  // namespace
 
 Aabb instance_world_box(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& to_world) {
     const glm::dmat4 m(to_world);
@@ -145,9 +150,13 @@ TwoLevelBvh build_two_level_bvh(std::span<const PackedBvh> bottoms,
     out.nodes.resize(2 * node_total);
     out.links.reserve(kMtbvhOrderCount * node_total);
     std::vector<Aabb> top_boxes(top.nodes.size());
+    out.top_children.assign(top.nodes.size(), glm::ivec2(-1));
     for (std::size_t i = top.nodes.size(); i-- > 0;) {
         const BvhNode& node = top.nodes[i];
         std::int32_t instance = 0;
+        if (!node.is_leaf())
+            out.top_children[i] = glm::ivec2(static_cast<std::int32_t>(node.left),
+                                             static_cast<std::int32_t>(node.right));
         if (node.is_leaf()) {
             const std::uint32_t box = top.triangles[node.first];
             instance = placed[box];

@@ -56,8 +56,15 @@ struct TwoLevelBvh {
     std::vector<glm::ivec2> links;
     std::vector<glm::vec4> triangles, normals, uvs, colors;
     std::vector<glm::vec4> instances;
+    // The top tree's children (left, right) per node, (-1, -1) at leaves: what a refit of
+    // the top level for moved instances walks (render/motion_pass.cpp).
+    std::vector<glm::ivec2> top_children;
     TwoLevelStats stats;
 };
+
+// Rewrites an instance record's transform (its vec4s 0-5 and the sign of det A) for a new
+// to_world (finite, affine, invertible; the mesh and bases stay).
+void write_instance_transform(glm::vec4* record, const glm::mat4& to_world);
 
 // The world box the top level culls an instance by: the corners of the mesh's (padded) root
 // box mapped by to_world in double precision, rounded outwards to float and padded by

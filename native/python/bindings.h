@@ -16,6 +16,7 @@ void bind_tiles(pybind11::module_& m);      // plan_tiles, tile_render_inputs, r
 void bind_files(pybind11::module_& m);      // EXR files, film and farm merges: file_bindings.cpp
 void bind_devices(pybind11::module_& m);    // EGL devices, their limits, GL objects: device_bindings.cpp
 void bind_loaders(pybind11::module_& m);    // load_scene, load_texture, scene_contents: loader_bindings.cpp
+void bind_motion(pybind11::module_& m);     // Scene.set_motion, shutter_sample: motion_bindings.cpp
 
 // A render's statistics as a dict (Renderer.stats() and render_tiled's): renderer_bindings.cpp.
 pybind11::dict stats_dict(const RenderStats& s);

@@ -37,4 +37,5 @@ PYBIND11_MODULE(_glslppm, m) {
     bind_files(m);
     bind_devices(m);
     bind_loaders(m);
+    bind_motion(m);
 }

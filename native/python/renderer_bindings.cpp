@@ -155,6 +155,9 @@ py::dict stats_dict(const RenderStats& s) {
     d["degenerate_dropped"] = s.degenerate_dropped;
     d["instancing"] = s.instancing;
     d["instancing_reason"] = s.instancing_reason;
+    d["motion"] = s.motion;
+    d["moving_instances"] = s.moving_instances;
+    d["motion_refit_seconds"] = s.motion_refit_seconds;
     d["instances"] = s.instances;
     d["instanced_triangles"] = s.instanced_triangles;
     d["emitters"] = s.emitters;

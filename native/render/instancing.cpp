@@ -20,7 +20,8 @@ bool emits(const Material& m) { return m.emission.x > 0 || m.emission.y > 0 || m
 }  // namespace
 
 InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
-                             Instancing mode, std::size_t flatten_max_triangles) {
+                             Instancing mode, std::size_t flatten_max_triangles,
+                             bool instances_move) {
     InstancePlan plan;
     if (scene.instances.empty()) {
         plan.path = "none";
@@ -59,7 +60,10 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
                 emissive |= emits(materials[inst.material_offset + k]);
         }
     }
-    if (mode == Instancing::Flattened) {
+    if (instances_move && !emissive) {
+        plan.path = "two-level";
+        plan.reason = "instances move (motion blur)";
+    } else if (mode == Instancing::Flattened) {
         plan.path = "flattened";
         plan.reason = "asked for";
     } else if (emissive) {

@@ -34,10 +34,13 @@ struct InstancePlan {
 
 // Checks the instances (mesh index, finite affine invertible transform, material offsets in
 // range: SceneError naming the instance) and chooses the path.
-// flatten_max_triangles: the device's bound above (Auto mode only).
+// flatten_max_triangles: the device's bound above (Auto mode only). instances_move: some
+// instances move in the shutter (render/motion.h), which only the two levels trace (their
+// top level refitted per pass), whatever the mode; unless instances emit light.
 InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
                              Instancing mode,
-                             std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware);
+                             std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware,
+                             bool instances_move = false);
 
 // `world` followed by every instance's triangles in world space: positions A x + T, normals
 // A^-T n (not normalized: interpolated across a triangle and then normalized, they point as

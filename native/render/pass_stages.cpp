@@ -39,6 +39,7 @@ void Renderer::Gpu::begin_pass(std::uint64_t pass_index) {
     FrameBlock& frame = scene.frame;
     frame.pass_index = static_cast<std::uint32_t>(pass_index);
     frame.photon_step = 0;
+    if (scene.motion) move_to_shutter_time(pass_index);
     if (estimator.pass_radius_of) {
         const PassRadius pass =
             estimator.pass_radius(scene.initial_radius, frame.radius_floor, pass_index,

@@ -72,6 +72,7 @@ struct PipelineBuffers {
     GLuint film = 0, counters = 0, pixel_stats = 0, direct_light = 0, pass_films = 0;
     GLuint photon_paths = 0, photons = 0, hash = 0, radius_stats = 0;
     GLuint light_splats = 0;  // HAS_LIGHT_TRACING (common/light_splats.glsl)
+    GLuint bvh_nodes = 0, instances = 0;  // rewritten per pass where instances move
     GLuint atlases[2] = {0, 0};  // sRGB8 and float array textures
     std::vector<GLuint> ssbos;
     gl::BufferReader reader;  // film, passes and photons read back
@@ -79,6 +80,16 @@ struct PipelineBuffers {
     std::size_t bytes_per_pixel = 0;  // the per-pixel buffers' bytes for one pixel
     double bytes_per_photon = 0.0;    // the per-photon buffers' bytes for one photon
     std::size_t pass_state_bytes = 0;  // allocate_pass_state's buffers (render/memory_estimate.h)
+};
+
+// Motion blur's per-pass copies (motion_pass.cpp): the two-level tree's top nodes and the
+// instance records, rewritten at each pass's time and uploaded, the moving instances'
+// record range and top leaves.
+struct MotionScratch {
+    std::vector<glm::vec4> top_nodes, records;
+    std::vector<std::int32_t> leaf_of_instance;  // the top leaf of each record, -1 none
+    std::size_t first_record = 0, end_record = 0;
+    double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
 };
 
 // GPU time per stage when settings.profile: timestamps at the stages' boundaries.
@@ -100,6 +111,7 @@ struct Renderer::Gpu {
     StagePrograms programs;
     PipelineBuffers buffers;
     StageTimer timer;
+    MotionScratch motion;
 
     // Photon steps stored side by side before one hash and gather, and each step's slot in
     // the photon buffer (DensityEstimator::photon_steps_per_gather, photon_slot).
@@ -136,6 +148,9 @@ struct Renderer::Gpu {
     // side by side and hashed and gathered steps_per_gather at a time (gather_stored_steps).
     void run_pass(std::uint64_t pass_index);
     void begin_pass(std::uint64_t pass_index);
+    // Motion blur (motion_pass.cpp): the camera into the frame and the moving instances into
+    // the GPU's top level, at pass `pass_index`'s time; only where scene.motion.
+    void move_to_shutter_time(std::uint64_t pass_index);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     void hash_photons(std::uint32_t stored);

@@ -71,11 +71,22 @@ void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
     // Area lights join the geometry; textures count only where the mesh has uvs for them.
     p.geometry = with_area_lights(scene);
     SceneGeometry& geometry = p.geometry;
-    p.instancing =
-        plan_instancing(scene, geometry.materials, settings.instancing, flatten_max_triangles);
+    std::shared_ptr<const MotionPlan> motion = plan_motion(scene);
+    const bool instances_move = motion && !motion->instances.empty();
+    p.instancing = plan_instancing(scene, geometry.materials, settings.instancing,
+                                   flatten_max_triangles, instances_move);
     p.instance_count = scene.instances.size();
     if (!scene.instances.empty())
         instanced_scene_bounds(geometry.mesh, scene, p.bounds.lo, p.bounds.hi);
+    if (instances_move && !p.instancing.two_level) {
+        // Flattened (they emit light): photons start from world-space emitters.
+        p.warnings.push_back("motion blur of instances that emit light is not done: they "
+                             "render at the frame's time");
+        motion = motion->with_still_instances();
+    } else if (instances_move) {
+        grow_bounds_over_motion(scene, *motion, p.bounds.lo, p.bounds.hi);
+    }
+    p.motion = motion;
     if (p.instancing.path == "flattened") {
         const std::shared_ptr<OwnedMesh> flat = flatten_instances(geometry.mesh, scene, true);
         geometry.owned = flat;

@@ -252,6 +252,9 @@ bool Renderer::set_camera(const Camera& camera) {
                                                             g.scene.bounds, frame);
             g.scene.frame = frame;
             g.scene.initial_radius = radius;  // a radius per pass scales from it too
+            // A camera given here stands still (the viewport's: no motion blur there).
+            if (g.scene.motion && g.scene.motion->camera)
+                g.scene.motion = g.scene.motion->with_still_camera();
             g.restart_film();
             ++g.camera_updates;
             ++g.film_resets;

@@ -59,6 +59,12 @@ struct RenderStats {
     std::string instancing_reason;
     std::size_t instances = 0;
     std::size_t instanced_triangles = 0;
+    // Motion blur (render/motion.h): "none", or what moves ("camera", "instances",
+    // "camera,instances"), the moving instances, and the host's time moving them and
+    // refitting the top level, all passes of all workers.
+    std::string motion = "none";
+    std::size_t moving_instances = 0;
+    double motion_refit_seconds = 0.0;
     std::size_t emitters = 0;
     double bvh_seconds = 0.0;
     double bvh_bytes_per_triangle = 0.0;

@@ -220,6 +220,12 @@ RenderStats Renderer::stats() {
     s.instancing_reason = g.scene.instancing.reason;
     s.instances = g.scene.instance_count;
     s.instanced_triangles = g.scene.instancing.instanced_triangles;
+    if (const MotionPlan* m = g.scene.motion.get()) {
+        s.motion = m->camera ? (m->instances.empty() ? "camera" : "camera,instances")
+                             : "instances";
+        s.moving_instances = m->instances.size();
+        for (const auto& w : gpus_) s.motion_refit_seconds += w->motion.refit_seconds;
+    }
     s.emitters = g.scene.emitters.count;
     s.bvh_seconds = g.bvh_stats.total_seconds();
     s.bvh_bytes_per_triangle = g.bvh_stats.bytes_per_triangle;

@@ -19,6 +19,7 @@
 #include "render/environment_map.h"
 #include "render/gpu_layout.h"
 #include "render/instancing.h"
+#include "render/motion.h"
 #include "render/settings.h"
 #include "scene/cancel.h"
 #include "scene/scene.h"
@@ -57,6 +58,9 @@ struct PipelineScene {
     FrameBlock frame{};
     float initial_radius = 0.0f;
     std::vector<std::string> warnings;
+    // Motion blur (render/motion.h): what moves in the shutter; null when nothing does (then
+    // nothing of it runs: the passes are those of a scene without motion).
+    std::shared_ptr<const MotionPlan> motion;
 };
 
 struct PreparedScene : PipelineScene {

@@ -12,6 +12,7 @@
 
 #include "common/records.glsl"  // the enums' values, shared with the shaders
 #include "scene/mesh.h"
+#include "scene/motion.h"
 
 namespace glslppm {
 
@@ -247,6 +248,8 @@ struct Scene {
     // materials and (world_light_group) the world; empty: no group passes are compiled.
     std::vector<std::string> light_groups;
     std::int32_t world_light_group = -1;
+    // Motion blur (scene/motion.h): empty renders the frame at one instant.
+    SceneMotion motion;
 };
 
 // A scene that owns its arrays (procedural scenes, loaders, tests).

@@ -82,6 +82,23 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(i.mesh);
         h.value(i.material_offset);
     }
+    if (!s.motion.empty()) {  // scenes without motion keep their old hash
+        const auto steps = [&](const TransformSteps& t) {
+            h.value(static_cast<std::uint64_t>(t.times.size()));
+            for (std::size_t k = 0; k < t.times.size(); ++k) {
+                h.value(t.times[k]);
+                h.value(t.to_world[k]);
+            }
+        };
+        h.value(s.motion.shutter_open);
+        h.value(s.motion.shutter_length);
+        for (const InstanceMotion& m : s.motion.instances) {
+            h.value(m.instance);
+            steps(m.steps);
+        }
+        steps(s.motion.camera);
+        for (float fov : s.motion.camera_fov_x) h.value(fov);
+    }
     h.value(static_cast<std::uint64_t>(s.materials.size()));
     for (const Material& m : s.materials) {
         h.value(m.kind);

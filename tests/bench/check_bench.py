@@ -129,6 +129,18 @@ def check_passes(bench):
           f"instanced triangles {out['instanced_triangles']}, distinct {out['triangles']}")
     for key in ("passes_per_second", "bvh_seconds", "setup_seconds", "film_read_seconds", "gpu_bytes"):
         check(positive(out.get(key)), f"instances passes {key} = {out.get(key)}")
+    check(out["motion"] == "none" and out["motion_refit_ms_per_pass"] == 0,
+          f"static instances motion {out['motion']}")
+    # +motion: 20 small instances (flattened when still) move, so two levels, refitted.
+    out = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+              "--passes", "2", "--warmup", "1", "--scene", "instances:20x1k+motion", "--json")
+    if out is None:
+        return
+    check(out["motion"] == "camera,instances" and out["moving_instances"] == 20,
+          f"moving instances {out['motion']} {out['moving_instances']}")
+    check(out["instancing_reason"] == "instances move (motion blur)",
+          f"moving instances path {out['instancing_reason']}")
+    check(positive(out["motion_refit_ms_per_pass"]), f"refit {out['motion_refit_ms_per_pass']}")
 
 
 def check_render_passes(bench):

@@ -298,17 +298,6 @@ def test_world_volume_warns():
     assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
 
 
-def test_motion_blur_warns():
-    scene, light = _floor_and_light()
-    scene.render.use_motion_blur = True
-    image, error, engine = helpers.render_recorded("motion_blur")
-    assert error is None, error
-    expected = "motion blur is not supported; the frame renders at one instant " \
-               "(Output > Motion Blur)"
-    assert expected in helpers.warnings_of(engine), engine.reports
-    assert np.isfinite(image).all() and image[..., :3].mean() > 1e-3
-
-
 def test_udim_image_warns():
     """A UDIM image of two tiles as a base colour: the warning names it and the tile
     used; the render is written."""

@@ -84,7 +84,10 @@ TEST(MemoryEstimate, LightTracingAsSceneFeaturesDecidesIt) {
     Scene blurred = box;
     blurred.camera.aperture_radius = 0.1f;
     blurred.camera.focus_distance = 3.0f;
-    EXPECT_FALSE(pass_state_shape(settings, &blurred, 0).light_tracing);  // depth of field
+    EXPECT_TRUE(pass_state_shape(settings, &blurred, 0).light_tracing);  // through the lens
+    Scene grouped = box;
+    grouped.light_groups = {"key"};
+    EXPECT_FALSE(pass_state_shape(settings, &grouped, 0).light_tracing);  // light groups
     EXPECT_TRUE(pass_state_shape(settings, nullptr, 0).light_tracing);    // no scene: at most
 }
 

@@ -1,0 +1,78 @@
+// Motion blur by one shutter time per pass (docs/motion_blur.md): every pass renders the
+// whole scene at one instant, its eye paths and photons alike, and the passes' mean is the
+// blurred image. The instant is a function of (seed, pass index) only, so that PPPM's farm
+// chunks and several devices render the passes one run would.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "scene/scene.h"
+
+namespace glslppm {
+
+// Where in the shutter pass `pass_index` looks, in [0, 1): the base-2 radical inverse of
+// the index (van der Corput), rotated by an offset drawn from the seed (Cranley-Patterson),
+// so that any 2^k consecutive passes from a multiple of 2^k take one time in each 2^-k of
+// the shutter (the strata shifted by the offset, modulo 1).
+double shutter_sample(std::uint64_t seed, std::uint64_t pass_index);
+
+// A transform split as Cycles splits it (transform_motion_decompose): translation, the
+// rotation of the polar decomposition A = R S as a unit quaternion, and the stretch S.
+struct DecomposedTransform {
+    glm::dvec3 translation{0.0};
+    glm::dquat rotation{1.0, 0.0, 0.0, 0.0};
+    glm::dmat3 stretch{1.0};
+};
+DecomposedTransform decompose_transform(const glm::mat4& m);
+// Between two steps at u in [0, 1]: translation and stretch linearly, rotation by slerp
+// along the shorter arc.
+glm::mat4 interpolate_transform(const DecomposedTransform& a, const DecomposedTransform& b,
+                                double u);
+
+// Steps decomposed once; `at(t)` the transform at time t (held at the ends outside them).
+struct TransformMotion {
+    std::vector<double> times;
+    std::vector<DecomposedTransform> steps;
+    std::vector<glm::mat4> matrices;
+    explicit TransformMotion(const TransformSteps& s);
+    glm::mat4 at(double t) const;
+};
+
+// Throws SceneError naming the problem: a shutter that is not finite or not > 0 while
+// anything moves, step times not finite or not strictly increasing, matrices not finite,
+// not affine, singular or changing handedness, an instance out of range or given twice,
+// camera fov_x values not one per step or not in (0, pi).
+void validate_motion(const Scene& scene);
+
+// What moves, once validated; null from plan_motion when nothing does (every step the same
+// matrix), and then nothing of this runs.
+struct MotionPlan {
+    double shutter_open = 0.0, shutter_length = 0.0;
+    std::vector<std::uint32_t> instances;  // the scene's indices of the moving instances
+    std::vector<TransformMotion> instance_motion;
+    std::unique_ptr<TransformMotion> camera;  // null: the camera stands still
+    std::vector<double> camera_fov_x;         // empty: the camera's own
+    Camera frame_camera;                      // the scene's camera (its other fields)
+    double time(std::uint64_t seed, std::uint64_t pass_index) const {
+        return shutter_open + shutter_length * shutter_sample(seed, pass_index);
+    }
+    Camera camera_at(double t) const;
+    // The same instances' motion under a camera that stands still; null if none move.
+    std::shared_ptr<const MotionPlan> with_still_camera() const;
+    // The same camera motion with every instance still; null if the camera stands still.
+    std::shared_ptr<const MotionPlan> with_still_instances() const;
+};
+std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
+
+// Grows [lo, hi] over every place a moving instance's mesh takes in the shutter (sampled
+// finely between the steps, padded by the chord error of a slerp).
+void grow_bounds_over_motion(const Scene& scene, const MotionPlan& plan, glm::vec3& lo,
+                             glm::vec3& hi);
+
+}  // namespace glslppm

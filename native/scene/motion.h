@@ -1,0 +1,39 @@
+// Motion blur's input (docs/motion_blur.md): the shutter and the transforms that move in it.
+// Times are in frames relative to the frame rendered (Blender's subframes: -0.25 is a
+// quarter frame before it). Empty (no steps anywhere): nothing moves and the scene renders
+// exactly as without motion.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace glslppm {
+
+// A transform at several times (Blender's motion steps), the times strictly increasing.
+struct TransformSteps {
+    std::vector<float> times;
+    std::vector<glm::mat4> to_world;
+};
+
+// One instance's steps (Instance::to_world stays the frame's transform; an instance whose
+// steps are all one matrix does not move and renders at Instance::to_world).
+struct InstanceMotion {
+    std::uint32_t instance = 0;  // index into Scene::instances
+    TransformSteps steps;
+};
+
+struct SceneMotion {
+    // The shutter: open at shutter_open, for shutter_length frames (> 0 where anything moves).
+    float shutter_open = 0.0f;
+    float shutter_length = 0.0f;
+    std::vector<InstanceMotion> instances;
+    // The camera's transform and (if not empty, one per step) its fov_x at the steps.
+    TransformSteps camera;
+    std::vector<float> camera_fov_x;
+
+    bool empty() const { return instances.empty() && camera.times.empty(); }
+};
+
+}  // namespace glslppm
