@@ -95,7 +95,8 @@ bool light_traceable(Surface s) {
 
 // The f a visible point seen directly at s would weigh this photon by: Lambert's albedo / pi,
 // or (with the rough lobes) the leaf the eye path would pick at wo = to_camera, by the number
-// u_leaf, its lobes the eye path does not follow (rough_only where it follows smooth ones),
+// u_leaf, its lobes the eye path does not follow (none where it follows them all; rough_only
+// where it follows smooth ones),
 // within the Light Paths limits of the photon's bounce word. Zero where the photon or the
 // camera is below the shading normal.
 vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float u_leaf) {
@@ -107,8 +108,11 @@ vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float 
         if ((kinds & (1u << BOUNCE_DIFFUSE)) == 0u || dot(-dir, sh.n) <= 0.0) return vec3(0.0);
         return sh.color / PI;
     }
-    return bsdf_f_of_kinds(sh, to_camera, -dir, bsdf_smooth_probability(sh, to_camera) > 0.0,
-                           false, kinds);
+    // A leaf the eye path always follows (a metal below the glossy threshold) never holds a
+    // visible point there: nothing to connect.
+    float p_smooth = bsdf_smooth_probability(sh, to_camera);
+    if (p_smooth >= 1.0) return vec3(0.0);
+    return bsdf_f_of_kinds(sh, to_camera, -dir, p_smooth > 0.0, false, kinds);
 #else
     if ((kinds & (1u << BOUNCE_DIFFUSE)) == 0u) return vec3(0.0);
     vec3 n = dot(to_camera, s.geometric_normal) > 0.0 ? s.normal : -s.normal;
