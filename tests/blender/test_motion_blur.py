@@ -6,6 +6,7 @@ frame is set back afterwards."""
 
 import math
 
+import bpy
 import numpy as np
 
 import helpers
@@ -37,6 +38,24 @@ def spread(profile):
     return float((w * (x - (w * x).sum()) ** 2).sum())
 
 
+def _linear_keyframe(obj, frame):
+    """A location keyframe, every key of the object made linear. Blender 4.4+ keeps F-curves
+    in the layered action's channel bag (5.x has no Action.fcurves); 3.4 and 4.3 on the
+    action."""
+    obj.keyframe_insert("location", frame=frame)
+    action = obj.animation_data.action
+    if hasattr(action, "fcurves"):
+        curves = list(action.fcurves)
+    else:
+        slot = obj.animation_data.action_slot
+        curves = [curve for layer in action.layers for strip in layer.strips
+                  for curve in strip.channelbag(slot).fcurves]
+    assert curves, "no F-curves found for the keyframes"
+    for curve in curves:
+        for point in curve.keyframe_points:
+            point.interpolation = 'LINEAR'
+
+
 def _moving_strip_scene(position):
     scene = helpers.reset_scene(size=(WIDTH, HEIGHT))
     add_camera((0, 0, 4), (0, 0, 0), type='ORTHO', ortho_scale=2 * HALF)
@@ -46,10 +65,7 @@ def _moving_strip_scene(position):
     # The strip's left edge at -0.25 at frame 1, moving at SPEED along x.
     for frame in (0, 2):
         strip.location = (-0.25 + SPEED * (frame - 1), 0, 0)
-        strip.keyframe_insert("location", frame=frame)
-    for curve in strip.animation_data.action.fcurves:
-        for point in curve.keyframe_points:
-            point.interpolation = 'LINEAR'
+        _linear_keyframe(strip, frame)
     scene.frame_set(1)
     scene.render.use_motion_blur = True
     scene.render.motion_blur_shutter = SHUTTER
@@ -102,10 +118,7 @@ def test_keyframed_camera_blurs_the_still_strip_the_same_way():
     camera = scene.camera
     for frame in (0, 2):
         camera.location = (-SPEED * (frame - 1), 0, 4)
-        camera.keyframe_insert("location", frame=frame)
-    for curve in camera.animation_data.action.fcurves:
-        for point in curve.keyframe_points:
-            point.interpolation = 'LINEAR'
+        _linear_keyframe(camera, frame)
     scene.frame_set(1)
     image, error, _ = helpers.render_recorded("motion_blur_camera")
     assert error is None, error
