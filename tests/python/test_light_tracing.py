@@ -141,7 +141,10 @@ def test_mirrored_spot_on_glossy_surfaces_agrees_with_the_gather(glslppm, kind):
     at points seen directly (before, light tracing took Lambert surfaces only, and these
     photons were scattered light, class 1, for the gather). Measured
     (seed 1, 64 passes, 64^2) the two means within 0.5%; the bound is 1.5%, the gather's own
-    on the Lambert ceiling above (its disc averages f's variation too)."""
+    on the Lambert ceiling above (its disc averages f's variation too). So a 1% bias of the
+    connection's f alone would not fail the mean check: the closed-form mix test above holds
+    connection_f to 0.5%, and here the class check fails outright if the glossy ceiling is
+    not light-traced at all."""
     g = glslppm
     size = 64
     plastic = g.Material("plastic", color=(0.6, 0.5, 0.4), roughness=0.5)
