@@ -40,13 +40,11 @@ bool camera_sees(vec3 p, vec3 ng, vec3 to_camera, float distance, inout RNG_STAT
         if (hit.triangle < 0) return true;
         Surface s = surface_at(r, hit);
         int flags = material_flags(s.material);
-        if ((flags & MATERIAL_MAY_BE_TRANSPARENT) != 0 &&
-            (flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) == 0) {
+        if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) == 0) {
+            if ((flags & MATERIAL_MAY_BE_TRANSPARENT) == 0) return false;
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, to_camera, rng_next(rng));
             if (sh.kind != MATERIAL_TRANSPARENT) return false;
-        } else if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_HIDDEN_FROM_CAMERA)) == 0) {
-            return false;
         }
         origin = offset_origin(s.position, s.geometric_normal, to_camera);
     }
@@ -96,9 +94,8 @@ bool light_traceable(Surface s) {
 // The f a visible point seen directly at s would weigh this photon by: Lambert's albedo / pi,
 // or (with the rough lobes) the leaf the eye path would pick at wo = to_camera, by the number
 // u_leaf, its lobes the eye path does not follow (none where it follows them all; rough_only
-// where it follows smooth ones),
-// within the Light Paths limits of the photon's bounce word. Zero where the photon or the
-// camera is below the shading normal.
+// where it follows smooth ones), within the Light Paths limits of the photon's bounce word.
+// Zero where the photon or the camera is below the shading normal.
 vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float u_leaf) {
     uint kinds = gather_bounce_kinds(0u, path_bounces);
 #ifdef HAS_ROUGH_LOBES
@@ -123,8 +120,9 @@ vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float 
 
 // Splats the photon that just landed at s, arriving along dir with `flux` and the path's
 // bounce word, into the pixel the camera sees it in, where the gather would have taken it
-// at a visible point seen directly: a diffuse surface the camera does not skip, the light
-// and the camera on the side of it the photon lit, within the Light Paths limits.
+// at a visible point seen directly: a surface the camera does not skip, the light and the
+// camera on the side of it the photon lit, weighed by connection_f. u_leaf picks a mix's
+// leaf, lens_u the point of a thin lens; rng gives the numbers for cut-outs crossed.
 void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
                      vec2 lens_u, inout RNG_STATE rng) {
     if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
