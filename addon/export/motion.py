@@ -1,7 +1,7 @@
 """Motion blur's export (docs/motion_blur.md): Blender's shutter, and the camera's and each
 moving object's matrix_world at the motion steps, read by evaluating the render depsgraph at
-subframes as Cycles does (RenderEngine.frame_set), the frame restored afterwards. Transform
-motion only: deformation (armatures, shape keys, modifiers), the shutter curve and the
+subframes as Cycles does (RenderEngine.frame_set), the frame restored afterwards, and the
+shutter curve. Transform motion only: deformation (armatures, shape keys, modifiers) and the
 rolling shutter are warned about and not done."""
 
 import math
@@ -28,6 +28,27 @@ class MotionSamples:
     steps: dict = field(default_factory=dict)    # instance_key -> the object's step count
     camera: list = field(default_factory=list)   # the camera's matrix_world per time
     camera_fov_x: list = field(default_factory=list)
+    shutter_curve: list = field(default_factory=list)  # empty: a box shutter
+
+
+# Points at which the shutter curve is read, as Cycles reads it (RAMP_TABLE_SIZE).
+SHUTTER_CURVE_POINTS = 256
+
+
+def shutter_curve(scene):
+    """Render Properties > Motion Blur > Shutter Curve: its value at SHUTTER_CURVE_POINTS
+    evenly spaced places from the shutter's opening to its closing, or [] where it is flat
+    (a box, the module's default: the same passes' times bit for bit)."""
+    mapping = scene.render.motion_blur_shutter_curve
+    if not mapping.curves:
+        return []
+    mapping.initialize()
+    curve = mapping.curves[0]
+    values = [max(0.0, float(mapping.evaluate(curve, k / (SHUTTER_CURVE_POINTS - 1))))
+              for k in range(SHUTTER_CURVE_POINTS)]
+    if max(values) == min(values):
+        return []
+    return values
 
 
 def shutter(scene):
@@ -73,7 +94,7 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
     count = step_count(most)
     centre = shutter_open + 0.5 * length
     times = [centre + length * (k / (count - 1) - 0.5) for k in range(count)]
-    samples = MotionSamples(shutter_open, length, times)
+    samples = MotionSamples(shutter_open, length, times, shutter_curve=shutter_curve(scene))
     frame, subframe = scene.frame_current, scene.frame_subframe
     try:
         for t in times:
@@ -115,8 +136,8 @@ def object_steps(samples, key):
 
 
 def unsupported_motion_warnings(scene, objects):
-    """What motion blur leaves out, for a render with it on: deforming objects, the
-    shutter curve, the rolling shutter."""
+    """What motion blur leaves out, for a render with it on: deforming objects, a shutter
+    curve that never opens, the rolling shutter."""
     warnings = []
     for obj in objects:
         use, _ = object_motion_blur(obj)
@@ -131,9 +152,9 @@ def unsupported_motion_warnings(scene, objects):
                             "keys, modifiers) is not done: it blurs its transform only")
     curve = scene.render.motion_blur_shutter_curve
     points = [p.location[1] for c in curve.curves[:1] for p in c.points]
-    if points and max(points) != min(points):
-        warnings.append("motion blur: the shutter curve is not applied (the shutter opens "
-                        "and closes at once)")
+    if points and max(points) <= 0.0:
+        warnings.append("motion blur: the shutter curve is 0 everywhere (the shutter never "
+                        "opens); it is left out, the shutter opens and closes at once")
     cycles = getattr(scene, "cycles", None)
     if getattr(cycles, "rolling_shutter_type", 'NONE') != 'NONE':
         warnings.append("motion blur: the rolling shutter is not done (every row sees the "

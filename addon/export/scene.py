@@ -359,13 +359,18 @@ def _motion_arguments(motion, moving):
     arguments = {"shutter_open": motion.shutter_open, "shutter_length": motion.shutter_length,
                  "instances": moving}
     cameras = motion.camera
-    if cameras and (any(not np.array_equal(m, cameras[0]) for m in cameras) or
-                    len(set(motion.camera_fov_x)) > 1):
+    camera_moves = cameras and (any(not np.array_equal(m, cameras[0]) for m in cameras) or
+                                len(set(motion.camera_fov_x)) > 1)
+    if camera_moves:
         arguments.update(camera_times=motion.times,
                          camera_to_world=np.ascontiguousarray(
                              [_without_scale(m) for m in cameras], dtype=np.float32),
                          camera_fov_x=motion.camera_fov_x)
-    return arguments if len(arguments) > 3 or moving else None
+    if not (camera_moves or moving):
+        return None
+    if motion.shutter_curve:
+        arguments["shutter_curve"] = motion.shutter_curve
+    return arguments
 
 
 def _add_world(scene, camera, width, height, builder):

@@ -42,10 +42,11 @@ TransformSteps steps_of(const std::vector<float>& times, const Matrices& matrice
 void set_motion(Scene& scene, float shutter_open, float shutter_length,
                 const std::vector<std::tuple<std::uint32_t, std::vector<float>, Matrices>>& instances,
                 const std::vector<float>& camera_times, const py::object& camera_to_world,
-                const std::vector<float>& camera_fov_x) {
+                const std::vector<float>& camera_fov_x, const std::vector<float>& shutter_curve) {
     SceneMotion m;
     m.shutter_open = shutter_open;
     m.shutter_length = shutter_length;
+    m.shutter_curve = shutter_curve;
     for (std::size_t k = 0; k < instances.size(); ++k) {
         const auto& [index, times, matrices] = instances[k];
         m.instances.push_back(InstanceMotion{
@@ -74,14 +75,29 @@ void bind_motion(py::module_& m) {
               py::arg("camera_times") = std::vector<float>{},
               py::arg("camera_to_world") = py::none(),
               py::arg("camera_fov_x") = std::vector<float>{},
+              py::arg("shutter_curve") = std::vector<float>{},
               "Motion blur: the shutter (open time and length in frames, relative to the "
-              "frame), instances' transforms at steps ([(instance, times, (N, 4, 4) matrices)]) "
+              "frame; shutter_curve: its openness at evenly spaced points from opening to "
+              "closing, empty for a box), instances' transforms at steps ([(instance, times, (N, 4, 4) matrices)]) "
               "and the camera's (camera_fov_x: one per step, or empty). Validated here "
               "(ValueError naming the problem). docs/motion_blur.md.")
         .def_property_readonly("has_motion", [](const Scene& s) { return !s.motion.empty(); });
     m.def("shutter_sample", &shutter_sample, py::arg("seed"), py::arg("pass_index"),
           "Where in the shutter, in [0, 1), pass `pass_index` renders: the radical inverse of "
           "the index rotated by an offset from the seed.");
+    m.def("shutter_position",
+          [](const std::vector<float>& curve, double u) {
+              Scene probe;
+              probe.motion.shutter_length = 1.0f;
+              probe.motion.shutter_curve = curve;
+              probe.motion.camera.times = {0.0f};
+              probe.motion.camera.to_world = {glm::mat4(1.0f)};
+              validate_motion(probe);
+              return curve.empty() ? u : ShutterCurve(curve).position(u);
+          },
+          py::arg("curve"), py::arg("u"),
+          "Where in the shutter, in [0, 1], a sample u of [0, 1) lands under the shutter "
+          "curve (its inverse cumulative distribution; u itself for an empty curve).");
     m.def("interpolate_transform",
           [](const std::vector<float>& times, const Matrices& matrices, double t) {
               const TransformSteps s = steps_of(times, matrices, "matrices");

@@ -110,6 +110,32 @@ TransformMotion::TransformMotion(const TransformSteps& s)
     for (const glm::mat4& m : s.to_world) steps.push_back(decompose_transform(m));
 }
 
+ShutterCurve::ShutterCurve(const std::vector<float>& curve)
+    : values(curve.begin(), curve.end()), cdf(curve.size(), 0.0) {
+    const double h = 1.0 / static_cast<double>(values.size() - 1);
+    for (std::size_t i = 1; i < values.size(); ++i)
+        cdf[i] = cdf[i - 1] + 0.5 * h * (values[i - 1] + values[i]);
+    const double area = cdf.back();
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] /= area;
+        cdf[i] /= area;
+    }
+    cdf.back() = 1.0;
+}
+
+double ShutterCurve::position(double u) const {
+    // The segment [x_i, x_i + h] holding u (never one of no area: its cdf does not rise),
+    // then s in [0, 1] with h (a s + (b - a) s^2 / 2) = u - cdf_i, in the form that stays
+    // exact where a = 0 or b = a.
+    const std::size_t i = std::clamp<std::size_t>(
+        std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin(), 1, cdf.size() - 1) - 1;
+    const double h = 1.0 / static_cast<double>(values.size() - 1);
+    const double r = (u - cdf[i]) / h, a = values[i], b = values[i + 1];
+    if (!(r > 0.0)) return static_cast<double>(i) * h;
+    const double s = 2.0 * r / (a + std::sqrt(std::max(0.0, a * a + 2.0 * (b - a) * r)));
+    return (static_cast<double>(i) + std::clamp(s, 0.0, 1.0)) * h;
+}
+
 glm::mat4 TransformMotion::at(double t) const {
     if (steps.size() == 1) return matrices[0];
     const std::size_t k = std::clamp<std::size_t>(
@@ -126,6 +152,17 @@ void validate_motion(const Scene& scene) {
     if (!(std::isfinite(m.shutter_length) && m.shutter_length > 0.0f))
         throw SceneError("motion.shutter_length is " + number(m.shutter_length) +
                          ": the shutter must stay open > 0 frames where anything moves");
+    if (!m.shutter_curve.empty()) {
+        if (m.shutter_curve.size() < 2)
+            throw SceneError("motion.shutter_curve: one point; give none (a box shutter) or "
+                             "at least two, from the opening to the closing");
+        for (float v : m.shutter_curve)
+            if (!(std::isfinite(v) && v >= 0.0f))
+                throw SceneError("motion.shutter_curve: " + number(v) +
+                                 " is not a shutter's openness (finite and >= 0)");
+        if (*std::max_element(m.shutter_curve.begin(), m.shutter_curve.end()) <= 0.0f)
+            throw SceneError("motion.shutter_curve is 0 everywhere: the shutter never opens");
+    }
     std::set<std::uint32_t> seen;
     for (std::size_t k = 0; k < m.instances.size(); ++k) {
         const std::string name = "motion.instances[" + std::to_string(k) + "]";
@@ -172,6 +209,7 @@ std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
+    plan->shutter_curve = shutter_curve;
     plan->instances = instances;
     plan->instance_motion = instance_motion;
     plan->frame_camera = frame_camera;
@@ -183,6 +221,7 @@ std::shared_ptr<const MotionPlan> MotionPlan::with_still_instances() const {
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
+    plan->shutter_curve = shutter_curve;
     plan->camera = std::make_unique<TransformMotion>(*camera);
     plan->camera_fov_x = camera_fov_x;
     plan->frame_camera = frame_camera;
@@ -195,6 +234,8 @@ std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = m.shutter_open;
     plan->shutter_length = m.shutter_length;
+    if (!m.shutter_curve.empty())
+        plan->shutter_curve = std::make_shared<const ShutterCurve>(m.shutter_curve);
     plan->frame_camera = scene.camera;
     for (const InstanceMotion& i : m.instances) {
         if (!moves(i.steps)) continue;

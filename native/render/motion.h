@@ -45,10 +45,22 @@ struct TransformMotion {
 };
 
 // Throws SceneError naming the problem: a shutter that is not finite or not > 0 while
-// anything moves, step times not finite or not strictly increasing, matrices not finite,
+// anything moves, a shutter curve of one point, a negative or non-finite value, or none
+// above 0, step times not finite or not strictly increasing, matrices not finite,
 // not affine, singular or changing handedness, an instance out of range or given twice,
 // camera fov_x values not one per step or not in (0, pi).
 void validate_motion(const Scene& scene);
+
+// The shutter curve's inverse cumulative distribution (SceneMotion::shutter_curve): a
+// stratified sample u of [0, 1) becomes a place in the shutter, [0, 1], drawn with density
+// proportional to the piecewise-linear curve, so that the passes' strata stay strata of the
+// curve's weight (Cycles' shutter table, solved exactly per segment instead of tabulated).
+struct ShutterCurve {
+    std::vector<double> values;  // normalized: the curve's area over [0, 1] is 1
+    std::vector<double> cdf;     // the area up to each point: 0 first, 1 last
+    explicit ShutterCurve(const std::vector<float>& curve);
+    double position(double u) const;
+};
 
 // What moves, once validated; null from plan_motion when nothing does (every step the same
 // matrix), and then nothing of this runs.
@@ -59,8 +71,10 @@ struct MotionPlan {
     std::unique_ptr<TransformMotion> camera;  // null: the camera stands still
     std::vector<double> camera_fov_x;         // empty: the camera's own
     Camera frame_camera;                      // the scene's camera (its other fields)
+    std::shared_ptr<const ShutterCurve> shutter_curve;  // null: a box shutter
     double time(std::uint64_t seed, std::uint64_t pass_index) const {
-        return shutter_open + shutter_length * shutter_sample(seed, pass_index);
+        const double u = shutter_sample(seed, pass_index);
+        return shutter_open + shutter_length * (shutter_curve ? shutter_curve->position(u) : u);
     }
     Camera camera_at(double t) const;
     // The same instances' motion under a camera that stands still; null if none move.

@@ -28,6 +28,10 @@ struct SceneMotion {
     // The shutter: open at shutter_open, for shutter_length frames (> 0 where anything moves).
     float shutter_open = 0.0f;
     float shutter_length = 0.0f;
+    // Blender's shutter curve: how far open the shutter is at evenly spaced points from its
+    // opening (first) to its closing (last), linear between them; a pass's time is drawn in
+    // proportion to it. Empty: a box (the shutter opens and closes at once).
+    std::vector<float> shutter_curve;
     std::vector<InstanceMotion> instances;
     // The camera's transform and (if not empty, one per step) its fov_x at the steps.
     TransformSteps camera;

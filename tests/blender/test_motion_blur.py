@@ -146,15 +146,72 @@ def test_motion_blur_off_renders_the_frame_still():
     assert float(np.abs(rows - want[None, :]).max()) < 1e-3
 
 
+def ramp_squared_mean(a, b, c, d):
+    """The mean over x in [a, b] of clip((x - c) / d, 0, 1)^2."""
+    def antiderivative(u):
+        return np.where(u < 0, 0.0, np.where(u < 1, u ** 3 / 3, u - 2.0 / 3.0))
+    return d * (antiderivative((b - c) / d) - antiderivative((a - c) / d)) / (b - a)
+
+
+def centroid(profile):
+    x = np.linspace(-HALF, HALF, WIDTH + 1)
+    x = 0.5 * (x[:-1] + x[1:])
+    return float((profile * x).sum() / profile.sum())
+
+
+def test_shutter_curve_weights_the_sweep():
+    """Render Properties > Motion Blur > Shutter Curve as a ramp from closed at the opening
+    to open at the closing: the times' density is 2 s over the shutter, and each column reads
+    L times the chance that the strip covers it (the module's test has the closed form).
+    Bounds: 0.1 L per pixel (as the box's); the profile's centroid within D / 64 (Koksma, 64
+    passes) + 0.005 = 0.03 units of the closed form's, where a box shutter's lies D/6 = 0.25
+    units earlier. No warning about the curve."""
+    helpers.load_native()
+    scene, _ = _moving_strip_scene('CENTER')
+    curve = scene.render.motion_blur_shutter_curve
+    points = curve.curves[0].points  # Blender's default: (0, 1), (0.5, 1), (1, 1)
+    saved = [(tuple(p.location), p.handle_type) for p in points]
+    for p in points:
+        p.location = (p.location[0], p.location[0])
+        p.handle_type = 'VECTOR'
+    curve.update()
+    try:
+        image, error, engine = helpers.render_recorded("motion_blur_shutter_curve")
+    finally:
+        for p, (location, handle) in zip(points, saved):
+            p.location = location
+            p.handle_type = handle
+        curve.update()
+    assert error is None, error
+    assert not any("shutter curve" in w for w in helpers.warnings_of(engine))
+    rows = image[..., 0].astype(np.float64) / (ALBEDO * SUN / math.pi)
+    edges = np.linspace(-HALF, HALF, WIDTH + 1)
+    c, d = -0.25 - SPEED * SHUTTER / 2, SPEED * SHUTTER
+    want = (ramp_squared_mean(edges[:-1], edges[1:], c, d) -
+            ramp_squared_mean(edges[:-1], edges[1:], c + STRIP, d))
+    worst = float(np.abs(rows - want[None, :]).max())
+    shift = centroid(rows.mean(axis=0)) - centroid(want)
+    box = centroid(analytic_columns(SHUTTER, c)) - centroid(want)
+    print(f"  shutter curve (ramp): worst pixel {worst:.3f} of L, centroid {shift:+.4f} units "
+          f"from the closed form's (a box shutter's {box:+.4f})")
+    assert worst < 0.1, worst
+    assert abs(shift) < 0.03, shift
+    assert abs(box) > 0.2
+
+
 def test_what_motion_blur_leaves_out_warns():
-    """Deformation (here shape keys), a shaped shutter curve and the rolling shutter are not
-    done: each is named in a warning, and the transform still blurs."""
+    """Deformation (here shape keys), a shutter curve that never opens and the rolling
+    shutter are not done: each is named in a warning, and the transform still blurs (as with
+    a box shutter)."""
     helpers.load_native()
     scene, strip = _moving_strip_scene('CENTER')
     strip.shape_key_add(name="Basis")
     strip.shape_key_add(name="Bend")
     curve = scene.render.motion_blur_shutter_curve
-    curve.curves[0].points[0].location = (0.0, 0.25)
+    points = curve.curves[0].points
+    saved = [tuple(p.location) for p in points]
+    for p in points:
+        p.location = (p.location[0], 0.0)
     curve.update()
     cycles = getattr(scene, "cycles", None)
     rolling = cycles is not None and hasattr(cycles, "rolling_shutter_type")
@@ -165,14 +222,15 @@ def test_what_motion_blur_leaves_out_warns():
     finally:
         if rolling:
             cycles.rolling_shutter_type = 'NONE'
-        curve.curves[0].points[0].location = (0.0, 1.0)
+        for p, location in zip(points, saved):
+            p.location = location
         curve.update()
     assert error is None, error
     warnings = helpers.warnings_of(engine)
     expected = ["object 'Strip': deformation motion blur (armatures, shape keys, modifiers) "
                 "is not done: it blurs its transform only",
-                "motion blur: the shutter curve is not applied (the shutter opens and closes "
-                "at once)"]
+                "motion blur: the shutter curve is 0 everywhere (the shutter never opens); it "
+                "is left out, the shutter opens and closes at once"]
     if rolling:
         expected.append("motion blur: the rolling shutter is not done (every row sees the "
                         "whole shutter)")
