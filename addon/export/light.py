@@ -142,7 +142,8 @@ def _direction(matrix):
 def _point(light, matrix, builder, visible):
     builder.add_light(LightData(
         "point", _color(light), float(light.energy), position=_position(matrix),
-        direction=_direction(matrix), radius=float(light.shadow_soft_size)))
+        direction=_direction(matrix), radius=float(light.shadow_soft_size),
+        point_disc=not BLENDER_4))
 
 
 def _spot(light, matrix, builder, visible):

@@ -180,8 +180,10 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         group = light.light_group;
         switch (light.kind) {
             case LightKind::Point:
-                // A sphere of the light's radius (0: a point), radiating the power evenly.
-                add(EmitterKind::Point, light.position, glm::vec4(0.0f, 0.0f, 0.0f, light.radius),
+                // A sphere of the light's radius (0: a point), radiating the power evenly;
+                // b.x 1: light samples take Cycles 3.x's disc facing the lit point instead.
+                add(EmitterKind::Point, light.position,
+                    glm::vec4(light.point_disc ? 1.0f : 0.0f, 0.0f, 0.0f, light.radius),
                     glm::vec3(0.0f), color);
                 break;
             case LightKind::Spot: {

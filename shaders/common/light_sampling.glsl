@@ -127,6 +127,23 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
         // a uniform point cosine-weighted): uniform over the cone it subtends, pdf
         // 1 / (2 pi (1 - cos_max)). Nothing reaches a point inside it (it emits outwards).
         float r2 = b.w * b.w;
+        if (b.x > 0.5) {
+            // Blender 3.x (Light.point_disc): Cycles 3.x's disc of radius r facing p, of the
+            // same radiance, sampled uniformly by area: L / pdf = L pi r^2 cos_l / t^2 =
+            // P cos_l / (4 pi t^2). Photons keep the sphere.
+            vec3 t, bt;
+            vec3 facing = -to / dc;
+            orthonormal_basis(facing, t, bt);
+            vec2 o = b.w * sample_disc(u1, u2);
+            vec3 q = a.xyz + o.x * t + o.y * bt;
+            vec3 tq = q - p;
+            float t2 = dot(tq, tq);
+            if (!(t2 > 0.0)) return ls;
+            ls.distance = sqrt(t2);
+            ls.wi = tq / ls.distance;
+            ls.radiance_over_pdf = power * (max(0.0, dot(facing, -ls.wi)) / (4.0 * PI * t2));
+            return ls;
+        }
         if (d2 <= r2) return ls;
         float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
         float one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation

@@ -27,7 +27,16 @@ TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles", "te
                 "test_cancel_latency", "test_ray_visibility", "test_sky",
                 "test_curves", "test_farm", "test_instances", "test_passes",
                 "test_texture_coordinates", "test_motion_blur", "test_showcase",
-                "test_light_groups")
+                "test_light_groups", "test_light_group_compositing")
+
+
+def test_modules():
+    """TEST_MODULES in their order, then any other test_*.py beside this file (sorted), so
+    that a new test file is never left out silently."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    found = sorted(name[:-3] for name in os.listdir(here)
+                   if name.startswith("test_") and name.endswith(".py"))
+    return list(TEST_MODULES) + [name for name in found if name not in TEST_MODULES]
 
 
 def parse_args():
@@ -79,7 +88,7 @@ def main():
         failed.append("enable add-on")
         helpers.ADDON = None
     if helpers.ADDON is not None:
-        for module_name in TEST_MODULES:
+        for module_name in test_modules():
             module = importlib.import_module(module_name)
             for name, test in list(vars(module).items()):  # tests may add globals
                 if not name.startswith("test_") or not callable(test):

@@ -358,6 +358,34 @@ def test_sphere_light_sampled_lights_like_a_point(glslppm):
     assert abs(mean) < 0.005
 
 
+def test_point_light_as_a_facing_disc_lights_as_cycles_3(glslppm):
+    """Light.point_disc (Blender 3.x): the light of radius r is Cycles 3.x's disc facing the
+    lit point, of the sphere's radiance P / (4 pi^2 r^2). Seen from its axis a disc's
+    irradiance vector lies along the axis with magnitude pi L sin^2(alpha), sin^2(alpha) =
+    r^2 / (D^2 + r^2): the plane gets E = P h / (4 pi D (D^2 + r^2)), the sphere's
+    P h / (4 pi D^3) times D^2 / (D^2 + r^2) (0.8 under it here). Bounds as the sphere's."""
+    g = glslppm
+    power, h, r = 100.0, 1.0, 0.5
+    light = g.Light("point", power=power, position=(0.0, 0.0, h), radius=r, point_disc=True)
+    size = 32
+
+    def irradiance(x, y):
+        d2 = h * h + x * x + y * y
+        return power / (4 * math.pi) * h / (np.sqrt(d2) * (d2 + r * r))
+
+    e, _ = plane_lights_case(g, light, "sampled", size=size, passes=32)
+    expected = footprint(irradiance, size)
+    blocks = (e.reshape(8, 4, 8, 4).mean(axis=(1, 3)) /
+              expected.reshape(8, 4, 8, 4).mean(axis=(1, 3)) - 1.0)
+    mean = e.mean() / expected.mean() - 1.0
+    sphere = footprint(lambda x, y: power / (4 * math.pi) * h / (h * h + x * x + y * y) ** 1.5,
+                       size)
+    print(f"  4x4 blocks rms {np.sqrt(np.mean(blocks ** 2)):.5f}, image mean {mean:+.5f} "
+          f"(the sphere's closed form: {e.mean() / sphere.mean() - 1.0:+.4f})")
+    assert np.sqrt(np.mean(blocks ** 2)) < 0.015
+    assert abs(mean) < 0.005
+
+
 @pytest.mark.parametrize("as_map", [False, True])
 def test_environment_sampled_on_a_convex_object(glslppm, as_map):
     """A convex diffuse sphere in a uniform world (a colour, or a constant map sampled by
