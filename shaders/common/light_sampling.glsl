@@ -79,6 +79,107 @@ struct LightSample {
     vec3 radiance_over_pdf;
 };
 
+#ifdef HAS_POINT_LIGHTS
+// A point light's sample (the record's a: position, b.w: radius, b.x: Cycles 3.x's disc).
+LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, float u2) {
+    LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
+    vec3 to = a.xyz - p;
+    float d2 = dot(to, to);
+    if (!(d2 > 0.0)) return ls;
+    float dc = sqrt(d2);
+    if (b.w <= 0.0) {
+        // A point of intensity P / 4 pi: E = I / d^2.
+        ls.wi = to / dc;
+        ls.distance = dc;
+        ls.radiance_over_pdf = power / (4.0 * PI * d2);
+        return ls;
+    }
+    // A Lambertian sphere of radius r and radiance L = P / (4 pi^2 r^2) (its photons leave
+    // a uniform point cosine-weighted): uniform over the cone it subtends, pdf
+    // 1 / (2 pi (1 - cos_max)). Nothing reaches a point inside it (it emits outwards).
+    float r2 = b.w * b.w;
+    if (b.x > 0.5) {
+        // Blender 3.x (Light.point_disc): Cycles 3.x's disc of radius r facing p, of the
+        // same radiance, sampled uniformly by area: L / pdf = L pi r^2 cos_l / t^2 =
+        // P cos_l / (4 pi t^2). Photons keep the sphere.
+        vec3 t, bt;
+        vec3 facing = -to / dc;
+        orthonormal_basis(facing, t, bt);
+        vec2 o = b.w * sample_disc(u1, u2);
+        vec3 q = a.xyz + o.x * t + o.y * bt;
+        vec3 tq = q - p;
+        float t2 = dot(tq, tq);
+        if (!(t2 > 0.0)) return ls;
+        ls.distance = sqrt(t2);
+        ls.wi = tq / ls.distance;
+        ls.radiance_over_pdf = power * (max(0.0, dot(facing, -ls.wi)) / (4.0 * PI * t2));
+        return ls;
+    }
+    if (d2 <= r2) return ls;
+    float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
+    float one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation
+    vec3 axis = to / dc;
+    ls.wi = sample_cone(axis, cos_max, u1, u2);
+    // The ray meets the sphere at t = (wi . to) - sqrt(r^2 - |to|^2 + (wi . to)^2).
+    float t_c = dot(ls.wi, to);
+    ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
+    ls.radiance_over_pdf = power * (2.0 * PI * one_minus_cos / (4.0 * PI * PI * r2));
+    return ls;
+}
+#endif
+
+#ifdef HAS_SPOT_LIGHTS
+// A spot light's sample (a: position, b: axis and cos of the half cone, c: smooth edge,
+// radius and Blender 3.x's flag).
+LightSample sample_spot_light(vec3 p, vec4 a, vec4 b, vec4 c, vec3 power, float u1, float u2) {
+    LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
+    // A point (or a uniform point of the disc of radius c.y facing the axis, as the
+    // photons start) of intensity P / 4 pi times the smooth edge and Blender 3.x's
+    // cosine: E = I / d^2. The record holds the hard cone's power P Omega / 4 pi.
+    // Blender 3.x (c.z): Cycles 3.x's disc facing p, of radiance I / (pi r^2), which
+    // adds its cosine towards the lit point (as Light.point_disc for point lights).
+    bool cycles_3 = c.z > 0.5;
+    float solid_angle = 2.0 * PI * (1.0 - b.w);
+    if (!cycles_3 && c.y > 0.0) {
+        // Cycles 4.x: the sphere of radius r, radiance I / (pi r^2), sampled over the
+        // cone it subtends as a point light's (L / pdf = I 2 (1 - cos_max) / r^2), times
+        // the cone's edge towards each sampled point. Photons start from the disc.
+        vec3 to = a.xyz - p;
+        float d2 = dot(to, to), r2 = c.y * c.y;
+        if (!(d2 > r2) || !(solid_angle > 0.0)) return ls;
+        float dc = sqrt(d2);
+        float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
+        float one_minus_cos = (r2 / d2) / (1.0 + cos_max);
+        ls.wi = sample_cone(to / dc, cos_max, u1, u2);
+        float t_c = dot(ls.wi, to);
+        ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
+        float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
+        ls.radiance_over_pdf = power * (attenuation * 4.0 * PI / solid_angle) *
+                               (2.0 * one_minus_cos / (4.0 * PI * r2));
+        return ls;
+    }
+    vec3 from_light = p - a.xyz;
+    float l2 = dot(from_light, from_light);
+    vec3 facing = cycles_3 && l2 > 0.0 ? from_light * inversesqrt(l2) : b.xyz;
+    vec3 t, bt;
+    orthonormal_basis(facing, t, bt);
+    vec2 o = c.y * sample_disc(u1, u2);
+    vec3 q = a.xyz + o.x * t + o.y * bt;
+    vec3 to = q - p;
+    float d2 = dot(to, to);
+    if (!(d2 > 0.0)) return ls;
+    ls.distance = sqrt(d2);
+    ls.wi = to / ls.distance;
+    float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
+    if (cycles_3)
+        attenuation *= max(0.0, dot(b.xyz, -ls.wi)) *
+                       (c.y > 0.0 ? max(0.0, dot(facing, -ls.wi)) : 1.0);
+    if (attenuation > 0.0 && solid_angle > 0.0)
+        ls.radiance_over_pdf = power * (attenuation / (solid_angle * d2));
+    return ls;
+}
+#endif
+
 LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
     uint k = pick_emitter(pick);
@@ -111,72 +212,10 @@ LightSample sample_light(vec3 p, vec3 ng, float pick, vec4 u) {
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    if (kind == EMITTER_POINT) {
-        vec3 to = a.xyz - p;
-        float d2 = dot(to, to);
-        if (!(d2 > 0.0)) return ls;
-        float dc = sqrt(d2);
-        if (b.w <= 0.0) {
-            // A point of intensity P / 4 pi: E = I / d^2.
-            ls.wi = to / dc;
-            ls.distance = dc;
-            ls.radiance_over_pdf = power / (4.0 * PI * d2);
-            return ls;
-        }
-        // A Lambertian sphere of radius r and radiance L = P / (4 pi^2 r^2) (its photons leave
-        // a uniform point cosine-weighted): uniform over the cone it subtends, pdf
-        // 1 / (2 pi (1 - cos_max)). Nothing reaches a point inside it (it emits outwards).
-        float r2 = b.w * b.w;
-        if (b.x > 0.5) {
-            // Blender 3.x (Light.point_disc): Cycles 3.x's disc of radius r facing p, of the
-            // same radiance, sampled uniformly by area: L / pdf = L pi r^2 cos_l / t^2 =
-            // P cos_l / (4 pi t^2). Photons keep the sphere.
-            vec3 t, bt;
-            vec3 facing = -to / dc;
-            orthonormal_basis(facing, t, bt);
-            vec2 o = b.w * sample_disc(u1, u2);
-            vec3 q = a.xyz + o.x * t + o.y * bt;
-            vec3 tq = q - p;
-            float t2 = dot(tq, tq);
-            if (!(t2 > 0.0)) return ls;
-            ls.distance = sqrt(t2);
-            ls.wi = tq / ls.distance;
-            ls.radiance_over_pdf = power * (max(0.0, dot(facing, -ls.wi)) / (4.0 * PI * t2));
-            return ls;
-        }
-        if (d2 <= r2) return ls;
-        float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
-        float one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation
-        vec3 axis = to / dc;
-        ls.wi = sample_cone(axis, cos_max, u1, u2);
-        // The ray meets the sphere at t = (wi . to) - sqrt(r^2 - |to|^2 + (wi . to)^2).
-        float t_c = dot(ls.wi, to);
-        ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
-        ls.radiance_over_pdf = power * (2.0 * PI * one_minus_cos / (4.0 * PI * PI * r2));
-        return ls;
-    }
+    if (kind == EMITTER_POINT) return sample_point_light(p, a, b, power, u1, u2);
 #endif
 #ifdef HAS_SPOT_LIGHTS
-    if (kind == EMITTER_SPOT) {
-        // A point (or a uniform point of the disc of radius c.y facing the axis, as the
-        // photons start) of intensity P / 4 pi times the smooth edge and Blender 3.x's
-        // cosine: E = I / d^2. The record holds the hard cone's power P Omega / 4 pi.
-        vec3 t, bt;
-        orthonormal_basis(b.xyz, t, bt);
-        vec2 o = c.y * sample_disc(u1, u2);
-        vec3 q = a.xyz + o.x * t + o.y * bt;
-        vec3 to = q - p;
-        float d2 = dot(to, to);
-        if (!(d2 > 0.0)) return ls;
-        ls.distance = sqrt(d2);
-        ls.wi = to / ls.distance;
-        float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
-        if (c.z > 0.5) attenuation *= max(0.0, dot(b.xyz, -ls.wi));
-        float solid_angle = 2.0 * PI * (1.0 - b.w);
-        if (attenuation > 0.0 && solid_angle > 0.0)
-            ls.radiance_over_pdf = power * (attenuation / (solid_angle * d2));
-        return ls;
-    }
+    if (kind == EMITTER_SPOT) return sample_spot_light(p, a, b, c, power, u1, u2);
 #endif
 #ifdef HAS_SUN_LIGHTS
     if (kind == EMITTER_SUN) {
