@@ -79,6 +79,40 @@ struct LightSample {
     vec3 radiance_over_pdf;
 };
 
+#if defined(HAS_POINT_LIGHTS) || defined(HAS_SPOT_LIGHTS)
+// Towards a uniform point of the disc of radius r about centre facing `facing` (ls.wi and
+// ls.distance; false where it is p itself); d2: the squared distance to it.
+bool sample_facing_disc(vec3 p, vec3 centre, vec3 facing, float r, float u1, float u2,
+                        inout LightSample ls, out float d2) {
+    vec3 t, bt;
+    orthonormal_basis(facing, t, bt);
+    vec2 o = r * sample_disc(u1, u2);
+    vec3 to = centre + o.x * t + o.y * bt - p;
+    d2 = dot(to, to);
+    if (!(d2 > 0.0)) return false;
+    ls.distance = sqrt(d2);
+    ls.wi = to / ls.distance;
+    return true;
+}
+
+// Towards the sphere of squared radius r2 about centre, uniformly over the cone it subtends
+// (pdf 1 / (2 pi (1 - cos_max))), where the ray meets it at t = (wi . to) -
+// sqrt(r^2 - |to|^2 + (wi . to)^2); false from inside it (it emits outwards).
+bool sample_sphere_cone(vec3 p, vec3 centre, float r2, float u1, float u2,
+                        inout LightSample ls, out float one_minus_cos) {
+    vec3 to = centre - p;
+    float d2 = dot(to, to);
+    one_minus_cos = 0.0;
+    if (!(d2 > r2)) return false;
+    float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
+    one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation
+    ls.wi = sample_cone(to * inversesqrt(d2), cos_max, u1, u2);
+    float t_c = dot(ls.wi, to);
+    ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
+    return true;
+}
+#endif
+
 #ifdef HAS_POINT_LIGHTS
 // A point light's sample (the record's a: position, b.w: radius, b.x: Cycles 3.x's disc).
 LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, float u2) {
@@ -86,95 +120,64 @@ LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, flo
     vec3 to = a.xyz - p;
     float d2 = dot(to, to);
     if (!(d2 > 0.0)) return ls;
-    float dc = sqrt(d2);
     if (b.w <= 0.0) {
         // A point of intensity P / 4 pi: E = I / d^2.
-        ls.wi = to / dc;
-        ls.distance = dc;
+        ls.distance = sqrt(d2);
+        ls.wi = to / ls.distance;
         ls.radiance_over_pdf = power / (4.0 * PI * d2);
         return ls;
     }
-    // A Lambertian sphere of radius r and radiance L = P / (4 pi^2 r^2) (its photons leave
-    // a uniform point cosine-weighted): uniform over the cone it subtends, pdf
-    // 1 / (2 pi (1 - cos_max)). Nothing reaches a point inside it (it emits outwards).
-    float r2 = b.w * b.w;
     if (b.x > 0.5) {
         // Blender 3.x (Light.point_disc): Cycles 3.x's disc of radius r facing p, of the
         // same radiance, sampled uniformly by area: L / pdf = L pi r^2 cos_l / t^2 =
         // P cos_l / (4 pi t^2). Photons keep the sphere.
-        vec3 t, bt;
-        vec3 facing = -to / dc;
-        orthonormal_basis(facing, t, bt);
-        vec2 o = b.w * sample_disc(u1, u2);
-        vec3 q = a.xyz + o.x * t + o.y * bt;
-        vec3 tq = q - p;
-        float t2 = dot(tq, tq);
-        if (!(t2 > 0.0)) return ls;
-        ls.distance = sqrt(t2);
-        ls.wi = tq / ls.distance;
-        ls.radiance_over_pdf = power * (max(0.0, dot(facing, -ls.wi)) / (4.0 * PI * t2));
+        vec3 facing = -to * inversesqrt(d2);
+        float t2;
+        if (sample_facing_disc(p, a.xyz, facing, b.w, u1, u2, ls, t2))
+            ls.radiance_over_pdf = power * (max(0.0, dot(facing, -ls.wi)) / (4.0 * PI * t2));
         return ls;
     }
-    if (d2 <= r2) return ls;
-    float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
-    float one_minus_cos = (r2 / d2) / (1.0 + cos_max);  // without cancellation
-    vec3 axis = to / dc;
-    ls.wi = sample_cone(axis, cos_max, u1, u2);
-    // The ray meets the sphere at t = (wi . to) - sqrt(r^2 - |to|^2 + (wi . to)^2).
-    float t_c = dot(ls.wi, to);
-    ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
-    ls.radiance_over_pdf = power * (2.0 * PI * one_minus_cos / (4.0 * PI * PI * r2));
+    // A Lambertian sphere of radius r and radiance L = P / (4 pi^2 r^2) (its photons leave
+    // a uniform point cosine-weighted), over the cone it subtends.
+    float r2 = b.w * b.w, one_minus_cos;
+    if (sample_sphere_cone(p, a.xyz, r2, u1, u2, ls, one_minus_cos))
+        ls.radiance_over_pdf = power * (2.0 * PI * one_minus_cos / (4.0 * PI * PI * r2));
     return ls;
 }
 #endif
 
 #ifdef HAS_SPOT_LIGHTS
 // A spot light's sample (a: position, b: axis and cos of the half cone, c: smooth edge,
-// radius and Blender 3.x's flag).
+// radius and Blender 3.x's flag): intensity P / 4 pi times the smooth edge and Blender
+// 3.x's cosine. The record holds the hard cone's power P Omega / 4 pi.
 LightSample sample_spot_light(vec3 p, vec4 a, vec4 b, vec4 c, vec3 power, float u1, float u2) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
-    // A point (or a uniform point of the disc of radius c.y facing the axis, as the
-    // photons start) of intensity P / 4 pi times the smooth edge and Blender 3.x's
-    // cosine: E = I / d^2. The record holds the hard cone's power P Omega / 4 pi.
-    // Blender 3.x (c.z): Cycles 3.x's disc facing p, of radiance I / (pi r^2), which
-    // adds its cosine towards the lit point (as Light.point_disc for point lights).
-    bool cycles_3 = c.z > 0.5;
     float solid_angle = 2.0 * PI * (1.0 - b.w);
+    if (!(solid_angle > 0.0)) return ls;
+    bool cycles_3 = c.z > 0.5;
     if (!cycles_3 && c.y > 0.0) {
-        // Cycles 4.x: the sphere of radius r, radiance I / (pi r^2), sampled over the
-        // cone it subtends as a point light's (L / pdf = I 2 (1 - cos_max) / r^2), times
-        // the cone's edge towards each sampled point. Photons start from the disc.
-        vec3 to = a.xyz - p;
-        float d2 = dot(to, to), r2 = c.y * c.y;
-        if (!(d2 > r2) || !(solid_angle > 0.0)) return ls;
-        float dc = sqrt(d2);
-        float cos_max = sqrt(max(0.0, 1.0 - r2 / d2));
-        float one_minus_cos = (r2 / d2) / (1.0 + cos_max);
-        ls.wi = sample_cone(to / dc, cos_max, u1, u2);
-        float t_c = dot(ls.wi, to);
-        ls.distance = t_c - sqrt(max(0.0, r2 - d2 + t_c * t_c));
-        float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
-        ls.radiance_over_pdf = power * (attenuation * 4.0 * PI / solid_angle) *
-                               (2.0 * one_minus_cos / (4.0 * PI * r2));
+        // Cycles 4.x: the sphere of radius r, radiance I / (pi r^2), over the cone it
+        // subtends as a point light's (L / pdf = I 2 (1 - cos_max) / r^2), times the cone's
+        // edge towards each sampled point. Photons start from the disc facing the axis.
+        float r2 = c.y * c.y, one_minus_cos;
+        if (sample_sphere_cone(p, a.xyz, r2, u1, u2, ls, one_minus_cos))
+            ls.radiance_over_pdf = power * (spot_attenuation(b.xyz, -ls.wi, b.w, c.x) *
+                                            2.0 * one_minus_cos / (solid_angle * r2));
         return ls;
     }
+    // A point (radius 0), or Blender 3.x: Cycles 3.x's disc facing p, of radiance
+    // I / (pi r^2), with its cosine towards the lit point (as Light.point_disc): E = I / d^2
+    // times that cosine.
     vec3 from_light = p - a.xyz;
     float l2 = dot(from_light, from_light);
-    vec3 facing = cycles_3 && l2 > 0.0 ? from_light * inversesqrt(l2) : b.xyz;
-    vec3 t, bt;
-    orthonormal_basis(facing, t, bt);
-    vec2 o = c.y * sample_disc(u1, u2);
-    vec3 q = a.xyz + o.x * t + o.y * bt;
-    vec3 to = q - p;
-    float d2 = dot(to, to);
-    if (!(d2 > 0.0)) return ls;
-    ls.distance = sqrt(d2);
-    ls.wi = to / ls.distance;
+    vec3 facing = l2 > 0.0 ? from_light * inversesqrt(l2) : b.xyz;
+    float d2;
+    if (!sample_facing_disc(p, a.xyz, facing, c.y, u1, u2, ls, d2)) return ls;
     float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
     if (cycles_3)
         attenuation *= max(0.0, dot(b.xyz, -ls.wi)) *
                        (c.y > 0.0 ? max(0.0, dot(facing, -ls.wi)) : 1.0);
-    if (attenuation > 0.0 && solid_angle > 0.0)
+    if (attenuation > 0.0)
         ls.radiance_over_pdf = power * (attenuation / (solid_angle * d2));
     return ls;
 }
