@@ -143,7 +143,14 @@ def _point(light, matrix, builder, visible):
     builder.add_light(LightData(
         "point", _color(light), float(light.energy), position=_position(matrix),
         direction=_direction(matrix), radius=float(light.shadow_soft_size),
-        point_disc=not BLENDER_4))
+        facing_disc=_facing_disc(light)))
+
+
+def _facing_disc(light):
+    """Whether Cycles lights this point or spot light of a radius from a disc facing the lit
+    point (3.x always; 4.x and later while Soft Falloff is on, its default) rather than the
+    sphere (Cycles' is_sphere: Soft Falloff off)."""
+    return not BLENDER_4 or bool(getattr(light, "use_soft_falloff", True))
 
 
 def _spot(light, matrix, builder, visible):
@@ -151,7 +158,7 @@ def _spot(light, matrix, builder, visible):
         "spot", _color(light), float(light.energy), position=_position(matrix),
         direction=_direction(matrix), spot_size=float(light.spot_size),
         spot_blend=float(light.spot_blend), radius=float(light.shadow_soft_size),
-        spot_cosine=not BLENDER_4))
+        spot_cosine=not BLENDER_4, facing_disc=_facing_disc(light)))
 
 
 def _sun(light, matrix, builder, visible):

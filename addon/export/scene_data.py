@@ -84,7 +84,7 @@ class LightData:
     radius: float = 0.0
     angle: float = 0.0
     spot_cosine: bool = False
-    point_disc: bool = False         # Blender 3.x: Cycles 3.x's disc facing the lit point
+    facing_disc: bool = False        # point/spot: Cycles' disc facing the lit point (Soft Falloff)
     to_world: object = None          # float32 (4, 4) or None
     shape: str = "square"
     size_x: float = 1.0

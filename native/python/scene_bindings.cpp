@@ -212,7 +212,7 @@ void bind_scene(py::module_& m) {
                          std::array<float, 3> position, std::array<float, 3> direction,
                          float spot_size, float spot_blend, float radius, float angle,
                          bool spot_cosine, const py::object& to_world, const std::string& shape,
-                         float size_x, float size_y, bool visible_to_camera, bool point_disc) {
+                         float size_x, float size_y, bool visible_to_camera, bool facing_disc) {
                  Light l;
                  l.kind = parse_name<LightKind>(kind, kLightKinds, "Light kind");
                  l.shape = parse_name<AreaShape>(shape, kAreaShapes, "Light shape");
@@ -220,7 +220,7 @@ void bind_scene(py::module_& m) {
                      l.to_world = mat4_of(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(to_world),
                                           "Light to_world");
                  l.spot_cosine = spot_cosine;
-                 l.point_disc = point_disc;
+                 l.facing_disc = facing_disc;
                  l.size_x = size_x;
                  l.size_y = size_y;
                  l.visible_to_camera = visible_to_camera;
@@ -243,7 +243,7 @@ void bind_scene(py::module_& m) {
              py::arg("radius") = 0.0f, py::arg("angle") = 0.0f, py::arg("spot_cosine") = false,
              py::arg("to_world") = py::none(), py::arg("shape") = "square",
              py::arg("size_x") = 1.0f, py::arg("size_y") = 1.0f,
-             py::arg("visible_to_camera") = true, py::arg("point_disc") = false)
+             py::arg("visible_to_camera") = true, py::arg("facing_disc") = false)
         .def_readwrite("light_group", &Light::light_group,
                        "Index into Scene.light_groups, -1: none (docs/light_groups.md).");
 

@@ -181,9 +181,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         switch (light.kind) {
             case LightKind::Point:
                 // A sphere of the light's radius (0: a point), radiating the power evenly;
-                // b.x 1: light samples take Cycles 3.x's disc facing the lit point instead.
+                // b.x 1: light samples take the disc facing the lit point (Light::facing_disc).
                 add(EmitterKind::Point, light.position,
-                    glm::vec4(light.point_disc ? 1.0f : 0.0f, 0.0f, 0.0f, light.radius),
+                    glm::vec4(light.facing_disc ? 1.0f : 0.0f, 0.0f, 0.0f, light.radius),
                     glm::vec3(0.0f), color);
                 break;
             case LightKind::Spot: {
@@ -194,7 +194,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                 const float smooth = (1.0f - cos_half) * light.spot_blend;
                 add(EmitterKind::Spot, light.position,
                     glm::vec4(glm::normalize(light.direction), cos_half),
-                    glm::vec3(smooth, light.radius, light.spot_cosine ? 1.0f : 0.0f),
+                    // c.z: 1 for Blender 3.x's cosine falloff, + 2 for the facing disc.
+                    glm::vec3(smooth, light.radius,
+                              (light.spot_cosine ? 1.0f : 0.0f) + (light.facing_disc ? 2.0f : 0.0f)),
                     color * (solid_angle / (4.0f * kPi)));
                 break;
             }

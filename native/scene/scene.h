@@ -189,10 +189,11 @@ struct Light {
     float radius = 0.0f;  // point/spot: radius of the emitting sphere (Blender's soft size)
     float angle = 0.0f;   // sun: angular diameter, radians
     bool spot_cosine = false;  // Blender 3.x: the spot's intensity also falls with cos(angle)
-    // Blender 3.x: a point light of a radius is lit from as Cycles 3.x sampled it, a disc of
-    // that radius facing the lit point (irradiance d^2 / (d^2 + r^2) of the sphere's on its
-    // axis); Cycles 4.x and the default: the sphere.
-    bool point_disc = false;
+    // Point and spot lights of a radius as Cycles lights them by default (3.x always; 4.x and
+    // later while the light's Soft Falloff is on): from a disc of that radius facing the lit
+    // point (irradiance d^2 / (d^2 + r^2) of the sphere's on its axis). False: the sphere
+    // (Cycles 4.x and later with Soft Falloff off).
+    bool facing_disc = false;
     // Area: the light's frame (its origin is the centre; it emits along local -Z from the
     // shape in its XY plane, sizes being full extents; square and disk use size_x for both).
     glm::mat4 to_world{1.0f};

@@ -151,7 +151,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(l.size_x);
         h.value(l.size_y);
         h.value(static_cast<std::uint32_t>(l.spot_cosine | l.visible_to_camera << 1 |
-                                           l.point_disc << 2));
+                                           l.facing_disc << 2));
     }
     h.value(static_cast<std::uint64_t>(s.textures.size()));
     for (const Texture& t : s.textures) {

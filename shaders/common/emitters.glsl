@@ -22,6 +22,11 @@ uint pick_emitter(float u) {
     return lo;
 }
 
+// A spot record's c.z: 1 for Blender 3.x's cosine falloff towards the axis, + 2 where light
+// samples take the disc facing the lit point (Light::facing_disc).
+bool spot_cosine_falloff(float code) { return mod(code, 2.0) > 0.5; }
+bool spot_facing_disc(float code) { return code > 1.5; }
+
 // Blender's spot cone with its smooth edge (Cycles' spot_attenuation).
 float spot_attenuation(vec3 axis, vec3 dir, float cos_half, float smooth_width) {
     float c = dot(axis, dir);
@@ -123,7 +128,7 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
         origin = a.xyz + q.x * t + q.y * bt;
         dir = sample_cone(b.xyz, b.w, u1, u2);
         flux = power * spot_attenuation(b.xyz, dir, b.w, c.x);
-        if (c.z > 0.5) flux *= dot(b.xyz, dir);
+        if (spot_cosine_falloff(c.z)) flux *= dot(b.xyz, dir);
         return;
     }
 #endif

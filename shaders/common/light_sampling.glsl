@@ -114,7 +114,7 @@ bool sample_sphere_cone(vec3 p, vec3 centre, float r2, float u1, float u2,
 #endif
 
 #ifdef HAS_POINT_LIGHTS
-// A point light's sample (the record's a: position, b.w: radius, b.x: Cycles 3.x's disc).
+// A point light's sample (the record's a: position, b.w: radius, b.x: Light::facing_disc).
 LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, float u2) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
     vec3 to = a.xyz - p;
@@ -128,9 +128,9 @@ LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, flo
         return ls;
     }
     if (b.x > 0.5) {
-        // Blender 3.x (Light.point_disc): Cycles 3.x's disc of radius r facing p, of the
-        // same radiance, sampled uniformly by area: L / pdf = L pi r^2 cos_l / t^2 =
-        // P cos_l / (4 pi t^2). Photons keep the sphere.
+        // Light.facing_disc (Cycles 3.x, and 4.x with Soft Falloff on): the disc of radius r
+        // facing p, of the sphere's radiance, sampled uniformly by area: L / pdf =
+        // L pi r^2 cos_l / t^2 = P cos_l / (4 pi t^2). Photons keep the sphere.
         vec3 facing = -to * inversesqrt(d2);
         float t2;
         if (sample_facing_disc(p, a.xyz, facing, b.w, u1, u2, ls, t2))
@@ -148,35 +148,34 @@ LightSample sample_point_light(vec3 p, vec4 a, vec4 b, vec3 power, float u1, flo
 
 #ifdef HAS_SPOT_LIGHTS
 // A spot light's sample (a: position, b: axis and cos of the half cone, c: smooth edge,
-// radius and Blender 3.x's flag): intensity P / 4 pi times the smooth edge and Blender
-// 3.x's cosine. The record holds the hard cone's power P Omega / 4 pi.
+// radius and the code of spot_cosine_falloff / spot_facing_disc): intensity P / 4 pi times
+// the smooth edge (and Blender 3.x's cosine towards the axis). The record holds the hard
+// cone's power P Omega / 4 pi.
 LightSample sample_spot_light(vec3 p, vec4 a, vec4 b, vec4 c, vec3 power, float u1, float u2) {
     LightSample ls = LightSample(vec3(0.0, 0.0, 1.0), 0.0, vec3(0.0));
     float solid_angle = 2.0 * PI * (1.0 - b.w);
     if (!(solid_angle > 0.0)) return ls;
-    bool cycles_3 = c.z > 0.5;
-    if (!cycles_3 && c.y > 0.0) {
-        // Cycles 4.x: the sphere of radius r, radiance I / (pi r^2), over the cone it
-        // subtends as a point light's (L / pdf = I 2 (1 - cos_max) / r^2), times the cone's
-        // edge towards each sampled point. Photons start from the disc facing the axis.
+    bool disc = spot_facing_disc(c.z);
+    if (!disc && c.y > 0.0) {
+        // The sphere of radius r (Cycles 4.x with Soft Falloff off), radiance I / (pi r^2),
+        // over the cone it subtends as a point light's (L / pdf = I 2 (1 - cos_max) / r^2),
+        // times the cone's edge towards each sampled point. Photons start from the disc.
         float r2 = c.y * c.y, one_minus_cos;
         if (sample_sphere_cone(p, a.xyz, r2, u1, u2, ls, one_minus_cos))
             ls.radiance_over_pdf = power * (spot_attenuation(b.xyz, -ls.wi, b.w, c.x) *
                                             2.0 * one_minus_cos / (solid_angle * r2));
         return ls;
     }
-    // A point (radius 0), or Blender 3.x: Cycles 3.x's disc facing p, of radiance
-    // I / (pi r^2), with its cosine towards the lit point (as Light.point_disc): E = I / d^2
-    // times that cosine.
+    // A point (radius 0), or Cycles' disc of radius r facing p, of radiance I / (pi r^2),
+    // sampled by area: E = I cos_l / d^2 (as a point light's facing disc).
     vec3 from_light = p - a.xyz;
     float l2 = dot(from_light, from_light);
     vec3 facing = l2 > 0.0 ? from_light * inversesqrt(l2) : b.xyz;
     float d2;
     if (!sample_facing_disc(p, a.xyz, facing, c.y, u1, u2, ls, d2)) return ls;
     float attenuation = spot_attenuation(b.xyz, -ls.wi, b.w, c.x);
-    if (cycles_3)
-        attenuation *= max(0.0, dot(b.xyz, -ls.wi)) *
-                       (c.y > 0.0 ? max(0.0, dot(facing, -ls.wi)) : 1.0);
+    if (spot_cosine_falloff(c.z)) attenuation *= max(0.0, dot(b.xyz, -ls.wi));
+    if (c.y > 0.0) attenuation *= max(0.0, dot(facing, -ls.wi));
     if (attenuation > 0.0)
         ls.radiance_over_pdf = power * (attenuation / (solid_angle * d2));
     return ls;

@@ -48,7 +48,7 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
             // The record holds the hard cone's power P Omega / 4 pi: I = that / Omega.
             float solid_angle = 2.0 * PI * (1.0 - b.w);
             float attenuation = spot_attenuation(b.xyz, -dir, b.w, c.x);
-            if (c.z > 0.5) attenuation *= max(0.0, dot(b.xyz, -dir));
+            if (spot_cosine_falloff(c.z)) attenuation *= max(0.0, dot(b.xyz, -dir));
             l = solid_angle > 0.0 ? power * (attenuation / (solid_angle * PI * r * r))
                                   : vec3(0.0);
         }

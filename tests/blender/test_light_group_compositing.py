@@ -111,9 +111,9 @@ def test_light_group_passes_match_cycles():
     (the issue asks 2%; measured under 3.4: 0.9985 and 1.0019, each render's noise about
     0.2% on the mean, so a 1% bias fails) and every 3x3 region within 4% of the brightest
     (Cycles' noise at 256 samples and ours at 64 passes, each about 1% on a region).
-    The lights have Blender's radius 0.25, 2 and 3 m above the plane: under 3.x Cycles lit
-    from a disc facing the lit point, 1.3% darker under the fill light than the sphere
-    (Light.point_disc, which the add-on sets there); 4.x and 5.x light from the sphere."""
+    The lights have Blender's radius 0.25, 2 and 3 m above the plane: Cycles lights them
+    from a disc facing the lit point (3.x; 4.x and 5.x with Soft Falloff on, the default),
+    1.3% darker under the fill light than the sphere the module had (Light.facing_disc)."""
     plane_scene()
     ours = render_multilayer("light_groups_ours")
     helpers.setup_cycles(samples=256)

@@ -358,15 +358,15 @@ def test_sphere_light_sampled_lights_like_a_point(glslppm):
     assert abs(mean) < 0.005
 
 
-def test_point_light_as_a_facing_disc_lights_as_cycles_3(glslppm):
-    """Light.point_disc (Blender 3.x): the light of radius r is Cycles 3.x's disc facing the
-    lit point, of the sphere's radiance P / (4 pi^2 r^2). Seen from its axis a disc's
+def test_point_light_as_a_facing_disc_lights_as_cycles_does(glslppm):
+    """Light.facing_disc (Cycles' default: 3.x, and 4.x with Soft Falloff on): the light of
+    radius r is a disc facing the lit point, of the sphere's radiance P / (4 pi^2 r^2). Seen from its axis a disc's
     irradiance vector lies along the axis with magnitude pi L sin^2(alpha), sin^2(alpha) =
     r^2 / (D^2 + r^2): the plane gets E = P h / (4 pi D (D^2 + r^2)), the sphere's
     P h / (4 pi D^3) times D^2 / (D^2 + r^2) (0.8 under it here). Bounds as the sphere's."""
     g = glslppm
     power, h, r = 100.0, 1.0, 0.5
-    light = g.Light("point", power=power, position=(0.0, 0.0, h), radius=r, point_disc=True)
+    light = g.Light("point", power=power, position=(0.0, 0.0, h), radius=r, facing_disc=True)
     size = 32
 
     def irradiance(x, y):
