@@ -12,7 +12,8 @@ of the same power instead of the emissive quad), photons (direct light from phot
 radiusR (radius scale R), pppm (the PPPM estimator), hidden (the light hidden from the
 camera), principled (Principled BSDF walls of roughness 1, which Blender's glTF exporter
 keeps; it writes a Diffuse BSDF as its default material: white, metallic 1, roughness 1),
-spec0 (with principled: Specular 0).
+spec0 (with principled: Specular 0), balls (a mirror and a glass ball for the boxes),
+glossy (the issue's glossy variant: glossy_objects).
 
 Cycles renders twice at half the samples with seeds 1 and 2 (cached under --cache by
 variant): their mean is the reference, half their difference the reference's noise. Prints
@@ -34,6 +35,8 @@ WHITE = (0.73, 0.73, 0.73)
 RED = (0.65, 0.05, 0.05)
 GREEN = (0.12, 0.45, 0.15)
 WARM = (1.0, 0.78, 0.55)
+# The changes that make another scene (and another Cycles reference); the rest are settings.
+SCENE_CHANGES = ("white", "area", "hidden", "principled", "spec0", "balls", "glossy")
 
 
 def enable_source_addon():
@@ -113,6 +116,55 @@ def box(name, size, height, location, angle, material):
     return mesh_object(name, vertices, faces, material, location, angle)
 
 
+def node_material(name, node_type, **inputs):
+    material = diffuse(name, (0, 0, 0))
+    tree = material.node_tree
+    tree.nodes.remove(next(n for n in tree.nodes if n.type == 'BSDF_DIFFUSE'))
+    node = tree.nodes.new(node_type)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    output = next(n for n in tree.nodes if n.type == 'OUTPUT_MATERIAL')
+    tree.links.new(node.outputs[0], output.inputs["Surface"])
+    return material
+
+
+def ball(name, location, material, radius=0.15):
+    """A smooth-shaded UV sphere of 64 x 32."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=radius,
+                                         location=location)
+    obj = bpy.context.active_object
+    obj.name = name
+    obj.data.polygons.foreach_set("use_smooth", [True] * len(obj.data.polygons))
+    obj.data.materials.append(material)
+    return obj
+
+
+def glossy_objects(white):
+    """The issue's glossy variant: a gold Principled ball (metallic 1, roughness 0.3), a
+    frosted glass one (transmission 1, roughness 0.15), a blue plastic Principled box
+    (roughness 0.4); the floor a Mix of the white Diffuse and a Glossy 0.2 at factor 0.3."""
+    transmission = "Transmission" if bpy.app.version < (4, 0, 0) else "Transmission Weight"
+    ball("Gold", (-0.2, 0.15, 0.15), node_material(
+        "Gold", "ShaderNodeBsdfPrincipled", **{"Base Color": (1.0, 0.77, 0.34, 1.0),
+                                               "Metallic": 1.0, "Roughness": 0.3}))
+    ball("Frosted", (0.2, -0.1, 0.15), node_material(
+        "Frosted", "ShaderNodeBsdfPrincipled", **{transmission: 1.0, "Roughness": 0.15}))
+    box("Plastic", 0.2, 0.2, (0.25, 0.25, 0), 20.0, node_material(
+        "Plastic", "ShaderNodeBsdfPrincipled", **{"Base Color": (0.1, 0.2, 0.8, 1.0),
+                                                  "Roughness": 0.4}))
+    floor = bpy.data.objects["Floor"]
+    mixed = node_material("FloorMix", "ShaderNodeMixShader", Fac=0.3)
+    tree = mixed.node_tree
+    mix = next(n for n in tree.nodes if n.type == 'MIX_SHADER')
+    lambert = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    lambert.inputs["Color"].default_value = WHITE + (1.0,)
+    gloss = tree.nodes.new("ShaderNodeBsdfGlossy")
+    gloss.inputs["Roughness"].default_value = 0.2
+    tree.links.new(lambert.outputs[0], mix.inputs[1])
+    tree.links.new(gloss.outputs[0], mix.inputs[2])
+    floor.data.materials[0] = mixed
+
+
 def build(changes):
     """The unit box open at the front (x, y in [-0.5, 0.5], z in [0, 1], back wall at
     y = 0.5): Diffuse walls, a 0.2 x 0.2 emissive quad of strength 40 facing down 1 mm
@@ -127,8 +179,16 @@ def build(changes):
     mesh_object("Back", [(-.5, .5, 0), (.5, .5, 0), (.5, .5, 1), (-.5, .5, 1)], quad, white)
     mesh_object("Left", [(-.5, -.5, 0), (-.5, .5, 0), (-.5, .5, 1), (-.5, -.5, 1)], quad, red)
     mesh_object("Right", [(.5, -.5, 0), (.5, -.5, 1), (.5, .5, 1), (.5, .5, 0)], quad, green)
-    box("ShortBox", 0.3, 0.3, (-0.17, -0.1, 0), -17.0, white)
-    box("TallBox", 0.3, 0.6, (0.17, 0.15, 0), 17.0, white)
+    if "balls" in changes:
+        ball("Mirror", (-0.2, 0.15, 0.15), node_material("Mirror", "ShaderNodeBsdfGlossy",
+                                                         Roughness=0.0))
+        ball("Glass", (0.2, -0.1, 0.15), node_material("Glass", "ShaderNodeBsdfGlass",
+                                                       IOR=1.5, Roughness=0.0))
+    elif "glossy" in changes:
+        glossy_objects(white)
+    else:
+        box("ShortBox", 0.3, 0.3, (-0.17, -0.1, 0), -17.0, white)
+        box("TallBox", 0.3, 0.6, (0.17, 0.15, 0), 17.0, white)
 
     gap = next((float(c[3:]) for c in changes if c.startswith("gap")), 0.001)
     color = (1.0, 1.0, 1.0) if "white" in changes else WARM
@@ -254,8 +314,7 @@ def main():
         changes = [c for c in variant.split("+") if c != "base"]
         clear()
         scene = build(changes)
-        cycles_changes = sorted(c for c in changes if c.startswith("gap") or c in
-                                ("white", "area", "hidden", "principled", "spec0"))
+        cycles_changes = sorted(c for c in changes if c.startswith("gap") or c in SCENE_CHANGES)
         key = "+".join(cycles_changes) or "base"
         reference, noise = cycles_reference(key, args.samples, args.cache)
         if args.gltf and changes in ([], ["principled"], ["principled", "spec0"]):
