@@ -380,6 +380,30 @@ def test_gltf_metallic_roughness_texture_reads_blue_and_green_as_numbers(glslppm
                                            rel=1e-5)
 
 
+@pytest.mark.parametrize("color, f0, warned", [
+    ([0, 0, 0], 0.0, False),           # Blender's exporter's Specular 0
+    ([0.5, 0.5, 0.5], 0.02, False),    # grey: exactly
+    ([0.2, 0.5, 0.8], 0.02, True),     # tinted: its mean, with a warning
+    ([30, 30, 30], 0.999, False),      # min(F0 colour, 1), kept below 1 as every F0
+])
+def test_gltf_specular_color_factor_scales_f0(glslppm, tmp_path, color, f0, warned):
+    """KHR_materials_specular's specularColorFactor multiplies F0 = ((ior - 1) / (ior + 1))^2
+    (0.04 at 1.5) before the clamp to 1, as the specification's min(F0 color, 1); it was read
+    as white, which made Blender's exported Specular 0 a layer of F0 0.034 (issue 30)."""
+    g = Gltf()
+    g.extension("KHR_materials_specular")
+    g.doc["materials"] = [{"pbrMetallicRoughness": {"metallicFactor": 0},
+                           "extensions": {"KHR_materials_specular": {
+                               "specularColorFactor": color}}}]
+    g.node(mesh=g.mesh(QUAD, QUAD_TRIS, material=0))
+    _, c, warnings = load(glslppm, g.write(tmp_path / "specular.gltf"))
+    assert bool(_material_warnings(warnings)) == warned, warnings
+    plastic = next(m for m in c["materials"] if m["kind"] == "plastic")
+    # Near F0 = 1 the index is 1 / (1 - sqrt(F0)): float rounding of 1 - sqrt is ~1e-4 of it.
+    assert plastic["ior"] == pytest.approx((1 + math.sqrt(f0)) / (1 - math.sqrt(f0)),
+                                           rel=1e-3 if f0 > 0.5 else 1e-5)
+
+
 def test_gltf_alpha_modes(glslppm, tmp_path):
     """BLEND: Mix(transparent, material) by the alpha factor times the base colour's
     alpha; MASK: the coverage compared with the cutoff, baked into a 0/1 texture (or a
