@@ -27,7 +27,7 @@ TEST_MODULES = ("test_install", "test_export", "test_render", "test_cycles", "te
                 "test_cancel_latency", "test_ray_visibility", "test_sky",
                 "test_curves", "test_farm", "test_instances", "test_passes",
                 "test_texture_coordinates", "test_motion_blur", "test_showcase",
-                "test_light_groups", "test_light_linking")
+                "test_light_groups")
 
 
 def parse_args():
