@@ -353,8 +353,8 @@ void main() {
             held = true;
 #ifdef DIRECT_LIGHT_SAMPLED
             ADD_LIGHT(sampled, LIGHT_GROUP_SAMPLED, throughput * direct_light_sampled_lobes(
-                                   s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
-                                   light_numbers.pick, light_numbers.u, u_dir, rays));
+                          s.material, s.position, s.geometric_normal, sh, wo, p_smooth > 0.0,
+                          light_numbers.pick, light_numbers.u, u_dir, rays));
 #endif
             break;
         }

@@ -25,6 +25,18 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef HAS_LIGHT_TRACING
 #include "common/light_tracing.glsl"
 #endif
+#include "common/light_linking.glsl"
+
+// Light linking (common/light_linking.glsl): a photon that still carries its emitter's link
+// set passes the surfaces that do not shadow that emitter, and is absorbed where it lands on
+// a surface its light does not reach.
+#ifdef LIGHT_LINKING
+bool photon_link_absorbed = false;  // set by stores_photon
+#define PHOTON_LINK_PASSES(m) photon_link_passes(m)
+#else
+const bool photon_link_absorbed = false;
+#define PHOTON_LINK_PASSES(m) false
+#endif
 
 // The path's class rides in its flux.w for the light split's passes or for light tracing
 // (the two are never on together: scene_features.cpp).
@@ -82,6 +94,10 @@ bool stores_photon(int material, Shading sh, uint path_bounces) {
                                                          : bsdf_has_rough_lobe(sh);
 #else
     bool store = bsdf_has_rough_lobe(sh);
+#endif
+#ifdef LIGHT_LINKING
+    photon_link_absorbed = !photon_link_lands(material, store);
+    store = store && !photon_link_absorbed;
 #endif
 #ifdef DIRECT_LIGHT_SAMPLED
     store = store && (path_bounces & BOUNCES_SCATTERED) != 0u;
@@ -189,7 +205,7 @@ void main() {
         int flags = material_flags(s.material);
         bool shadowless = (flags & MATERIAL_CASTS_NO_SHADOW) != 0;
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0 ||
-            (shadowless && kind != MATERIAL_DIFFUSE)) {
+            (shadowless && kind != MATERIAL_DIFFUSE) || PHOTON_LINK_PASSES(s.material)) {
             // Lights cast no shadow: go on through, next pass.
             origin = offset_origin(s.position, s.geometric_normal, dir);
             if (bounces > float(max_bounces)) bounces = -1.0;
@@ -218,7 +234,7 @@ void main() {
                 // Casting no shadow: lit where the photon lands, which then goes on unchanged.
                 origin = offset_origin(s.position, s.geometric_normal, dir);
                 if (bounces > float(max_bounces)) bounces = -1.0;
-            } else if (bounces > float(max_bounces) ||
+            } else if (bounces > float(max_bounces) || photon_link_absorbed ||
                        !bsdf_sample(sh, -dir, u_dir, true, wi, w)) {
                 bounces = -1.0;
             } else {

@@ -11,16 +11,20 @@ def native_material(native, material):
     fields = asdict(material)
     fields["vertex_color"] = material.vertex_color is not None  # the attribute's name is export's
     group = fields.pop("light_group")
+    link_set, link_row = fields.pop("light_link_set"), fields.pop("light_link_row")
     result = native.Material(**fields)
     result.light_group = group
+    result.light_link_set, result.light_link_row = link_set, link_row
     return result
 
 
 def native_light(native, light):
     fields = asdict(light)
     group = fields.pop("light_group")
+    link_set = fields.pop("light_link_set")
     result = native.Light(**fields)
     result.light_group = group
+    result.light_link_set = link_set
     return result
 
 
@@ -44,6 +48,9 @@ def native_scene(native, data):
     # in Cycles, whether an emitter uses it or not.
     scene.light_groups = list(data.light_groups)
     scene.world_light_group = data.world_light_group
+    # Light and shadow linking (docs/light_linking.md; Blender 4.0+).
+    scene.light_link_receives = list(data.light_link_receives)
+    scene.shadow_link_blocks = list(data.shadow_link_blocks)
     if data.motion:
         scene.set_motion(**data.motion)
     return scene

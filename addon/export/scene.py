@@ -20,6 +20,7 @@ from .curves import TriangleBudget, curves_object, hair_systems, point_cloud
 from .image import TextureTable
 from .light import convert_light
 from .light_groups import group_indices, group_of
+from .light_linking import LightLinks
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
 from .motion import instance_key, object_steps, sample_motion, unsupported_motion_warnings
@@ -87,6 +88,7 @@ class SceneBuilder:
         self.check_cancel = CancelPoll(None)
         self.instance_meshes = []
         self.light_group_indices = {}  # the view layer's light groups (export/light_groups.py)
+        self.light_links = LightLinks((), self.warn)  # export/light_linking.py
         self._instance_mesh_index = {}
         self._instance_matrices = []
         self._instance_mesh_ids = []
@@ -278,6 +280,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
             motion=None):
     geometry_cache = {}
     builder.light_group_indices = group_indices(depsgraph.view_layer)
+    builder.light_links = LightLinks(depsgraph.objects, builder.warn)
     moving = []  # (instance table row, times, matrices) of objects that move in the shutter
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
@@ -291,8 +294,10 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
             convert_light(obj.data, instance.matrix_world, builder,
                           getattr(obj, "visible_camera", True))
             group = group_of(obj, builder.light_group_indices)
-            builder.lights[first:] = [replace(light, light_group=group)
-                                      for light in builder.lights[first:]]
+            link_set = builder.light_links.link_set(obj)
+            builder.lights[first:] = [
+                replace(light, light_group=group, light_link_set=link_set)
+                for light in builder.lights[first:]]
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
             steps = object_steps(motion, instance_key(instance)) if motion else None
@@ -343,6 +348,8 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         instance_mesh=instance_mesh, material_keys=builder.material_keys,
         light_groups=list(builder.light_group_indices),
         world_light_group=world_group,
+        light_link_receives=builder.light_links.tables()[0],
+        shadow_link_blocks=builder.light_links.tables()[1],
         motion=_motion_arguments(motion, moving),
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
@@ -395,6 +402,8 @@ def export_tables(depsgraph, previous):
     gone, one whose node tree now has another number of entries (its mixed parts), or one
     that starts or stops reading a texture or a normal map (the meshes' uvs and tangents
     are read only for those)."""
+    if previous.light_link_receives:  # links ride on lights and materials: export it all
+        return None
     start = time.perf_counter()
     builder = SceneBuilder()
     materials = {m.name_full: m for m in depsgraph.ids if isinstance(m, _material_type())}
@@ -555,15 +564,25 @@ def _slot_materials(obj, builder, matrix=None):
 
     # An object in a light group gets its own copies of its materials, marked with the
     # group: the group of what emits is its material's (docs/light_groups.md).
+    # So does an object with light or shadow links (docs/light_linking.md): its materials
+    # carry its link set (as an emitter) and row (as a receiver and blocker).
     group = group_of(obj, builder.light_group_indices)
+    links = builder.light_links
+    linked = (links.link_set(obj), links.row(obj)) if links else (0, 0)
+    own = ((group,) if group >= 0 else ()) + ((linked,) if linked != (0, 0) else ())
 
     def key(material):
         if textures.spaces is not None and reads_object_coordinates(material):
-            return (_material_key(material), visibility, obj.name_full, group)
-        return (_material_key(material), visibility) + ((group,) if group >= 0 else ())
+            return (_material_key(material), visibility, obj.name_full, group, linked)
+        return (_material_key(material), visibility) + own
 
     def grouped(entries):
-        return [replace(m, light_group=group) for m in entries] if group >= 0 else entries
+        if group >= 0:
+            entries = [replace(m, light_group=group) for m in entries]
+        if linked != (0, 0):
+            entries = [replace(m, light_link_set=linked[0], light_link_row=linked[1])
+                       for m in entries]
+        return entries
 
     slot_materials = np.array(
         [builder.material_id(key(slot.material),

@@ -48,6 +48,8 @@ class MaterialData:
     vertex_color: object = None
     absorption: tuple = (0.0, 0.0, 0.0)  # sigma_a per world unit inside (the whole material's)
     light_group: int = -1            # index into SceneData.light_groups (its object's), -1 none
+    light_link_set: int = 0          # its object's link set (export/light_linking.py)
+    light_link_row: int = 0          # its object's row of SceneData.light_link_receives
 
     def textured(self):
         return max(self.color_texture, self.roughness_texture, self.mix_texture,
@@ -91,6 +93,7 @@ class LightData:
     size_y: float = 1.0
     visible_to_camera: bool = True
     light_group: int = -1            # index into SceneData.light_groups, -1 none
+    light_link_set: int = 0          # its object's link set (export/light_linking.py)
 
 
 @dataclass
@@ -145,6 +148,10 @@ class SceneData:
     # world's (an index, -1 none); lights and materials carry their own.
     light_groups: list = field(default_factory=list)
     world_light_group: int = -1
+    # Light and shadow linking (export/light_linking.py): per row, the masks of the link
+    # sets that reach it and that it shadows; empty: no links.
+    light_link_receives: list = field(default_factory=list)
+    shadow_link_blocks: list = field(default_factory=list)
     # Motion blur (export/motion.py): the module's Scene.set_motion arguments, or None.
     motion: dict = None
 

@@ -120,7 +120,13 @@ void bind_materials(py::module_& m) {
              py::arg("absorption") = std::array<float, 3>{0.0f, 0.0f, 0.0f})
         .def_readwrite("light_group", &Material::light_group,
                        "The light group of what emits with this material: an index into "
-                       "Scene.light_groups, -1: none (docs/light_groups.md).");
+                       "Scene.light_groups, -1: none (docs/light_groups.md).")
+        .def_readwrite("light_link_set", &Material::light_link_set,
+                       "The light link set of what emits with this material: a bit of "
+                       "Scene.light_link_receives' rows, 0-31 (docs/light_linking.md).")
+        .def_readwrite("light_link_row", &Material::light_link_row,
+                       "The row of Scene.light_link_receives and Scene.shadow_link_blocks that "
+                       "says which link sets reach this material and which it shadows.");
 
     py::class_<Texture>(m, "Texture")
         .def(py::init(&make_texture), py::arg("pixels"), py::arg("wrap") = "repeat",

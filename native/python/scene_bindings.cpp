@@ -245,7 +245,10 @@ void bind_scene(py::module_& m) {
              py::arg("size_x") = 1.0f, py::arg("size_y") = 1.0f,
              py::arg("visible_to_camera") = true, py::arg("facing_disc") = false)
         .def_readwrite("light_group", &Light::light_group,
-                       "Index into Scene.light_groups, -1: none (docs/light_groups.md).");
+                       "Index into Scene.light_groups, -1: none (docs/light_groups.md).")
+        .def_readwrite("light_link_set", &Light::light_link_set,
+                       "Its light link set, a bit of Scene.light_link_receives' rows, 0-31 "
+                       "(docs/light_linking.md).");
 
     py::class_<Camera>(m, "Camera")
         .def(py::init([](py::array_t<float, py::array::c_style | py::array::forcecast> to_world,
@@ -299,6 +302,13 @@ void bind_scene(py::module_& m) {
                        "pass, Renderer.light_group_passes() (docs/light_groups.md).")
         .def_readwrite("world_light_group", &Scene::world_light_group,
                        "The world's light group: an index into light_groups, -1: none.")
+        .def_readwrite("light_link_receives", &Scene::light_link_receives,
+                       "Light linking: per row (Material.light_link_row) a mask whose bit s "
+                       "says that emitters of link set s light it; empty: no links "
+                       "(docs/light_linking.md).")
+        .def_readwrite("shadow_link_blocks", &Scene::shadow_link_blocks,
+                       "Shadow linking: per row a mask whose bit s says that materials of the "
+                       "row shadow emitters of link set s (as many rows as light_link_receives).")
         .def_property_readonly("instance_count", [](const Scene& s) { return s.instances.size(); })
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangles.size(); })
         .def("arrays", [](const Scene& s) {

@@ -95,6 +95,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
         m.color = glm::vec3(0.0f);
         m.emission = light.color * (light.power / (kPi * area));
         m.light_group = light.light_group;
+        m.light_link_set = light.light_link_set;
         const auto material = static_cast<std::uint32_t>(g.materials.size());
         g.materials.push_back(m);
         g.flags.push_back(kMaterialLightSurface |

@@ -122,11 +122,13 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     // `emitted`, where given, the power the emitter radiates on average (a textured one).
     // `group`: the emitter's light group (-1 none), whose code rides above the kind's bits.
     int group = -1;
+    int link_set = 0;  // the emitter's light link set (docs/light_linking.md)
     auto add = [&](EmitterKind kind, glm::vec3 a, glm::vec4 b, glm::vec3 c, glm::vec3 power,
                    glm::vec3 emitted = glm::vec3(-1.0f)) {
         if (emitted.x < 0.0f) emitted = power;
         if (!(weight_of(emitted) > 0.0f)) return -1;  // dark; bad values were rejected earlier
-        const int kind_word = static_cast<int>(kind) | (group + 1) << EMITTER_GROUP_SHIFT;
+        const int kind_word = static_cast<int>(kind) | (group + 1) << EMITTER_GROUP_SHIFT |
+                              link_set << EMITTER_LINK_SHIFT;
         list.push_back(GpuEmitter{glm::vec4(a, as_float(kind_word)), b,
                                   glm::vec4(c, 0.0f), glm::vec4(power, 0.0f)});
         weights.push_back(weight_of(emitted));
@@ -145,6 +147,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
         const glm::vec3 emission = materials[static_cast<std::size_t>(material)].emission;
         if (weight_of(emission) <= 0.0f) continue;
         group = materials[static_cast<std::size_t>(material)].light_group;
+        link_set = materials[static_cast<std::size_t>(material)].light_link_set;
         const glm::vec3 v0(bvh.triangles[3 * t]), v1(bvh.triangles[3 * t + 1]),
             v2(bvh.triangles[3 * t + 2]);
         // In double: the cross product squares the edges (float overflows at 1e10 scale).
@@ -178,6 +181,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     for (const Light& light : scene.lights) {
         const glm::vec3 color = light.color * light.power;
         group = light.light_group;
+        link_set = light.light_link_set;
         switch (light.kind) {
             case LightKind::Point:
                 // A sphere of the light's radius (0: a point), radiating the power evenly;
@@ -215,6 +219,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     // The environment radiates onto the bounding disc from every direction: power
     // pi r^2 * (integral of L over the sphere); a constant L gives 4 pi * pi r^2 * L.
     group = scene.world_light_group;
+    link_set = 0;
     if (environment) {
         add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
             environment->integral * (kPi * r * r));

@@ -192,7 +192,9 @@ struct GpuMaterial {
     // Beer-Lambert sigma_a inside the object (Material::absorption; shaders/common/
     // absorption.glsl). Its own vec4, 16 bytes more per material: the five before are full.
     glm::vec3 absorption;
-    float light_group_code;  // Material::light_group + 1 (0: none), common/light_groups.glsl
+    // Material::light_group + 1 (0: none), common/light_groups.glsl, plus
+    // MATERIAL_LINK_ROW_SCALE x Material::light_link_row (common/light_linking.glsl)
+    float light_group_code;
 };
 static_assert(sizeof(GpuMaterial) == MATERIAL_VEC4 * 16 &&
               offsetof(GpuMaterial, color) == MATERIAL_COLOR * 16 &&

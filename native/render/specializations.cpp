@@ -48,6 +48,21 @@ std::vector<std::pair<std::string, std::string>> light_group_defines(const Input
             {"WORLD_LIGHT_GROUP", std::to_string(in.scene.world_light_group)}};
 }
 
+// Light linking and shadow linking (docs/light_linking.md): the scene's two tables, as
+// constant arrays the shaders index by a material's row (common/light_linking.glsl).
+bool light_links(const Inputs& in) { return !in.scene.light_link_receives.empty(); }
+std::string mask_list(const std::vector<std::uint32_t>& masks) {
+    std::string list;
+    for (std::uint32_t m : masks) list += (list.empty() ? "" : ",") + std::to_string(m) + "u";
+    return list;
+}
+std::vector<std::pair<std::string, std::string>> light_link_defines(const Inputs& in) {
+    return {{"LIGHT_LINKING", "1"},
+            {"LIGHT_LINK_ROWS", std::to_string(in.scene.light_link_receives.size())},
+            {"LIGHT_LINK_RECEIVES", mask_list(in.scene.light_link_receives)},
+            {"SHADOW_LINK_BLOCKS", mask_list(in.scene.shadow_link_blocks)}};
+}
+
 bool textures(const Inputs& in) { return in.p.textures.materials; }
 // Generated and Object coordinates: textures looked up at the world position beside the uv
 // (TexturePoint in common/textures.glsl).
@@ -91,7 +106,7 @@ bool samples_lights(const Inputs& in) { return in.settings.direct_light != Direc
 // visibility off, cut-outs).
 bool shadowless_surfaces(const Inputs& in) {
     if (!samples_lights(in)) return false;
-    bool any = false;
+    bool any = light_links(in);  // shadow linking's blockers pass shadow rays too
     for (std::uint32_t flags : in.p.geometry.flags)
         any |= (flags &
                 (kMaterialLightSurface | kMaterialCastsNoShadow | kMaterialMayBeTransparent)) != 0;
@@ -195,6 +210,13 @@ const Specialization kRows[] = {
      "not measured yet (docs/light_groups.md); not in the full variant: it stands for the "
      "scene's groups, whose films the pass layout holds",
      G::Last, false, light_groups, light_groups, light_group_defines},
+    {"light-linking", "LIGHT_LINKING",
+     "light or shadow links (Scene.light_link_receives): light samples, emission met by BSDF "
+     "samples and photons checked against the receiver's row, shadow rays against the "
+     "blocker's",
+     "not measured yet (docs/light_linking.md); not in the full variant: it stands for the "
+     "scene's link tables",
+     G::Last, false, light_links, light_links, light_link_defines},
     {"light-tracing", "HAS_LIGHT_TRACING",
      "a mirror or glass, with light tracing on (no light split)",
      "H100 1080p +40.6% on cornell-diffuse (the other scenes need it); "
@@ -219,7 +241,7 @@ bool rigid_frame(const glm::mat4& m) {
 std::span<const Specialization> specializations() { return kRows; }
 
 // The light split's passes (its Caustics pass would miss the splats), light groups (the
-// splats carry no group yet), a camera frame with scale or shear, and the full variant (a
+// splats carry no group yet), light links (the splats are not checked against them yet), a camera frame with scale or shear, and the full variant (a
 // material edit must not switch the film's buffers) rule light tracing out. A thin lens
 // connects through a point of its disc.
 bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
@@ -227,7 +249,8 @@ bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
     const bool photon_split =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
     return settings.light_tracing && rigid_frame(camera.to_world) && !photon_split &&
-           !settings.full_variant && scene.light_groups.empty();
+           !settings.full_variant && scene.light_groups.empty() &&
+           scene.light_link_receives.empty();
 }
 
 bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {

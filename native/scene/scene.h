@@ -132,6 +132,12 @@ struct Material {
     // -1: none). Emission is per material here, so the add-on gives an emissive material
     // shared by objects of different groups one copy per group.
     std::int32_t light_group = -1;
+    // Light linking (Blender 4.0+'s Light Linking and Shadow Linking; docs/light_linking.md):
+    // the link set of the emitters that emit with this material (0 ... 31), and the row of
+    // Scene::light_link_receives / shadow_link_blocks that says which link sets reach this
+    // material and which it shadows. Both 0 where a scene has no links.
+    std::int32_t light_link_set = 0;
+    std::int32_t light_link_row = 0;
 };
 
 // Blender's Image Texture extensions, as Cycles reads texels outside the image: Repeat wraps,
@@ -202,6 +208,7 @@ struct Light {
     float size_y = 1.0f;
     bool visible_to_camera = true;  // area: seen by camera rays (and specular chains)
     std::int32_t light_group = -1;  // index into Scene::light_groups, -1: none
+    std::int32_t light_link_set = 0;  // its link set (Scene::light_link_receives' bits)
 };
 
 enum class Projection : std::uint32_t { Perspective = 0, Orthographic = 1 };
@@ -253,6 +260,13 @@ struct Scene {
     // materials and (world_light_group) the world; empty: no group passes are compiled.
     std::vector<std::string> light_groups;
     std::int32_t world_light_group = -1;
+    // Light linking and shadow linking (docs/light_linking.md): one row per receiver kind,
+    // each a mask of the emitters' link sets (Light::light_link_set, Material::light_link_set;
+    // the world's is 0): bit s of light_link_receives[r] says that light of link set s reaches
+    // materials of row r (Material::light_link_row), bit s of shadow_link_blocks[r] that they
+    // shadow it. Both empty (every set and row 0): no links, nothing of it is compiled.
+    std::vector<std::uint32_t> light_link_receives;
+    std::vector<std::uint32_t> shadow_link_blocks;
     // Motion blur (scene/motion.h): empty renders the frame at one instant.
     SceneMotion motion;
 };

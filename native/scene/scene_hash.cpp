@@ -179,6 +179,12 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         for (const Light& l : s.lights) h.value(l.light_group);
         h.value(s.world_light_group);
     }
+    if (!s.light_link_receives.empty()) {  // scenes without links keep their old hash
+        h.array(std::span<const std::uint32_t>(s.light_link_receives));
+        h.array(std::span<const std::uint32_t>(s.shadow_link_blocks));
+        for (const Material& m : s.materials) h.value(m.light_link_set), h.value(m.light_link_row);
+        for (const Light& l : s.lights) h.value(l.light_link_set);
+    }
     return h.result();
 }
 

@@ -205,6 +205,40 @@ void validate_light_groups(const Scene& scene) {
     check(scene.world_light_group, "world_light_group");
 }
 
+// Light linking: the two tables have a row each for the same rows, at most
+// MAX_LIGHT_LINK_ROWS; every material's row is one of them and every link set is below
+// MAX_LIGHT_LINK_SETS (a mask's bits). Without tables every set and row is 0.
+void validate_light_links(const Scene& scene) {
+    const auto rows = static_cast<std::int64_t>(scene.light_link_receives.size());
+    if (static_cast<std::int64_t>(scene.shadow_link_blocks.size()) != rows)
+        Checker::fail("shadow_link_blocks",
+                      std::to_string(scene.shadow_link_blocks.size()) +
+                          " rows; light_link_receives has " + std::to_string(rows) +
+                          " (one row each per receiver kind)");
+    if (rows > MAX_LIGHT_LINK_ROWS)
+        Checker::fail("light_link_receives", std::to_string(rows) + " rows; at most " +
+                                                 std::to_string(MAX_LIGHT_LINK_ROWS));
+    const auto check_set = [&](std::int32_t set, const std::string& name) {
+        if (set < 0 || set >= (rows > 0 ? MAX_LIGHT_LINK_SETS : 1))
+            Checker::fail(name, "link set " + std::to_string(set) +
+                                    (rows > 0 ? " is not between 0 and " +
+                                                    std::to_string(MAX_LIGHT_LINK_SETS - 1)
+                                              : " needs light_link_receives (none: only 0)"));
+    };
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+        const std::string name = "materials[" + std::to_string(k) + "]";
+        check_set(scene.materials[k].light_link_set, name + ".light_link_set");
+        const std::int32_t row = scene.materials[k].light_link_row;
+        if (row < 0 || row >= std::max<std::int64_t>(rows, 1))
+            Checker::fail(name + ".light_link_row",
+                          "row " + std::to_string(row) + " is not one of the " +
+                              std::to_string(rows) + " rows of light_link_receives");
+    }
+    for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        check_set(scene.lights[k].light_link_set,
+                  "lights[" + std::to_string(k) + "].light_link_set");
+}
+
 }  // namespace
 
 void validate_scene(const Scene& scene) {
@@ -225,6 +259,7 @@ void validate_scene(const Scene& scene) {
     if (!finite(glm::mat4(scene.environment_to_world)))
         Checker::fail("environment_to_world", "has a NaN or infinite entry");
     validate_light_groups(scene);
+    validate_light_links(scene);
 }
 
 }  // namespace glslppm

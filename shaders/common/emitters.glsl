@@ -86,6 +86,9 @@ void emit_photon(inout RNG_STATE rng, out vec3 origin, out vec3 dir, out vec3 fl
 #if defined(LIGHT_GROUPS) && defined(USES_PHOTON_PATHS)
     photon_group_code = emitter_group_code(k);  // the path carries its emitter's group
 #endif
+#if defined(LIGHT_LINKING) && defined(USES_PHOTON_PATHS)
+    photon_link_code = emitter_link_set(k) + 1u;  // and its link set, until it lands
+#endif
     float u1 = rng_next(rng), u2 = rng_next(rng);
     float u3 = rng_next(rng), u4 = rng_next(rng);
     vec3 power = d.rgb / d.w;  // d.rgb holds the emitter's power: flux / pick probability

@@ -24,7 +24,10 @@ const uint WORLD_GROUP_CODE = uint(WORLD_LIGHT_GROUP + 1);
 // light_group_add's code for the light sample's parts (light_group_sampled).
 const uint LIGHT_GROUP_SAMPLED = 0xFFFFFFFFu;
 
-uint material_group_code(int m) { return uint(material_record(m, MATERIAL_ABSORPTION).w); }
+// Below the material's light link row (common/records.glsl).
+uint material_group_code(int m) {
+    return uint(material_record(m, MATERIAL_ABSORPTION).w) % uint(MATERIAL_LINK_ROW_SCALE);
+}
 
 uint light_group_record(uint group) { return LIGHT_GROUP_FIRST + 4u * group; }
 

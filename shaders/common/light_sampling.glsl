@@ -15,6 +15,7 @@
 #include "common/lobes.glsl"
 #include "common/emitters.glsl"
 #include "common/light_groups.glsl"
+#include "common/light_linking.glsl"
 
 // With light groups each part of the result goes to its emitter's group as well
 // (common/light_groups.glsl); the parts sum to the result.
@@ -22,6 +23,18 @@
 #define LIGHT_GROUP_PART(code, part) light_group_sampled_add(code, part)
 #else
 #define LIGHT_GROUP_PART(code, part)
+#endif
+
+// Light linking (common/light_linking.glsl): which emitters reach the point, which surfaces
+// shadow which emitter. LINK_SHADOW_RAY names the emitter set the next shadow ray is for.
+#ifdef LIGHT_LINKING
+#define LINK_LIGHT_SAMPLE(m, picked, ls) light_link_sample(m, picked, ls.radiance_over_pdf)
+#define LINK_REACHES(set) light_link_reaches(set, light_link_receiver)
+#define LINK_SHADOW_RAY(set) shadow_link_set = (set)
+#else
+#define LINK_LIGHT_SAMPLE(m, picked, ls)
+#define LINK_REACHES(set) true
+#define LINK_SHADOW_RAY(set)
 #endif
 
 #ifdef BVH_ANY_HIT_FILTER
@@ -36,6 +49,9 @@ uint shadow_ray_seed = 0u;
 bool shadow_passes(int m, int triangle, float u, float v) {
     int flags = material_flags(m);
     if ((flags & (MATERIAL_LIGHT_SURFACE | MATERIAL_CASTS_NO_SHADOW)) != 0) return true;
+#ifdef LIGHT_LINKING
+    if (!shadow_link_blocks_set(m, shadow_link_set)) return true;  // shadow linking
+#endif
     if ((flags & MATERIAL_MAY_BE_TRANSPARENT) != 0) {
         vec2 uv = vec2(0.0);
 #ifdef HAS_TEXTURES
@@ -325,13 +341,14 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 #ifdef BVH_ANY_HIT_FILTER
     shadow_ray_seed = seed;
 #endif
+    LINK_SHADOW_RAY(LINK_SET_ANY);  // whose light it meets is not known: every surface shadows
     for (int crossing = 0; crossing < BSDF_RAY_CROSSINGS; ++crossing) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {
 #ifdef HAS_ENVIRONMENT
             float p_light = environment_light_pdf(wi, side, transmits);
-            if (p_light > 0.0) {
+            if (p_light > 0.0 && LINK_REACHES(0u)) {  // the world's link set is 0
                 vec3 term = environment_radiance(wi) / (p_bsdf + p_light);
                 sum += term;
                 LIGHT_GROUP_PART(WORLD_GROUP_CODE, light_group_bsdf_weight * term);
@@ -343,7 +360,7 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
         vec3 a = triangles[3 * t].xyz, b = triangles[3 * t + 1].xyz, c = triangles[3 * t + 2].xyz;
         vec3 q = a + hit.u * (b - a) + hit.v * (c - a);
         int k = triangles_too ? triangle_emitter(t) : -1;
-        if (k >= 0) {
+        if (k >= 0 && LINK_REACHES(emitter_link_set(uint(k)))) {
             // The light sample's distance is from p, whatever the ray crossed on the way.
             float p_light = triangle_light_pdf(uint(k), wi, length(q - p));
             vec3 term = triangle_emitter_radiance(uint(k), t, vec2(hit.u, hit.v), wi) /
@@ -370,8 +387,10 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 // sampling). With HAS_EMITTER_MIS the same BSDF sample looks for emissive triangles too at
 // glossy lobes, weighed against light samples of them alike. Other emitters (point, spot
 // and sun lights: delta lights no BSDF sample can hit) come from their light samples alone.
-vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
-                                float pick, vec4 u, vec3 u_bsdf, inout uint rays) {
+// `material`: the point's own (a Mix's root), whose light link row counts.
+vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 wo,
+                                bool rough_only, float pick, vec4 u, vec3 u_bsdf,
+                                inout uint rays) {
     vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
     bool transmits = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
     // A transmitting lobe sees the constant world from below as well: the cosine-sampled
@@ -380,6 +399,7 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
     vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
     uint picked = pick_emitter(pick);  // the emitter sample_light drew from
+    LINK_LIGHT_SAMPLE(material, picked, ls);
     bool world = emitter_kind(picked) == EMITTER_ENVIRONMENT;
 #ifdef HAS_EMITTER_MIS
     // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
@@ -459,8 +479,10 @@ vec3 direct_light_sampled_lobes(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough
         float p_bsdf = bsdf_pdf(sh, wo, wi);
         float p_light = environment_light_pdf(wi, ng_wo, transmits);
         vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
-        if (p_bsdf > 0.0 && p_light > 0.0 && any(greaterThan(f_rough, vec3(0.0)))) {
+        if (p_bsdf > 0.0 && p_light > 0.0 && any(greaterThan(f_rough, vec3(0.0))) &&
+            LINK_REACHES(0u)) {
             Ray escape = make_ray(offset_origin(p, ng, wi), wi);
+            LINK_SHADOW_RAY(0u);  // the world's
             ++rays;
 #ifdef BVH_ANY_HIT_FILTER
             shadow_ray_seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);

@@ -20,7 +20,7 @@
 #define MATERIAL_MIX_RECORD 3        // (mix a, mix b, mix factor, mix factor's texture)
 #define MATERIAL_OPTIONS 4           // (options, mix ior, albedo table, normal map word)
 #define MATERIAL_EMISSION_TEXTURE 5  // (emission texture, F82 tint rgb)
-#define MATERIAL_ABSORPTION 6        // (sigma_a rgb, light group code: group + 1, 0 none)
+#define MATERIAL_ABSORPTION 6        // (sigma_a rgb, link word: group code + 64 link row)
 
 // MaterialKind (native/scene/scene.h): the `kind` field.
 #define MATERIAL_DIFFUSE 0
@@ -88,8 +88,10 @@
 #define EMITTER_POWER 3  // (power rgb, pick probability)
 // EMITTER_A's w holds the kind's int bits in its low byte and, from EMITTER_GROUP_SHIFT, the
 // emitter's light group code (common/light_groups.glsl: the group + 1, 0 for none).
+// From EMITTER_LINK_SHIFT, its light link set (common/light_linking.glsl).
 #define EMITTER_KIND_MASK 255
 #define EMITTER_GROUP_SHIFT 8
+#define EMITTER_LINK_SHIFT 16
 // EmitterKind.
 #define EMITTER_TRIANGLE 0
 #define EMITTER_POINT 1
@@ -113,6 +115,13 @@
 // A group's code is its index + 1 (0: no group); the stored photon's record word keeps it in
 // 6 bits, so a scene has at most this many groups.
 #define MAX_LIGHT_GROUPS 63
+
+// --- Light linking (common/light_linking.glsl, docs/light_linking.md) ---
+// A link set is a bit of a row's masks; a material's row rides above its group code in
+// MATERIAL_ABSORPTION's w (times MATERIAL_LINK_ROW_SCALE, exact in a float).
+#define MAX_LIGHT_LINK_SETS 32
+#define MAX_LIGHT_LINK_ROWS 256
+#define MATERIAL_LINK_ROW_SCALE 64
 
 // --- Visible points, one per pixel (common/visible_points.glsl names the fields) ---
 #define VISIBLE_POINT_VEC4 4u

@@ -14,7 +14,11 @@ int emitter_kind(uint k) {
 }
 // The emitter's light group code (common/light_groups.glsl): its group + 1, 0 for none.
 uint emitter_group_code(uint k) {
-    return uint(floatBitsToInt(emitter_record(k, EMITTER_A).w)) >> EMITTER_GROUP_SHIFT;
+    return (uint(floatBitsToInt(emitter_record(k, EMITTER_A).w)) >> EMITTER_GROUP_SHIFT) & 255u;
+}
+// The emitter's light link set (common/light_linking.glsl; 0 without links).
+uint emitter_link_set(uint k) {
+    return uint(floatBitsToInt(emitter_record(k, EMITTER_A).w)) >> EMITTER_LINK_SHIFT;
 }
 #endif
 

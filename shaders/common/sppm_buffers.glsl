@@ -45,15 +45,22 @@ void store_photon_path_record(uint i, uint field, vec4 value) {
     photon_paths[PHOTON_PATH_VEC4 * i + field] = value;
 }
 
-// A path's flux.w: its class (common/pass_films.glsl) and, with light groups, 4 times the
-// group code of the emitter it started from (common/light_groups.glsl; exact in a float).
-#ifdef LIGHT_GROUPS
+// A path's flux.w: its class (common/pass_films.glsl) and, with light groups or links, 4 times
+// the group code of the emitter it started from (common/light_groups.glsl) plus 64 times its
+// link code (common/light_linking.glsl: the emitter's link set + 1 while the path carries it,
+// 0 after); exact in a float.
+#if defined(LIGHT_GROUPS) || defined(LIGHT_LINKING)
 uint photon_group_code = 0u;  // the traced path's, set by load_photon_group or emit_photon
+uint photon_link_code = 0u;
 void load_photon_group(uint i) {
-    photon_group_code = uint(photon_path_record(i, PHOTON_PATH_FLUX).w) >> 2;
+    uint word = uint(photon_path_record(i, PHOTON_PATH_FLUX).w) >> 2;
+    photon_group_code = word & 63u;
+    photon_link_code = word >> 6;
 }
 float photon_path_class_of(float word) { return float(uint(word) & 3u); }
-float photon_path_word(float path_class) { return path_class + 4.0 * float(photon_group_code); }
+float photon_path_word(float path_class) {
+    return path_class + 4.0 * float(photon_group_code + 64u * photon_link_code);
+}
 #else
 void load_photon_group(uint i) {}
 float photon_path_class_of(float word) { return word; }
