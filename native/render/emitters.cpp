@@ -196,12 +196,11 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                 const float cos_half = std::cos(0.5f * light.spot_size);
                 const float solid_angle = 2.0f * kPi * (1.0f - cos_half);
                 const float smooth = (1.0f - cos_half) * light.spot_blend;
+                // c.z: 1 for Blender 3.x's cosine falloff, + 2 for the facing disc.
+                const float code = float(light.spot_cosine) + 2.0f * float(light.facing_disc);
                 add(EmitterKind::Spot, light.position,
                     glm::vec4(glm::normalize(light.direction), cos_half),
-                    // c.z: 1 for Blender 3.x's cosine falloff, + 2 for the facing disc.
-                    glm::vec3(smooth, light.radius,
-                              (light.spot_cosine ? 1.0f : 0.0f) + (light.facing_disc ? 2.0f : 0.0f)),
-                    color * (solid_angle / (4.0f * kPi)));
+                    glm::vec3(smooth, light.radius, code), color * (solid_angle / (4.0f * kPi)));
                 break;
             }
             case LightKind::Sun:
