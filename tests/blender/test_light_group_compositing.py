@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 
 import helpers
-from helpers import add_camera, add_light, add_mesh_object, diffuse_material
+from test_light_groups import two_light_scene
 from test_passes import compositor_tree, render_multilayer
 
 SIZE = (48, 36)
@@ -17,26 +17,9 @@ KEY, FILL = 300.0, 200.0         # the lights' watts
 KEY_GAIN, FILL_GAIN = 0.5, 0.25  # the compositor's weights (colour inputs stay within [0, 1])
 
 
-def plane_scene(key_energy=KEY, fill_energy=FILL, groups=True, radius=0.25):
-    """The grey plane seen from above under the two point lights, each in its light group
-    (the view layer's groups made once: Blender has no call to remove one)."""
-    scene = helpers.reset_scene(size=SIZE)
-    scene.glslppm.passes = 64
-    scene.glslppm.photons_per_pass = 32768
-    add_mesh_object("Plane", [(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)],
-                    [(0, 1, 2, 3)], material=diffuse_material("Grey", (0.6, 0.6, 0.6)))
-    layer = scene.view_layers[0]
-    for name, energy, location, color in (
-            ("key", key_energy, (-1.5, 0.5, 3), (1.0, 0.6, 0.3)),
-            ("fill", fill_energy, (1.5, -0.5, 2), (0.3, 0.6, 1.0))):
-        light = add_light('POINT', energy, location=location, color=color,
-                          shadow_soft_size=radius)
-        if groups:
-            if name not in layer.lightgroups:
-                layer.lightgroups.add(name=name)
-            light.lightgroup = name
-    add_camera((0, 0, 6), (0, 0, 0))
-    return scene
+def plane_scene(key_energy=KEY, fill_energy=FILL, groups=True):
+    """test_light_groups' plane under the two point lights at these powers."""
+    return two_light_scene(groups=groups, key_energy=key_energy, fill_energy=fill_energy)
 
 
 def stop_compositing(scene):
@@ -70,8 +53,9 @@ def test_compositor_rebalances_two_light_groups_as_a_render_with_those_strengths
     """Render Layers' Combined_key x 0.5 + Combined_fill x 0.25 (Mix nodes, into the
     composite) against a render whose lights are 150 W and 50 W: the same image within the
     renders' own noise. Each group's mean is its light alone's within 0.2% at 64 passes
-    (test_light_groups), so the two images' means agree well within 1% and every 3x3 region
-    within 3% of the brightest (a 16 x 12 px region's noise is about 1%)."""
+    (test_light_groups): the means within 0.6% (measured 0.12% / 0.19% / 0.30% per channel
+    on 3.4.1, 4.3.2 and 5.2.2 alike), so a 1% bias fails; every 3x3 region within 3% of the
+    brightest (measured 1.05%; a 16 x 12 px region's noise is about 1%)."""
     scene = plane_scene()
     tree, layers, composite = compositor_tree(scene)
     compat = helpers.compat()
@@ -96,8 +80,8 @@ def test_compositor_rebalances_two_light_groups_as_a_render_with_those_strengths
     print(f"  composited / relit: mean per channel {np.round(ratio, 4).tolist()}, worst "
           f"region {region_error:.4f}")
     assert relit.mean() > 0.01
-    assert mean_error < 0.01, mean_error
-    assert np.all(np.abs(ratio - 1.0) < 0.01), ratio
+    assert mean_error < 0.006, mean_error
+    assert np.all(np.abs(ratio - 1.0) < 0.006), ratio
     assert region_error < 0.03, region_error
     # The weights did act: the composite is not the plain Combined (0.5 and 0.25 of it).
     plane_scene()

@@ -13,9 +13,10 @@ from test_passes import render_multilayer
 SIZE = (48, 36)
 
 
-def two_light_scene(key=True, fill=True, groups=True):
-    """A grey plane seen from above under a warm point light "key" and a cool one "fill",
-    each in its own light group (or none, for the references)."""
+def two_light_scene(key=True, fill=True, groups=True, key_energy=300.0, fill_energy=200.0):
+    """A grey plane seen from above under a warm point light "key" and a cool one "fill"
+    (Blender's radius 0.25, 3 and 2 m up), each in its own light group (or none, for the
+    references). The view layer's groups are made once: Blender has no call to remove one."""
     scene = helpers.reset_scene(size=SIZE)
     scene.glslppm.passes = 64
     scene.glslppm.photons_per_pass = 32768
@@ -24,10 +25,11 @@ def two_light_scene(key=True, fill=True, groups=True):
     layer = scene.view_layers[0]
     if groups:
         for name in ("key", "fill"):
-            layer.lightgroups.add(name=name)
+            if name not in layer.lightgroups:
+                layer.lightgroups.add(name=name)
     for name, on, energy, location, color in (
-            ("key", key, 300.0, (-1.5, 0.5, 3), (1.0, 0.6, 0.3)),
-            ("fill", fill, 200.0, (1.5, -0.5, 2), (0.3, 0.6, 1.0))):
+            ("key", key, key_energy, (-1.5, 0.5, 3), (1.0, 0.6, 0.3)),
+            ("fill", fill, fill_energy, (1.5, -0.5, 2), (0.3, 0.6, 1.0))):
         if not on:
             continue
         light = add_light('POINT', energy, location=location, color=color)

@@ -163,11 +163,13 @@ def test_shutter_curve_weights_the_sweep():
     """Render Properties > Motion Blur > Shutter Curve as a ramp from closed at the opening
     to open at the closing: the times' density is 2 s over the shutter, and each column reads
     L times the chance that the strip covers it (the module's test has the closed form).
-    Bounds: 0.1 L per pixel (as the box's); the profile's centroid within D / 64 (Koksma, 64
-    passes) + 0.005 = 0.03 units of the closed form's, where a box shutter's lies D/6 = 0.25
-    units earlier. No warning about the curve."""
+    Bounds: 0.1 L per pixel (as the box's); the profile's centroid within D / 256 (Koksma,
+    256 passes) + 0.002 = 0.008 units of the closed form's, where a box shutter's lies D/6 =
+    0.25 units earlier and a shutter 1% longer's 0.01 later (the module's test measured
+    +0.0122 for it). No warning about the curve."""
     helpers.load_native()
     scene, _ = _moving_strip_scene('CENTER')
+    scene.glslppm.passes = 256
     curve = scene.render.motion_blur_shutter_curve
     points = curve.curves[0].points  # Blender's default: (0, 1), (0.5, 1), (1, 1)
     saved = [(tuple(p.location), p.handle_type) for p in points]
@@ -195,7 +197,7 @@ def test_shutter_curve_weights_the_sweep():
     print(f"  shutter curve (ramp): worst pixel {worst:.3f} of L, centroid {shift:+.4f} units "
           f"from the closed form's (a box shutter's {box:+.4f})")
     assert worst < 0.1, worst
-    assert abs(shift) < 0.03, shift
+    assert abs(shift) < 0.008, shift
     assert abs(box) > 0.2
 
 
