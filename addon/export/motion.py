@@ -1,8 +1,9 @@
 """Motion blur's export (docs/motion_blur.md): Blender's shutter, and the camera's and each
 moving object's matrix_world at the motion steps, read by evaluating the render depsgraph at
 subframes as Cycles does (RenderEngine.frame_set), the frame restored afterwards, and the
-shutter curve. Transform motion only: deformation (armatures, shape keys, modifiers) and the
-rolling shutter are warned about and not done."""
+shutter curve. Deformation (armatures, shape keys, modifiers): the vertices (and normals) of
+each mesh object that may deform, read at the same steps as its matrix, where its triangles
+stay the same. The rolling shutter is warned about and not done."""
 
 import math
 from dataclasses import dataclass, field
@@ -10,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..compat import motion_blur_position, object_motion_blur
+from .mesh import mesh_geometry
 
 # Modifiers that move vertices over time; their motion is not exported (a warning).
 DEFORMING_MODIFIERS = {'ARMATURE', 'MESH_DEFORM', 'LATTICE', 'CURVE', 'HOOK', 'SURFACE_DEFORM',
@@ -26,6 +28,8 @@ class MotionSamples:
     times: list
     objects: dict = field(default_factory=dict)  # instance_key -> [(4, 4) matrices]
     steps: dict = field(default_factory=dict)    # instance_key -> the object's step count
+    # instance_key -> [(corner positions (3T, 3), corner normals or None)] per time
+    vertices: dict = field(default_factory=dict)
     camera: list = field(default_factory=list)   # the camera's matrix_world per time
     camera_fov_x: list = field(default_factory=list)
     shutter_curve: list = field(default_factory=list)  # empty: a box shutter
@@ -67,6 +71,32 @@ def step_count(motion_steps):
     """Cycles' object_motion_steps: 2^steps + 1 (3 for Blender's default 1), so that one
     step is the shutter's centre and fewer steps are a subset of more."""
     return (2 << (min(motion_steps, 8) - 1)) + 1
+
+
+def may_deform(obj):
+    """Whether a mesh object's vertices may move in the shutter (a deforming modifier or
+    shape keys) with its deformation motion on: the objects whose vertices are read at the
+    steps (reading every mesh at every step would cost every scene)."""
+    cycles = getattr(obj, "cycles", None)
+    deform = getattr(obj, "use_deform_motion", getattr(cycles, "use_deform_motion", True))
+    if obj.type != 'MESH' or not deform:
+        return False
+    keys = obj.data.shape_keys if obj.data is not None else None
+    return (any(m.type in DEFORMING_MODIFIERS for m in obj.modifiers) or
+            (keys is not None and len(keys.key_blocks) > 1))
+
+
+def read_vertices(obj):
+    """An evaluated mesh object's corner positions and normals, as the export reads them
+    (mesh.mesh_geometry), or None without faces."""
+    mesh = obj.to_mesh()
+    try:
+        geometry = mesh_geometry(mesh) if mesh is not None else None
+    finally:
+        obj.to_mesh_clear()
+    if geometry is None:
+        return None
+    return geometry.positions, geometry.normals
 
 
 def instance_key(instance):
@@ -112,6 +142,8 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
                 samples.objects.setdefault(key, []).append(
                     np.array(instance.matrix_world, dtype=np.float32))
                 samples.steps[key] = step_count(steps)
+                if not instance.is_instance and may_deform(obj.original):
+                    samples.vertices.setdefault(key, []).append(read_vertices(obj))
             if camera_object is not None:
                 evaluated = camera_object.evaluated_get(depsgraph)
                 samples.camera.append(np.array(evaluated.matrix_world, dtype=np.float64))
@@ -120,7 +152,14 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
         engine.frame_set(frame, subframe)
     # An instance seen at some steps only (appearing, disappearing) does not blur.
     samples.objects = {k: m for k, m in samples.objects.items() if len(m) == count}
+    samples.vertices = {k: v for k, v in samples.vertices.items() if len(v) == count}
     return samples
+
+
+def picked_steps(samples, key):
+    """The indices into samples.times of one object's own steps."""
+    stride = (len(samples.times) - 1) // (samples.steps[key] - 1)
+    return range(0, len(samples.times), stride)
 
 
 def object_steps(samples, key):
@@ -129,27 +168,51 @@ def object_steps(samples, key):
     matrices = samples.objects.get(key)
     if matrices is None or all(np.array_equal(m, matrices[0]) for m in matrices):
         return None
-    stride = (len(samples.times) - 1) // (samples.steps[key] - 1)
-    picked = range(0, len(samples.times), stride)
+    picked = picked_steps(samples, key)
     return ([samples.times[k] for k in picked],
             np.ascontiguousarray([matrices[k] for k in picked], dtype=np.float32))
 
 
-def unsupported_motion_warnings(scene, objects):
-    """What motion blur leaves out, for a render with it on: deforming objects, a shutter
-    curve that never opens, the rolling shutter."""
+def object_deformation(samples, key, mesh, name):
+    """(times, (S, 3T, 3) positions, (S, 3T, 3) normals or None) of one object's vertices at
+    its steps, for Scene.set_motion's meshes; None where they do not move. mesh: the
+    exported instance mesh (its corners). A (warning,) where the vertices cannot be used."""
+    steps = samples.vertices.get(key)
+    if steps is None:
+        return None
+    picked = [steps[k] for k in picked_steps(samples, key)]
+    corners = len(mesh["positions"])
+    if any(s is None or len(s[0]) != corners for s in picked):
+        return (f"object '{name}': its triangles change in the shutter (or some were left "
+                "out), so its deformation is not blurred, as in Cycles",)
+    positions = np.ascontiguousarray([s[0] for s in picked], dtype=np.float32)
+    if all(np.array_equal(p, positions[0]) for p in positions):
+        return None
+    normals = None
+    if mesh.get("normals") is not None:
+        normals = np.ascontiguousarray(
+            [s[1] if s[1] is not None else mesh["normals"] for s in picked], dtype=np.float32)
+    if not (np.isfinite(positions).all() and (normals is None or np.isfinite(normals).all())):
+        return (f"object '{name}': a vertex is not finite at a motion step, so its "
+                "deformation is not blurred",)
+    times = [samples.times[k] for k in picked_steps(samples, key)]
+    return times, positions, normals
+
+
+def vertices_move(samples, key):
+    """Whether an object's vertices were read at the steps and differ between them (or
+    change in number: object_deformation then says why they are not used)."""
+    steps = samples.vertices.get(key)
+    if not steps or any(s is None for s in steps):
+        return bool(steps) and any(s is not None for s in steps)
+    first = steps[0][0]
+    return any(s[0].shape != first.shape or not np.array_equal(s[0], first) for s in steps)
+
+
+def unsupported_motion_warnings(scene):
+    """What motion blur leaves out, for a render with it on: a shutter curve that never
+    opens, the rolling shutter."""
     warnings = []
-    for obj in objects:
-        use, _ = object_motion_blur(obj)
-        cycles = getattr(obj, "cycles", None)
-        deform = getattr(obj, "use_deform_motion", getattr(cycles, "use_deform_motion", True))
-        if not (use and deform) or obj.type != 'MESH':
-            continue
-        keys = obj.data.shape_keys if obj.data is not None else None
-        modifiers = [m.type for m in obj.modifiers if m.type in DEFORMING_MODIFIERS]
-        if modifiers or (keys is not None and len(keys.key_blocks) > 1):
-            warnings.append(f"object '{obj.name}': deformation motion blur (armatures, shape "
-                            "keys, modifiers) is not done: it blurs its transform only")
     curve = scene.render.motion_blur_shutter_curve
     points = [p.location[1] for c in curve.curves[:1] for p in c.points]
     if points and max(points) <= 0.0:

@@ -23,7 +23,8 @@ from .light_groups import group_indices, group_of
 from .light_linking import LightLinks
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
-from .motion import instance_key, object_steps, sample_motion, unsupported_motion_warnings
+from .motion import (instance_key, object_deformation, object_steps, sample_motion,
+                     unsupported_motion_warnings, vertices_move)
 from .scene_data import SceneData
 from .texture_mapping import object_spaces, reads_object_coordinates
 from .visibility import object_visibility
@@ -194,6 +195,10 @@ class SceneBuilder:
             return len(self._instance_mesh_ids) - 1  # the row in the instance table
         return None
 
+    def instance_mesh_of(self, row):
+        """The instance mesh index of an instance table row."""
+        return self._instance_mesh_ids[row]
+
     def instance_table(self):
         """((N, 4, 4) float32 matrices, (N,) uint32 mesh indices), or (None, None)."""
         if not self._instance_mesh_ids:
@@ -282,6 +287,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     builder.light_group_indices = group_indices(depsgraph.view_layer)
     builder.light_links = LightLinks(depsgraph.objects, builder.warn)
     moving = []  # (instance table row, times, matrices) of objects that move in the shutter
+    deforming = []  # (instance mesh, times, positions, normals) of meshes that deform in it
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
                             builder.warn)
@@ -300,13 +306,22 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                 for light in builder.lights[first:]]
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
-            steps = object_steps(motion, instance_key(instance)) if motion else None
-            if instance.is_instance or steps is not None:
-                # A moving object is an instance: the module moves it per pass.
+            key = instance_key(instance)
+            steps = object_steps(motion, key) if motion else None
+            deforms = motion is not None and vertices_move(motion, key)
+            if instance.is_instance or steps is not None or deforms:
+                # A moving or deforming object is an instance: the module moves it per pass.
                 row = _export_instance(obj, np.array(instance.matrix_world, dtype=np.float32),
                                        builder, geometry_cache)
                 if steps is not None and row is not None:
                     moving.append((row, *steps))
+                if deforms and row is not None:
+                    mesh = builder.instance_mesh_of(row)
+                    d = object_deformation(motion, key, builder.instance_meshes[mesh], obj.name)
+                    if d is not None and len(d) == 1:
+                        builder.warn(d[0])
+                    elif d is not None:
+                        deforming.append((mesh, *d))
             else:
                 _export_object_instance(obj, np.array(instance.matrix_world), builder,
                                         geometry_cache)
@@ -333,7 +348,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     builder.lights[first_world_light:] = [replace(light, light_group=world_group)
                                           for light in builder.lights[first_world_light:]]
     if motion is not None:
-        for warning in unsupported_motion_warnings(scene, scene.objects):
+        for warning in unsupported_motion_warnings(scene):
             builder.warn(warning)
     return SceneData(
         positions=positions, indices=indices, normals=normals, uvs=uvs,
@@ -350,7 +365,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         world_light_group=world_group,
         light_link_receives=builder.light_links.tables()[0],
         shadow_link_blocks=builder.light_links.tables()[1],
-        motion=_motion_arguments(motion, moving),
+        motion=_motion_arguments(motion, moving, deforming),
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "instance_table": 0 if instance_mesh is None else len(instance_mesh),
@@ -358,13 +373,14 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                "dropped_triangles": builder.dropped_triangles})
 
 
-def _motion_arguments(motion, moving):
-    """Scene.set_motion's arguments: the moving objects' rows and steps, and the camera's
-    steps where it moves or zooms; None when nothing moves."""
+def _motion_arguments(motion, moving, deforming=()):
+    """Scene.set_motion's arguments: the moving objects' rows and steps, the deforming
+    meshes' vertices at their steps, and the camera's steps where it moves or zooms; None
+    when nothing moves."""
     if motion is None:
         return None
     arguments = {"shutter_open": motion.shutter_open, "shutter_length": motion.shutter_length,
-                 "instances": moving}
+                 "instances": moving, "meshes": list(deforming)}
     cameras = motion.camera
     camera_moves = cameras and (any(not np.array_equal(m, cameras[0]) for m in cameras) or
                                 len(set(motion.camera_fov_x)) > 1)
@@ -373,7 +389,7 @@ def _motion_arguments(motion, moving):
                          camera_to_world=np.ascontiguousarray(
                              [_without_scale(m) for m in cameras], dtype=np.float32),
                          camera_fov_x=motion.camera_fov_x)
-    if not (camera_moves or moving):
+    if not (camera_moves or moving or deforming):
         return None
     if motion.shutter_curve:
         arguments["shutter_curve"] = motion.shutter_curve

@@ -56,7 +56,8 @@ void usage(std::FILE* out) {
                          "--moves K] [--json]\n"
                          "  scenes: cornell, cornell-diffuse, cornell-glossy, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
-                         "file; any of them +motion (instances and camera move: motion blur)\n");
+                         "file; any of them +motion (instances and camera move: motion blur),\n"
+                         "    instances:NxM +deform (the meshes' vertices ripple: deformation blur)\n");
 }
 
 }  // namespace

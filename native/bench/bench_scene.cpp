@@ -1,5 +1,6 @@
 #include "bench/bench_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -117,9 +118,42 @@ void add_bench_motion(Scene& scene) {
     }
 }
 
+// `+deform` (docs/motion_blur.md): over the same shutter, every instance mesh's vertices
+// ripple along z by up to 2% of the mesh's size (steps at -1, 0, +1), so that each pass
+// rewrites the meshes' triangles and refits their bottom trees.
+void add_bench_deformation(Scene& scene) {
+    SceneMotion& m = scene.motion;
+    m.shutter_open = -0.25f;
+    m.shutter_length = 0.5f;
+    for (std::size_t k = 0; k < scene.instance_meshes.size(); ++k) {
+        const MeshView& mesh = scene.instance_meshes[k];
+        glm::vec3 lo(1e30f), hi(-1e30f);
+        for (const glm::vec3& p : mesh.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const float size = glm::length(hi - lo), wave = 12.0f / std::max(size, 1e-6f);
+        MeshDeformation d{static_cast<std::uint32_t>(k), {-1.0f, 0.0f, 1.0f}, {}, {}};
+        for (float t : d.times) {
+            std::vector<glm::vec3> step(mesh.positions.begin(), mesh.positions.end());
+            for (glm::vec3& p : step) p.z += 0.02f * size * t * std::sin(wave * (p.x + p.y));
+            d.positions.push_back(std::move(step));
+            if (!mesh.normals.empty())
+                d.normals.emplace_back(mesh.normals.begin(), mesh.normals.end());
+        }
+        m.meshes.push_back(std::move(d));
+    }
+}
+
 }  // namespace
 
 Scene make_bench_scene(const std::string& spec, float aspect) {
+    const std::string deform = "+deform";
+    if (spec.size() > deform.size() && spec.ends_with(deform)) {
+        Scene scene = make_bench_scene(spec.substr(0, spec.size() - deform.size()), aspect);
+        add_bench_deformation(scene);
+        return scene;
+    }
     const std::string motion = "+motion";
     if (spec.size() > motion.size() && spec.ends_with(motion)) {
         Scene scene = make_bench_scene(spec.substr(0, spec.size() - motion.size()), aspect);
@@ -168,7 +202,7 @@ Scene make_bench_scene(const std::string& spec, float aspect) {
     throw std::invalid_argument("--scene '" + spec +
                                 "' is not cornell, cornell-diffuse, cornell-glossy, caustic, furnace, "
                                 "million[:N], instances:NxM "
-                                "or a .gltf/.glb/.obj file (any of them +motion)");
+                                "or a .gltf/.glb/.obj file (any of them +motion; instances:NxM +deform)");
 }
 
 double parse_number(const std::string& option, const std::string& text) {

@@ -31,6 +31,28 @@ py::array_t<float> array_of(const glm::mat4& m) {
     return a;
 }
 
+using Vertices = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// (S, V, 3) per-step vertex arrays, or None: empty.
+std::vector<std::vector<glm::vec3>> vertex_steps(const py::object& o, const std::string& name) {
+    std::vector<std::vector<glm::vec3>> out;
+    if (o.is_none()) return out;
+    const Vertices a = Vertices::ensure(o);
+    if (!a || a.ndim() != 3 || a.shape(2) != 3)
+        throw py::value_error(name + ": expected an array of shape (steps, vertices, 3)");
+    out.resize(static_cast<std::size_t>(a.shape(0)));
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        out[k].resize(static_cast<std::size_t>(a.shape(1)));
+        for (std::size_t v = 0; v < out[k].size(); ++v)
+            out[k][v] = glm::vec3(a.at(py::ssize_t(k), py::ssize_t(v), 0),
+                                  a.at(py::ssize_t(k), py::ssize_t(v), 1),
+                                  a.at(py::ssize_t(k), py::ssize_t(v), 2));
+    }
+    return out;
+}
+
+using MeshSteps = std::tuple<std::uint32_t, std::vector<float>, py::object, py::object>;
+
 TransformSteps steps_of(const std::vector<float>& times, const Matrices& matrices,
                         const std::string& name) {
     TransformSteps s;
@@ -42,7 +64,8 @@ TransformSteps steps_of(const std::vector<float>& times, const Matrices& matrice
 void set_motion(Scene& scene, float shutter_open, float shutter_length,
                 const std::vector<std::tuple<std::uint32_t, std::vector<float>, Matrices>>& instances,
                 const std::vector<float>& camera_times, const py::object& camera_to_world,
-                const std::vector<float>& camera_fov_x, const std::vector<float>& shutter_curve) {
+                const std::vector<float>& camera_fov_x, const std::vector<float>& shutter_curve,
+                const std::vector<MeshSteps>& meshes) {
     SceneMotion m;
     m.shutter_open = shutter_open;
     m.shutter_length = shutter_length;
@@ -58,6 +81,12 @@ void set_motion(Scene& scene, float shutter_open, float shutter_length,
         m.camera = steps_of(camera_times, Matrices::ensure(camera_to_world), "motion.camera");
     }
     m.camera_fov_x = camera_fov_x;
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+        const auto& [mesh, times, positions, normals] = meshes[k];
+        const std::string name = "motion.meshes[" + std::to_string(k) + "]";
+        m.meshes.push_back(MeshDeformation{mesh, times, vertex_steps(positions, name + ".positions"),
+                                           vertex_steps(normals, name + ".normals")});
+    }
     Scene checked = scene;  // validated before it replaces the scene's motion
     checked.motion = m;
     validate_motion(checked);
@@ -76,10 +105,13 @@ void bind_motion(py::module_& m) {
               py::arg("camera_to_world") = py::none(),
               py::arg("camera_fov_x") = std::vector<float>{},
               py::arg("shutter_curve") = std::vector<float>{},
+              py::arg("meshes") = std::vector<MeshSteps>{},
               "Motion blur: the shutter (open time and length in frames, relative to the "
               "frame; shutter_curve: its openness at evenly spaced points from opening to "
               "closing, empty for a box), instances' transforms at steps ([(instance, times, (N, 4, 4) matrices)]) "
-              "and the camera's (camera_fov_x: one per step, or empty). Validated here "
+              "and the camera's (camera_fov_x: one per step, or empty), and instance meshes' "
+              "deformation ([(mesh, times, (S, V, 3) positions, (S, V, 3) normals or None)]). "
+              "Validated here "
               "(ValueError naming the problem). docs/motion_blur.md.")
         .def_property_readonly("has_motion", [](const Scene& s) { return !s.motion.empty(); });
     m.def("shutter_sample", &shutter_sample, py::arg("seed"), py::arg("pass_index"),

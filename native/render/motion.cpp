@@ -186,6 +186,7 @@ void validate_motion(const Scene& scene) {
                 throw SceneError("motion.camera_fov_x: " + number(fov) +
                                  " is not an angle of view in (0, pi)");
     }
+    validate_deformation(scene);
 }
 
 Camera MotionPlan::camera_at(double t) const {
@@ -205,13 +206,14 @@ Camera MotionPlan::camera_at(double t) const {
 }
 
 std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
-    if (instances.empty()) return nullptr;
+    if (instances.empty() && meshes.empty()) return nullptr;
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
     plan->shutter_curve = shutter_curve;
     plan->instances = instances;
     plan->instance_motion = instance_motion;
+    plan->meshes = meshes;
     plan->frame_camera = frame_camera;
     return plan;
 }
@@ -242,6 +244,18 @@ std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
         plan->instances.push_back(i.instance);
         plan->instance_motion.emplace_back(i.steps);
     }
+    for (const MeshDeformation& d : m.meshes) {
+        const auto& p = d.positions;
+        if (std::all_of(p.begin(), p.end(), [&](const auto& s) { return s == p[0]; }) &&
+            std::all_of(d.normals.begin(), d.normals.end(),
+                        [&](const auto& s) { return s == d.normals[0]; }))
+            continue;  // every step the same: it does not deform
+        DeformMotion dm{d.mesh, std::vector<double>(d.times.begin(), d.times.end()), d.positions,
+                        d.normals, {}};
+        const MeshView& mesh = scene.instance_meshes[d.mesh];
+        dm.triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+        plan->meshes.push_back(std::move(dm));
+    }
     const bool zoom = !m.camera_fov_x.empty() &&
                       std::any_of(m.camera_fov_x.begin(), m.camera_fov_x.end(),
                                   [&](float f) { return f != m.camera_fov_x[0]; });
@@ -255,7 +269,7 @@ std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
             validate_camera(c);
         }
     }
-    if (plan->instances.empty() && !plan->camera) return nullptr;
+    if (plan->instances.empty() && plan->meshes.empty() && !plan->camera) return nullptr;
     return plan;
 }
 
@@ -263,13 +277,16 @@ void grow_bounds_over_motion(const Scene& scene, const MotionPlan& plan, glm::ve
                              glm::vec3& hi) {
     constexpr int kSamples = 64;  // per step interval
     for (std::size_t k = 0; k < plan.instances.size(); ++k) {
-        const MeshView& mesh = scene.instance_meshes[scene.instances[plan.instances[k]].mesh];
+        const std::uint32_t mesh_index = scene.instances[plan.instances[k]].mesh;
+        const MeshView& mesh = scene.instance_meshes[mesh_index];
         if (mesh.positions.empty()) continue;
         glm::vec3 a(std::numeric_limits<float>::infinity()), b(-a);
         for (const glm::vec3& p : mesh.positions) {
             a = glm::min(a, p);
             b = glm::max(b, p);
         }
+        for (const DeformMotion& d : plan.meshes)
+            if (d.mesh == mesh_index) d.box(a, b);
         const TransformMotion& motion = plan.instance_motion[k];
         const std::size_t intervals = std::max<std::size_t>(motion.times.size() - 1, 1);
         for (std::size_t s = 0; s < intervals; ++s)
@@ -295,6 +312,7 @@ void grow_bounds_over_motion(const Scene& scene, const MotionPlan& plan, glm::ve
                 hi = glm::max(hi, whi + pad);
             }
     }
+    grow_bounds_over_deformation(scene, plan, lo, hi);
 }
 
 }  // namespace glslppm

@@ -44,12 +44,28 @@ struct TransformMotion {
     glm::mat4 at(double t) const;
 };
 
+// A deforming instance mesh's steps (MeshDeformation), with the mesh's triangles: `at(t)`
+// gives every vertex's position (and normal, where the mesh has normals) at time t, linearly
+// between the steps and held at the ends (render/deformation.cpp).
+struct DeformMotion {
+    std::uint32_t mesh = 0;
+    std::vector<double> times;
+    std::vector<std::vector<glm::vec3>> positions, normals;
+    std::vector<glm::uvec3> triangles;
+    void at(double t, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n) const;
+    // The mesh's box over every step (a vertex between steps stays within their box).
+    void box(glm::vec3& lo, glm::vec3& hi) const;
+};
+
 // Throws SceneError naming the problem: a shutter that is not finite or not > 0 while
 // anything moves, a shutter curve of one point, a negative or non-finite value, or none
 // above 0, step times not finite or not strictly increasing, matrices not finite,
 // not affine, singular or changing handedness, an instance out of range or given twice,
-// camera fov_x values not one per step or not in (0, pi).
+// camera fov_x values not one per step or not in (0, pi); for deformation, a mesh out of
+// range or given twice, a step whose vertex count is not the mesh's, a coordinate or normal
+// not finite, normals missing where the mesh has them or given where it has none.
 void validate_motion(const Scene& scene);
+void validate_deformation(const Scene& scene);
 
 // The shutter curve's inverse cumulative distribution (SceneMotion::shutter_curve): a
 // stratified sample u of [0, 1) becomes a place in the shutter, [0, 1], drawn with density
@@ -68,6 +84,7 @@ struct MotionPlan {
     double shutter_open = 0.0, shutter_length = 0.0;
     std::vector<std::uint32_t> instances;  // the scene's indices of the moving instances
     std::vector<TransformMotion> instance_motion;
+    std::vector<DeformMotion> meshes;  // the instance meshes that deform
     std::unique_ptr<TransformMotion> camera;  // null: the camera stands still
     std::vector<double> camera_fov_x;         // empty: the camera's own
     Camera frame_camera;                      // the scene's camera (its other fields)
@@ -77,16 +94,22 @@ struct MotionPlan {
         return shutter_open + shutter_length * (shutter_curve ? shutter_curve->position(u) : u);
     }
     Camera camera_at(double t) const;
-    // The same instances' motion under a camera that stands still; null if none move.
+    // The same instances' motion and deformation under a camera that stands still; null if
+    // nothing else moves.
     std::shared_ptr<const MotionPlan> with_still_camera() const;
-    // The same camera motion with every instance still; null if the camera stands still.
+    // The same camera motion with every instance and mesh still; null if the camera stands
+    // still.
     std::shared_ptr<const MotionPlan> with_still_instances() const;
 };
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
 
 // Grows [lo, hi] over every place a moving instance's mesh takes in the shutter (sampled
-// finely between the steps, padded by the chord error of a slerp).
+// finely between the steps, padded by the chord error of a slerp) and every place a
+// deforming mesh's vertices take, in each of its instances.
 void grow_bounds_over_motion(const Scene& scene, const MotionPlan& plan, glm::vec3& lo,
                              glm::vec3& hi);
+// The still instances of deforming meshes (render/deformation.cpp).
+void grow_bounds_over_deformation(const Scene& scene, const MotionPlan& plan, glm::vec3& lo,
+                                  glm::vec3& hi);
 
 }  // namespace glslppm

@@ -73,6 +73,7 @@ struct PipelineBuffers {
     GLuint photon_paths = 0, photons = 0, hash = 0, radius_stats = 0;
     GLuint light_splats = 0;  // HAS_LIGHT_TRACING (common/light_splats.glsl)
     GLuint bvh_nodes = 0, instances = 0;  // rewritten per pass where instances move
+    GLuint triangles = 0, normals = 0;    // rewritten per pass where meshes deform
     GLuint atlases[2] = {0, 0};  // sRGB8 and float array textures
     std::vector<GLuint> ssbos;
     gl::BufferReader reader;  // film, passes and photons read back
@@ -85,10 +86,23 @@ struct PipelineBuffers {
 // Motion blur's per-pass copies (motion_pass.cpp): the two-level tree's top nodes and the
 // instance records, rewritten at each pass's time and uploaded, the moving instances'
 // record range and top leaves.
+// A deforming mesh's bottom tree: its node range, each node's children (local, -1 at
+// leaves) and its packed triangles' range, with copies of its nodes, triangles and normals.
+struct DeformScratch {
+    std::uint32_t root = 0;
+    std::vector<glm::ivec2> children;
+    std::size_t first_triangle = 0, end_triangle = 0;
+    std::vector<glm::vec4> nodes, triangles, normals;
+};
+
 struct MotionScratch {
     std::vector<glm::vec4> top_nodes, records;
     std::vector<std::int32_t> leaf_of_instance;  // the top leaf of each record, -1 none
     std::size_t first_record = 0, end_record = 0;
+    std::vector<DeformScratch> meshes;    // one per MotionPlan::meshes
+    std::vector<std::size_t> refit_records;  // records whose top leaf moves: moving or deforming
+    std::vector<std::int32_t> deformed_of_mesh;  // mesh index -> meshes' index, -1 none
+    std::vector<glm::vec3> positions, normals;  // one mesh's vertices at the pass's time
     double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
 };
 
@@ -149,8 +163,10 @@ struct Renderer::Gpu {
     void run_pass(std::uint64_t pass_index);
     void begin_pass(std::uint64_t pass_index);
     // Motion blur (motion_pass.cpp): the camera into the frame and the moving instances into
-    // the GPU's top level, at pass `pass_index`'s time; only where scene.motion.
+    // the GPU's top level, at pass `pass_index`'s time; only where scene.motion. Deforming
+    // meshes: their vertices, normals and bottom trees at time t.
     void move_to_shutter_time(std::uint64_t pass_index);
+    void deform_meshes(double t);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     void hash_photons(std::uint32_t stored);

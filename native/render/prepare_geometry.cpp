@@ -72,7 +72,7 @@ void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
     p.geometry = with_area_lights(scene);
     SceneGeometry& geometry = p.geometry;
     std::shared_ptr<const MotionPlan> motion = plan_motion(scene);
-    const bool instances_move = motion && !motion->instances.empty();
+    const bool instances_move = motion && (!motion->instances.empty() || !motion->meshes.empty());
     p.instancing = plan_instancing(scene, geometry.materials, settings.instancing,
                                    flatten_max_triangles, instances_move);
     p.instance_count = scene.instances.size();

@@ -60,6 +60,7 @@ struct RenderStats {
     std::size_t instances = 0;
     std::size_t instanced_triangles = 0;
     // Motion blur (render/motion.h): "none", or what moves ("camera", "instances",
+    // "deformation",
     // "camera,instances"), the moving instances, and the host's time moving them and
     // refitting the top level, all passes of all workers.
     std::string motion = "none";

@@ -221,8 +221,10 @@ RenderStats Renderer::stats() {
     s.instances = g.scene.instance_count;
     s.instanced_triangles = g.scene.instancing.instanced_triangles;
     if (const MotionPlan* m = g.scene.motion.get()) {
-        s.motion = m->camera ? (m->instances.empty() ? "camera" : "camera,instances")
-                             : "instances";
+        std::string parts = m->camera ? "camera" : "";
+        if (!m->instances.empty()) parts += parts.empty() ? "instances" : ",instances";
+        if (!m->meshes.empty()) parts += parts.empty() ? "deformation" : ",deformation";
+        s.motion = parts;
         s.moving_instances = m->instances.size();
         for (const auto& w : gpus_) s.motion_refit_seconds += w->motion.refit_seconds;
     }

@@ -63,12 +63,14 @@ void upload_bvh(Renderer::Gpu& g, const Bvh& bvh, const std::vector<glm::vec4>* 
     g.buffers.bvh_nodes =
         g.make_buffer(BINDING_BVH_NODES, bytes(bvh.nodes), bvh.nodes.data(), "BVH nodes");
     g.make_buffer(BINDING_BVH_LINKS, bytes(bvh.links), bvh.links.data(), "BVH links");
-    g.make_buffer(BINDING_TRIANGLES, bytes(bvh.triangles), bvh.triangles.data(), "triangles");
+    g.buffers.triangles =
+        g.make_buffer(BINDING_TRIANGLES, bytes(bvh.triangles), bvh.triangles.data(), "triangles");
     if (instances && !instances->empty())
         g.buffers.instances =
             g.make_buffer(BINDING_INSTANCES, bytes(*instances), instances->data(), "instances");
     if (!bvh.normals.empty())
-        g.make_buffer(BINDING_NORMALS, bytes(bvh.normals), bvh.normals.data(), "normals");
+        g.buffers.normals =
+            g.make_buffer(BINDING_NORMALS, bytes(bvh.normals), bvh.normals.data(), "normals");
     else if (full)
         g.make_buffer(BINDING_NORMALS, 16, nullptr, "normals");
     if (!bvh.uvs.empty())

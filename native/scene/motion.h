@@ -24,6 +24,16 @@ struct InstanceMotion {
     TransformSteps steps;
 };
 
+// One instance mesh's vertex positions at several times (Blender's deformation motion:
+// armatures, shape keys, modifiers), the times strictly increasing; each step holds every
+// vertex of Scene::instance_meshes[mesh], in its order and in the mesh's own space. normals:
+// one array per step where the mesh has normals, else empty. Between steps linearly.
+struct MeshDeformation {
+    std::uint32_t mesh = 0;  // index into Scene::instance_meshes
+    std::vector<float> times;
+    std::vector<std::vector<glm::vec3>> positions, normals;
+};
+
 struct SceneMotion {
     // The shutter: open at shutter_open, for shutter_length frames (> 0 where anything moves).
     float shutter_open = 0.0f;
@@ -36,8 +46,9 @@ struct SceneMotion {
     // The camera's transform and (if not empty, one per step) its fov_x at the steps.
     TransformSteps camera;
     std::vector<float> camera_fov_x;
+    std::vector<MeshDeformation> meshes;
 
-    bool empty() const { return instances.empty() && camera.times.empty(); }
+    bool empty() const { return instances.empty() && camera.times.empty() && meshes.empty(); }
 };
 
 }  // namespace glslppm

@@ -98,6 +98,12 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         }
         steps(s.motion.camera);
         for (float fov : s.motion.camera_fov_x) h.value(fov);
+        for (const MeshDeformation& d : s.motion.meshes) {
+            h.value(d.mesh);
+            h.array(std::span<const float>(d.times));
+            for (const auto& p : d.positions) h.array(std::span<const glm::vec3>(p));
+            for (const auto& n : d.normals) h.array(std::span<const glm::vec3>(n));
+        }
     }
     h.value(static_cast<std::uint64_t>(s.materials.size()));
     for (const Material& m : s.materials) {
