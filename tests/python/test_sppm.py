@@ -148,8 +148,10 @@ def test_emitted_power_equals_light_power(glslppm):
                     camera=g.Camera(look_at((0, 0, 1.5), (0, 0, 0))))
     count = 65536
     # Photons alone: with light sampling first hits are not stored (test_direct_light.py).
+    # max_bounces 0: every path ends at its first hit, so every pass, the first after the
+    # warm-up's (pass_stages.cpp) too, starts a path on every thread and stores first hits.
     r = g.Renderer(scene, g.Settings(width=8, height=8, photons_per_pass=count, seed=11,
-                                     direct_light="photons"))
+                                     direct_light="photons", max_bounces=0))
     r.run(1)
     photons = r.photons()
     assert r.stats()["photons_emitted"] == count
