@@ -75,6 +75,12 @@ const bool photon_link_absorbed = false;
 #define PATH_SCATTERED(smooth_bounce)
 #endif
 
+// The warm-up's steps (pass_stages.cpp, warm_up_photon_paths): the paths advance towards
+// their stationary state before a film's first pass; the paths they start are not counted
+// and nothing reaches the film (their stored photons are never gathered: the next step
+// overwrites them).
+uniform uint u_warm_up;
+
 RNG_STATE load_photon_rng(uint i, uint state_index) {
 #ifdef RNG_PCG
     // Streams after the whole frame's pixels: every tile of a frame traces the same photons.
@@ -181,7 +187,7 @@ void main() {
         bounces = 0.0;
         path_bounces = 0u;
         path_class = 0.0;
-        atomicAdd(pass_emitted, 1u);
+        if (u_warm_up == 0u) atomicAdd(pass_emitted, 1u);
     }
 
     vec4 stored = vec4(0.0);  // w: the side word (sppm_buffers.glsl) when a photon is stored
@@ -217,7 +223,7 @@ void main() {
                 photon_at(s, sh, dir, flux, rng, position_key, stored);
                 incoming = -dir;
 #ifdef HAS_LIGHT_TRACING
-                LIGHT_TRACE(s, dir, flux, path_bounces);
+                if (u_warm_up == 0u) { LIGHT_TRACE(s, dir, flux, path_bounces); }
 #endif
             }
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));

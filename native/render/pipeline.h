@@ -169,6 +169,9 @@ struct Renderer::Gpu {
     void deform_meshes(double t);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
+    // PhotonPaths::AcrossPasses: before a film's first pass, photon steps that bring the
+    // paths to their stationary state and count nothing.
+    void warm_up_photon_paths();
     void hash_photons(std::uint32_t stored);
     void gather(bool mark_stage);
     void gather_stored_steps(std::uint32_t stored_steps, bool mark_stage);

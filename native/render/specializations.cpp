@@ -112,22 +112,13 @@ bool shadowless_surfaces(const Inputs& in) {
                 (kMaterialLightSurface | kMaterialCastsNoShadow | kMaterialMayBeTransparent)) != 0;
     return any;
 }
-// Where a BSDF-sampled ray can hit an emissive triangle and a glossy lobe held by a visible
-// point can send it: a conductor or a plastic's coat at or above the glossy threshold
-// (dielectrics are always followed; below the threshold the eye path follows the lobe, and a
-// plastic's visible point holds its diffuse base alone). Not with two levels: their
-// triangles are numbered per mesh, and instanced meshes' emission is not in the table.
-bool emitter_mis_applies(const Inputs& in) {
+// Where a BSDF-sampled ray can hit an emissive triangle: light sampling and emissive
+// triangles, whose BSDF sample every Lambertian or glossy visible point takes (issue 30:
+// light samples by area miss a triangle's spike a millimetre away). Not with two levels:
+// their triangles are numbered per mesh, and instanced meshes' emission is not in the table.
+bool emitter_mis(const Inputs& in) {
     return in.settings.direct_light == DirectLight::Sampled && triangle_emitters(in) &&
            !in.p.instancing.two_level;
-}
-bool emitter_mis(const Inputs& in) {
-    bool glossy = false;
-    for (const Material& m : in.p.geometry.materials)
-        glossy |= (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Plastic) &&
-                  ((m.roughness >= in.settings.glossy_threshold && m.roughness > 0.0f) ||
-                   m.roughness_texture >= 0);
-    return emitter_mis_applies(in) && glossy;
 }
 
 // Where the settings and the camera allow it (light_tracing_allowed); the connection sees
@@ -195,12 +186,10 @@ const Specialization kRows[] = {
      "cut-out)",
      "H100 1080p +2.5% / +4.1% / +1.3%, llvmpipe 128^2 -2.4%", G::DirectLight, true,
      shadowless_surfaces, samples_lights},
-    {"emitter-mis", "HAS_EMITTER_MIS",
-     "light sampling, emissive triangles and a glossy lobe at or above the glossy threshold",
-     "H100 1080p +11.8% / +16.1% / +1.9%, llvmpipe 128^2 +1.9%; "
-     "H200: 8.5% of a pass on the glossy Cornell box at 1920x1080 (198.1 -> 181.3 passes/s); "
-     "not in the full variant (its triangles' map is uploaded only where it is compiled)",
-     G::DirectLight, false, emitter_mis, emitter_mis_applies},
+    {"emitter-mis", "HAS_EMITTER_MIS", "light sampling and emissive triangles",
+     "needed wherever it applies: not measured alone (before issue 30, where only glossy "
+     "lobes took it: H100 1080p +11.8% / +16.1% / +1.9%, llvmpipe 128^2 +1.9%)",
+     G::DirectLight, true, emitter_mis, emitter_mis},
     {"instances", "GLSLPPM_INSTANCES", "instances kept on two levels (Settings.instancing)",
      "not in the full variant: the geometry's buffers follow the instancing decision",
      G::DirectLight, false, two_level, two_level},

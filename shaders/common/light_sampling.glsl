@@ -385,7 +385,7 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 // with an environment, one BSDF sample `u_bsdf` also looks for it, and the two estimates of
 // the world's light are combined by the balance heuristic (Veach's multiple importance
 // sampling). With HAS_EMITTER_MIS the same BSDF sample looks for emissive triangles too at
-// glossy lobes, weighed against light samples of them alike. Other emitters (point, spot
+// Lambertian and glossy lobes, weighed against light samples of them alike. Other emitters (point, spot
 // and sun lights: delta lights no BSDF sample can hit) come from their light samples alone.
 // `material`: the point's own (a Mix's root), whose light link row counts.
 vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 wo,
@@ -402,11 +402,13 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
     LINK_LIGHT_SAMPLE(material, picked, ls);
     bool world = emitter_kind(picked) == EMITTER_ENVIRONMENT;
 #ifdef HAS_EMITTER_MIS
-    // Emissive triangles meet BSDF samples at glossy lobes only: a Lambertian (or translucent)
-    // point's cosine lobe is wide, where light samples do well, and its extra ray would cost
-    // a closest-hit walk per pixel for little (docs/direct_light.md, measured). A plastic
-    // whose coat the eye path follows (rough_only) is its diffuse base alone here.
-    bool triangle_mis = !rough_only && (sh.kind == MATERIAL_CONDUCTOR ||
+    // Emissive triangles meet BSDF samples at Lambertian and glossy lobes: a light sample
+    // drawn by area misses the spike cos cos' / d^2 of a triangle a millimetre away, which a
+    // cosine-sampled ray finds at once (issue 30, docs/cornell_vs_cycles.md). A translucent
+    // point, and a plastic whose coat the eye path follows (rough_only), keep light samples
+    // alone.
+    bool triangle_mis = !rough_only && (sh.kind == MATERIAL_DIFFUSE ||
+                                        sh.kind == MATERIAL_CONDUCTOR ||
                                         sh.kind == MATERIAL_DIELECTRIC ||
                                         sh.kind == MATERIAL_PLASTIC);
     bool picked_triangle = emitter_kind(picked) == EMITTER_TRIANGLE;

@@ -29,7 +29,9 @@ PASSES = 12
 
 def settings(g):
     # Photons alone: the images were made before light sampling existed, and this mode must
-    # stay bit-identical to them (light sampling compiles only where it is asked for). The
+    # stay bit-identical to them (light sampling compiles only where it is asked for).
+    # Regenerated for issue 30's warm-up of SPPM's photon paths (pass_stages.cpp), which
+    # changes every SPPM film. The
     # same for light tracing: with it off the mirror and glass scenes render as before it
     # existed (the textured room has neither, and compiles none with it on).
     return g.Settings(width=SIZE, height=SIZE, photons_per_pass=8192, seed=11,
