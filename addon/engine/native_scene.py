@@ -90,6 +90,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         rng=settings.rng.lower(),
         direct_light=settings.direct_light.lower(),
         light_tracing=settings.light_tracing,
+        photon_warm_up=getattr(settings, "photon_warm_up", True),
         glossy_threshold=settings.glossy_threshold,
         instancing=settings.instancing.lower().replace("_", "-"),
         device=settings.device if device is None else device,

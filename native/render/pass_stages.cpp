@@ -15,7 +15,8 @@ namespace glslppm {
 void Renderer::Gpu::run_pass(std::uint64_t pass_index) {
     const DensityEstimator& estimator = density_estimator(settings.estimator);
     begin_pass(pass_index);
-    if (estimator.photon_paths == PhotonPaths::AcrossPasses && passes == 0)
+    if (estimator.photon_paths == PhotonPaths::AcrossPasses && passes == 0 &&
+        settings.photon_warm_up)
         warm_up_photon_paths();
     trace_eye(pass_index);
     const std::uint32_t steps = estimator.photon_steps_per_pass(settings.max_bounces);

@@ -74,6 +74,10 @@ struct RenderSettings {
     // surfaces and the closed material model, with a pinhole or orthographic camera and no
     // light-split passes (native/render/scene_features.cpp).
     bool light_tracing = true;
+    // SPPM: before a film's first pass, photon steps that bring the paths carried across
+    // passes near their stationary state (Renderer::Gpu::warm_up_photon_paths). Off for the
+    // viewport, whose restarts on every camera move must stay quick.
+    bool photon_warm_up = true;
     std::uint64_t first_pass = 0;  // pppm: run() continues from this pass index
     std::uint64_t seed = 0;
     int leaf_size = 4;            // BVH leaf size (triangles)
