@@ -106,6 +106,14 @@ void validate(const RenderSettings& s) {
     if (!estimator.independent_passes && s.first_pass != 0)
         fail("first_pass: only estimator " + independent_estimator_names() +
              " can start at a pass other than 0");
+    if (s.estimator == Estimator::Vcm) {
+        // What VCM does not model yet (docs/vcm.md): an error, never a wrong image.
+        if (!s.passes.empty()) fail("estimator vcm: render passes are not supported yet");
+        if (s.direct_light != DirectLight::Sampled)
+            fail("estimator vcm: direct_light must be 'sampled' (its path tracing technique)");
+        if (s.transparent) fail("estimator vcm: a transparent film is not supported yet");
+        if (s.profile) fail("estimator vcm: profile is not supported yet");
+    }
     if (s.first_pass > (std::uint64_t(1) << 52))
         fail("first_pass: " + std::to_string(s.first_pass) + " is above 2^52");
     for (std::size_t k = 0; k < s.devices.size(); ++k) {
