@@ -18,6 +18,7 @@ import pytest
 
 import test_direct_light as direct_light_tests
 import test_glass_equilibrium as equilibrium_tests
+import test_glossy_sky as glossy_sky_tests
 import test_specular_closed_forms as specular_tests
 from closed_forms import furnace_scene
 from conftest import BUILD, merge
@@ -145,6 +146,24 @@ def test_vcm_white_object_in_clear_glass_is_invisible(glslppm, case):
     print(f"  {case}: centre {mean:.5f}, bound {bound:.5f}")
     assert bound < 0.008, bound
     assert abs(mean - 1.0) < bound, (mean, bound)
+
+
+@pytest.mark.parametrize("kind,roughness", [("conductor", 0.3), ("conductor", 0.6),
+                                            ("plastic", 0.3), ("translucent", 0.0)])
+def test_vcm_white_lobe_under_uniform_sky_reads_one(glslppm, kind, roughness):
+    """test_glossy_sky's closed cube of white lossless material under a world of radiance 1
+    reads 1 from every angle (glossy threshold 0.2: the lobes are rough vertices, where the
+    world's light sample and the BSDF sample are combined by MIS; the translucent cube's light
+    comes through two walls, the second vertex's light sample)."""
+    g = glslppm
+    material = g.Material(kind, color=(1.0,) * 3, roughness=roughness)
+    for angle in (0, 40, 75):
+        image = vcm_render(g, glossy_sky_tests.sky_cube(g, material, angle), 32, 128, seed=4,
+                           glossy_threshold=0.2)
+        mean, bound = mean_and_bound(image.mean(axis=2))
+        print(f"  {kind} {roughness} at {angle} degrees: {mean:.5f}, bound {bound:.5f}")
+        assert bound < 0.008, bound
+        assert abs(mean - 1.0) < bound, (angle, mean, bound)
 
 
 def test_vcm_passes_are_independent(glslppm):
