@@ -6,7 +6,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/frame.glsl"
 #include "common/bindings.glsl"
 #include "common/sppm_buffers.glsl"
-#ifdef HAS_LIGHT_TRACING
+#if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
 #define USES_LIGHT_SPLATS
 #include "common/light_splats.glsl"
 #endif
@@ -28,10 +28,10 @@ void main() {
     vec3 photon_light = tau * (inv_photons_emitted / (PI * r * r));
 #endif
     vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
-#ifdef HAS_LIGHT_TRACING
+#if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
     // Light tracing's splats over every photon path started, as SPPM's tau; PPPM: the mean
     // of its passes' (light_splats.comp).
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     direct += light_splat_sum(i) * (inv_passes / light_splat_pixel_area());
 #else
     direct += light_splat_sum(i) * (inv_photons_emitted / light_splat_pixel_area());

@@ -106,6 +106,9 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     }
     // Light sampling at the visible points (shaders/common/light_sampling.glsl).
     if (settings.direct_light != DirectLight::Photons) f.add("DIRECT_LIGHT_SAMPLED", "");
+    // VCM's light tracing technique (common/vcm_light_paths.glsl) splats as light tracing does.
+    if (settings.vcm_techniques == VcmTechniques::LightTracing)
+        f.add("VCM_LIGHT_TRACING", "vcm=lt");
     f.rows(SpecializationGroup::DirectLight);
     // Emitter MIS finds a hit triangle's record through the triangles' map.
     const auto& d = p.defines;
@@ -114,7 +117,10 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     output_and_method_defines(local_size, f);
     f.rows(SpecializationGroup::Last);
     p.light_tracing = std::any_of(d.begin(), d.end(),
-                                  [](const auto& x) { return x.first == "HAS_LIGHT_TRACING"; });
+                                  [](const auto& x) {
+                                      return x.first == "HAS_LIGHT_TRACING" ||
+                                             x.first == "VCM_LIGHT_TRACING";
+                                  });
     for (const std::string& name : f.names) p.variant += (p.variant.empty() ? "" : ",") + name;
 }
 

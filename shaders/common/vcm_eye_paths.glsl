@@ -97,6 +97,9 @@ void main() {
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
             kind = smooth_bounce_kind(sh, wo, dir, s.geometric_normal);
         } else {
+#ifdef VCM_LIGHT_TRACING
+            break;  // light tracing alone: the light subpaths take what reaches this vertex
+#endif
             throughput /= 1.0 - p_smooth;
             bool rough_only = p_smooth > 0.0;
             LightSampleNumbers n = draw_light_sample_numbers(rng);
