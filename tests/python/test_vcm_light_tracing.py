@@ -121,3 +121,64 @@ def test_vcm_light_tracing_passes_are_independent(glslppm):
     halves = 0.5 * (film([0, 1, 2, 3]) + film([4, 5, 6, 7]))
     assert np.abs(whole - halves).max() <= 1e-5 * np.abs(whole).max()
     assert np.abs(film([0, 1]) - film([2, 3])).max() > 1e-3  # the passes do differ
+
+
+def test_vcm_light_tracing_glass_ball_caustic_matches_fresnel_closed_form(glslppm):
+    """test_caustic_flux's set-up (a parallel beam of radius 0.7 straight down onto a glass
+    ball of radius 0.5, centre 1 above the floor, in a box), here with a white floor (albedo
+    0.8) and black walls, seen by an orthographic camera tilted 70 degrees off the vertical
+    (the ball hides none of the floor within 1 of the axis). max_diffuse_bounces 1 keeps only
+    the light's first landing on the floor (a second needs another diffuse scatter). Every
+    landing splats the same value (equal flux, orthographic, one cosine), so the flux within
+    rho of the axis over that within 1.0 is ball_landing_area(rho) / (the beam's area outside
+    the silhouette + ball_landing_area(1.0)), with no beam normalisation. Each pixel counts by
+    the fraction of its floor footprint inside the circle (8x8 points). Noise: the ratio is
+    binomial, p(1 - p) / n with n about 2 million landings: 0.1% (one standard error); the
+    tessellated ball transports within 0.05% of the analytic one (test_caustic_flux), and the
+    footprint fractions at the circle's edge are exact only for a smooth irradiance. The bound
+    is 0.6%, so a 1% bias fails (rho 0.5, the silhouette's sharp shadow edge, is left out)."""
+    from conftest import look_at, merge, sphere
+    from test_caustic_flux import IOR, ball_landing_area, inward_box
+    g = glslppm
+    radius, height, beam, rings = 0.5, 1.0, 0.7, 64
+    faces = inward_box((-3.0, 0.0, -3.0), (3.0, 4.0, 3.0))
+    ball_p, ball_t, ball_n = sphere((0.0, height, 0.0), radius, rings, 2 * rings)
+    positions, indices, ids = merge(*[(p, t, 0 if k == 0 else 1) for k, (p, t) in enumerate(faces)],
+                                    (ball_p, ball_t, 2))
+    face_normals = []
+    for p, _ in faces:
+        e = np.cross(p[1] - p[0], p[2] - p[0])
+        face_normals.append(np.repeat((e / np.linalg.norm(e))[None], len(p), axis=0))
+    normals = np.concatenate(face_normals + [ball_n]).astype(np.float32)
+    materials = [g.Material("diffuse", color=(0.8,) * 3), g.Material("diffuse", color=(0.0,) * 3),
+                 g.Material("dielectric", color=(1.0, 1.0, 1.0), ior=IOR)]
+    light = g.Light("spot", power=1000.0, position=(0.0, 3.5, 0.0), direction=(0.0, -1.0, 0.0),
+                    spot_size=0.002, spot_blend=0.0, radius=beam)
+    tilt, scale, size, sub = math.radians(70.0), 2.2, 128, 8
+    to_world = look_at((2.5 * math.sin(tilt), 2.5 * math.cos(tilt), 0.0), (0.0, 0.0, 0.0))
+    camera = g.Camera(to_world, projection="orthographic", ortho_scale=scale)
+    scene = g.Scene(positions, indices, normals=normals, material_ids=ids, materials=materials,
+                    lights=[light], camera=camera)
+    radiance = lt_render(g, scene, size, 16, seed=2, photons_per_pass=131072,
+                         max_diffuse_bounces=1).mean(axis=2)
+    # Each pixel's sub x sub points on the floor (row 0 on top), along the camera's -Z.
+    m = to_world.astype(np.float64)
+    u = ((np.arange(size * sub) + 0.5) / (size * sub) * 2.0 - 1.0) * 0.5 * scale
+    x, y = np.meshgrid(u, -u)
+    film = m[:3, 3] + x[..., None] * m[:3, 0] + y[..., None] * m[:3, 1]
+    floor = film - (film[..., 1] / m[1, 2])[..., None] * m[:3, 2]
+    rho = np.hypot(floor[..., 0], floor[..., 2])
+
+    def flux_within(a):
+        return ((rho < a).reshape(size, sub, size, sub).mean(axis=(1, 3)) * radiance).sum()
+
+    segments = 2 * rings
+    beside = math.pi * beam * beam - 0.5 * segments * radius * radius * math.sin(
+        2.0 * math.pi / segments)
+    whole = beside + ball_landing_area(1.0, radius, height, IOR, max_internal=13)
+    for a in (0.3, 0.4):
+        measured = flux_within(a) / flux_within(1.0)
+        expected = ball_landing_area(a, radius, height, IOR, max_internal=13) / whole
+        print(f"  vcm lt glass ball: within {a}: {measured:.5f}, closed form {expected:.5f}, "
+              f"error {measured / expected - 1.0:+.5f}")
+        assert abs(measured / expected - 1.0) < 0.006, (a, measured, expected)
