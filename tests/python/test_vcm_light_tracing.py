@@ -18,6 +18,8 @@ import pytest
 import test_direct_light as direct_light_tests
 import test_light_tracing as light_tracing_tests
 from closed_forms import furnace_scene
+from conftest import look_at, merge, sphere
+from test_caustic_flux import IOR, ball_landing_area, inward_box
 from test_vcm import mean_and_bound, vcm_render
 
 
@@ -137,8 +139,6 @@ def test_vcm_light_tracing_glass_ball_caustic_matches_fresnel_closed_form(glslpp
     tessellated ball transports within 0.05% of the analytic one (test_caustic_flux), and the
     footprint fractions at the circle's edge are exact only for a smooth irradiance. The bound
     is 0.6%, so a 1% bias fails (rho 0.5, the silhouette's sharp shadow edge, is left out)."""
-    from conftest import look_at, merge, sphere
-    from test_caustic_flux import IOR, ball_landing_area, inward_box
     g = glslppm
     radius, height, beam, rings = 0.5, 1.0, 0.7, 64
     faces = inward_box((-3.0, 0.0, -3.0), (3.0, 4.0, 3.0))
