@@ -259,6 +259,10 @@ void add_direct_light(uint i, vec4 light) {
     direct_light[2 * i + 1] = comp;
 }
 
+#ifdef ESTIMATOR_VCM
+// VCM's eye subpaths (docs/vcm.md) in place of the visible points' main below.
+#include "common/vcm_eye_paths.glsl"
+#else
 // The eye path: at most max_bounces + 1 surfaces, max_bounces scatters and then the last
 // surface's light. Surfaces passed through (hidden, lights, cut-outs) count here too, where
 // Cycles has a separate transparent limit. `eye_bounces` counts the scatters
@@ -386,3 +390,4 @@ void main() {
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);
 }
+#endif

@@ -19,7 +19,7 @@ void main() {
     uint k = i * LIGHT_SPLAT_WORDS;
     vec4 sum = vec4(light_splat_word3(k + LIGHT_SPLAT_SUM), 0.0);
     vec4 compensation = vec4(light_splat_word3(k + LIGHT_SPLAT_COMPENSATION), 0.0);
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     kahan_add(sum, compensation, vec4(light_splat_pass(i) / float(photon_threads), 0.0));
 #else
     kahan_add(sum, compensation, vec4(light_splat_pass(i), 0.0));

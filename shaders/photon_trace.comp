@@ -22,7 +22,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef HAS_ABSORPTION
 #include "common/absorption.glsl"
 #endif
-#ifdef HAS_LIGHT_TRACING
+#if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
 #include "common/light_tracing.glsl"
 #endif
 #include "common/light_linking.glsl"
@@ -148,6 +148,9 @@ uint photon_bounce_kind(Shading sh, vec3 wo, vec3 wi, vec3 ng, vec3 u_dir) {
                ? BOUNCE_NONE : bounce_kind(wo, wi, ng, bsdf_sample_is_diffuse(sh, wo, u_dir));
 }
 
+#ifdef VCM_LIGHT_TRACING
+#include "common/vcm_light_paths.glsl"
+#else
 // One bounce of the path in record i (its origin, direction, flux and bounce words in
 // common/records.glsl): the photon it stores at the surface it meets, if any, and where it
 // goes on. `bounces` counts the surfaces met so far: a path ends at its (max_bounces + 1)th,
@@ -276,3 +279,4 @@ void main() {
     rng_store(state_index, rng);
     atomicAdd(pass_rays, 1u);
 }
+#endif

@@ -6,7 +6,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/frame.glsl"
 #include "common/bindings.glsl"
 #include "common/sppm_buffers.glsl"
-#ifdef HAS_LIGHT_TRACING
+#if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
 #define USES_LIGHT_SPLATS
 #include "common/light_splats.glsl"
 #endif
@@ -18,17 +18,20 @@ void main() {
     if (i >= image_width * image_height) return;
     vec3 tau = pixel_stats[2 * i + 0].xyz;
     float r = pixel_stats[2 * i + 1].x;
-#ifdef ESTIMATOR_PPPM
+#ifdef ESTIMATOR_VCM
+    // No photons gathered yet (docs/vcm.md): its paths' light is the direct light's sum.
+    vec3 photon_light = vec3(0.0);
+#elif defined(ESTIMATOR_PPPM)
     // The sum of the passes' own estimates (gather.comp): their mean.
     vec3 photon_light = tau * inv_passes;
 #else
     vec3 photon_light = tau * (inv_photons_emitted / (PI * r * r));
 #endif
     vec3 direct = direct_light[2 * i + 0].xyz * inv_passes;
-#ifdef HAS_LIGHT_TRACING
+#if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
     // Light tracing's splats over every photon path started, as SPPM's tau; PPPM: the mean
     // of its passes' (light_splats.comp).
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     direct += light_splat_sum(i) * (inv_passes / light_splat_pixel_area());
 #else
     direct += light_splat_sum(i) * (inv_photons_emitted / light_splat_pixel_area());

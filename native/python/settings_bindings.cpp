@@ -30,7 +30,8 @@ void bind_settings(py::module_& m) {
                          std::uint64_t max_block_bytes, std::vector<std::string> passes,
                          const std::string& bump_shadowing, int max_diffuse_bounces,
                          int max_glossy_bounces, int max_transmission_bounces,
-                         bool light_tracing, bool photon_warm_up) {
+                         bool light_tracing, bool photon_warm_up,
+                         const std::string& vcm_techniques) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -62,6 +63,7 @@ void bind_settings(py::module_& m) {
                  s.bump_shadowing = parse_bump_shadowing(bump_shadowing);
                  s.light_tracing = light_tracing;
                  s.photon_warm_up = photon_warm_up;
+                 s.vcm_techniques = parse_vcm_techniques(vcm_techniques);
                  for (const std::string& name : passes) {
                      for (RenderPass p : parse_render_pass_list(name))
                          if (std::find(s.passes.begin(), s.passes.end(), p) == s.passes.end())
@@ -93,7 +95,8 @@ void bind_settings(py::module_& m) {
              py::arg("max_glossy_bounces") = defaults.max_glossy_bounces,
              py::arg("max_transmission_bounces") = defaults.max_transmission_bounces,
              py::arg("light_tracing") = defaults.light_tracing,
-             py::arg("photon_warm_up") = defaults.photon_warm_up)
+             py::arg("photon_warm_up") = defaults.photon_warm_up,
+             py::arg("vcm_techniques") = to_string(defaults.vcm_techniques))
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("max_bounces", &RenderSettings::max_bounces)
         .def_readonly("max_diffuse_bounces", &RenderSettings::max_diffuse_bounces)
@@ -119,6 +122,8 @@ void bind_settings(py::module_& m) {
         .def_readonly("glossy_threshold", &RenderSettings::glossy_threshold)
         .def_readonly("light_tracing", &RenderSettings::light_tracing)
         .def_readonly("photon_warm_up", &RenderSettings::photon_warm_up)
+        .def_property_readonly("vcm_techniques",
+                               [](const RenderSettings& s) { return to_string(s.vcm_techniques); })
         .def_property_readonly("hash", [](const RenderSettings& s) { return to_string(s.hash); })
         .def_property_readonly("rng", [](const RenderSettings& s) { return to_string(s.rng); })
         .def_property_readonly("direct_light",

@@ -10,7 +10,7 @@
 namespace glslppm {
 namespace {
 
-constexpr std::array<DensityEstimator, 2> kEstimators = {{
+constexpr std::array<DensityEstimator, 3> kEstimators = {{
     // Hachisuka and Jensen 2009, "Stochastic Progressive Photon Mapping".
     {.id = Estimator::Sppm,
      .name = "sppm",
@@ -29,14 +29,27 @@ constexpr std::array<DensityEstimator, 2> kEstimators = {{
      .photon_paths = PhotonPaths::WithinPass,
      .film = FilmResolve::MeanOfPasses,
      .pass_radius_of = &pppm_pass_radius},
+    // Georgiev, Krivanek, Davidovic and Slusallek 2012, "Light Transport Simulation with
+    // Vertex Connection and Merging" (docs/vcm.md): so far its path tracing technique, each
+    // pass an eye path per pixel; the radius per pass is PPPM's, for its merging to come.
+    {.id = Estimator::Vcm,
+     .name = "vcm",
+     .title = "VCM",
+     .define = "ESTIMATOR_VCM",
+     .independent_passes = true,
+     .photon_paths = PhotonPaths::NoPhotons,
+     .film = FilmResolve::MeanOfPasses,
+     .pass_radius_of = &pppm_pass_radius},
 }};
 
 static_assert(kEstimators[std::size_t(Estimator::Sppm)].id == Estimator::Sppm);
 static_assert(kEstimators[std::size_t(Estimator::Pppm)].id == Estimator::Pppm);
+static_assert(kEstimators[std::size_t(Estimator::Vcm)].id == Estimator::Vcm);
 
 }  // namespace
 
 std::uint32_t DensityEstimator::photon_steps_per_pass(int max_bounces) const {
+    if (photon_paths == PhotonPaths::NoPhotons) return 0;
     return photon_paths == PhotonPaths::WithinPass ? static_cast<std::uint32_t>(max_bounces) + 1u
                                                    : 1u;
 }

@@ -32,6 +32,9 @@ enum class PhotonPaths {
     // stored side by side in slots of one buffer and hashed and gathered together, as many
     // as fit (photon_steps_per_gather).
     WithinPass,
+    // No photon paths (VCM's path tracing technique, docs/vcm.md): the pass is its eye
+    // paths alone, nothing hashed or gathered.
+    NoPhotons,
 };
 
 // What the film's photon light is (resolve_film.comp, resolve_render_pass).

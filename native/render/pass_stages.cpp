@@ -19,6 +19,9 @@ void Renderer::Gpu::run_pass(std::uint64_t pass_index) {
         settings.photon_warm_up)
         warm_up_photon_paths();
     trace_eye(pass_index);
+    // VCM's light subpaths (common/vcm_light_paths.glsl): each traced whole in one dispatch.
+    if (estimator.photon_paths == PhotonPaths::NoPhotons && programs.light_splats)
+        trace_photons(pass_index, 0);
     const std::uint32_t steps = estimator.photon_steps_per_pass(settings.max_bounces);
     for (std::uint32_t step = 0; step < steps; ++step) {
         const std::uint32_t slot = step % steps_per_gather;

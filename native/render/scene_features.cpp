@@ -4,6 +4,7 @@
 // (the program cache's key): geometry, lights and materials, outputs, direct light, methods
 // and sizes, light tracing.
 #include <algorithm>
+#include <stdexcept>
 
 #include "render/density_estimator.h"
 #include "render/specializations.h"
@@ -71,6 +72,15 @@ void output_and_method_defines(unsigned local_size, Features& f) {
     p.pass_layout = passes;
 }
 
+// What VCM's eye paths do not model yet (docs/vcm.md): an error naming it. Its light
+// tracing is its own technique to come, not the photons' (light tracing is off under it).
+void check_vcm_supports(const Scene& scene) {
+    if (!scene.light_groups.empty())
+        throw std::invalid_argument("estimator vcm: light groups are not supported yet");
+    if (!scene.light_link_receives.empty())
+        throw std::invalid_argument("estimator vcm: light linking is not supported yet");
+}
+
 }  // namespace
 
 void choose_features(const Scene& scene, const RenderSettings& settings, unsigned local_size,
@@ -82,7 +92,12 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
             throw std::invalid_argument("forced_features: no specialization is named '" + name +
                                         "'");
     }
-    const FeatureInputs in{scene, settings, bvh, p, traces_smooth_specular(scene, bvh, p)};
+    RenderSettings chosen = settings;
+    if (settings.estimator == Estimator::Vcm) {
+        check_vcm_supports(scene);
+        chosen.light_tracing = false;
+    }
+    const FeatureInputs in{scene, chosen, bvh, p, traces_smooth_specular(scene, bvh, p)};
     Features f{in, p, {}};
     f.rows(SpecializationGroup::Scene);
     if (settings.transparent) {
@@ -91,6 +106,9 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     }
     // Light sampling at the visible points (shaders/common/light_sampling.glsl).
     if (settings.direct_light != DirectLight::Photons) f.add("DIRECT_LIGHT_SAMPLED", "");
+    // VCM's light tracing technique (common/vcm_light_paths.glsl) splats as light tracing does.
+    if (settings.vcm_techniques == VcmTechniques::LightTracing)
+        f.add("VCM_LIGHT_TRACING", "vcm=lt");
     f.rows(SpecializationGroup::DirectLight);
     // Emitter MIS finds a hit triangle's record through the triangles' map.
     const auto& d = p.defines;
@@ -99,7 +117,10 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     output_and_method_defines(local_size, f);
     f.rows(SpecializationGroup::Last);
     p.light_tracing = std::any_of(d.begin(), d.end(),
-                                  [](const auto& x) { return x.first == "HAS_LIGHT_TRACING"; });
+                                  [](const auto& x) {
+                                      return x.first == "HAS_LIGHT_TRACING" ||
+                                             x.first == "VCM_LIGHT_TRACING";
+                                  });
     for (const std::string& name : f.names) p.variant += (p.variant.empty() ? "" : ",") + name;
 }
 

@@ -35,6 +35,16 @@ Estimator parse_estimator(const std::string& name) {
     throw std::invalid_argument("estimator: '" + name + "' is not an estimator (" + names + ")");
 }
 
+VcmTechniques parse_vcm_techniques(const std::string& name) {
+    if (name == "pt") return VcmTechniques::PathTracing;
+    if (name == "lt") return VcmTechniques::LightTracing;
+    throw std::invalid_argument("vcm_techniques: '" + name + "' is not built (pt, lt)");
+}
+
+std::string to_string(VcmTechniques techniques) {
+    return techniques == VcmTechniques::LightTracing ? "lt" : "pt";
+}
+
 Instancing parse_instancing(const std::string& name) {
     if (name == "auto") return Instancing::Auto;
     if (name == "two-level") return Instancing::TwoLevel;
@@ -106,6 +116,16 @@ void validate(const RenderSettings& s) {
     if (!estimator.independent_passes && s.first_pass != 0)
         fail("first_pass: only estimator " + independent_estimator_names() +
              " can start at a pass other than 0");
+    if (s.estimator == Estimator::Vcm) {
+        // What VCM does not model yet (docs/vcm.md): an error, never a wrong image.
+        if (!s.passes.empty()) fail("estimator vcm: render passes are not supported yet");
+        if (s.direct_light != DirectLight::Sampled)
+            fail("estimator vcm: direct_light must be 'sampled' (its path tracing technique)");
+        if (s.transparent) fail("estimator vcm: a transparent film is not supported yet");
+        if (s.profile) fail("estimator vcm: profile is not supported yet");
+    } else if (s.vcm_techniques != VcmTechniques::PathTracing) {
+        fail("vcm_techniques: needs estimator vcm");
+    }
     if (s.first_pass > (std::uint64_t(1) << 52))
         fail("first_pass: " + std::to_string(s.first_pass) + " is above 2^52");
     for (std::size_t k = 0; k < s.devices.size(); ++k) {

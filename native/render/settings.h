@@ -23,8 +23,12 @@ enum class DirectLight { Sampled, Photons, SampledNoMis };
 // the radius r_1 s(i) and its own estimate, seeded by (seed, i) alone: the image is the mean
 // of the passes' estimates, so any set of pass indices can run on any device or machine and
 // the means merge exactly (render/film_merge.h). What each one decides is its description
-// in render/density_estimator.h.
-enum class Estimator { Sppm, Pppm };
+// in render/density_estimator.h. VCM (Georgiev et al. 2012; docs/vcm.md): passes as PPPM's,
+// each an eye subpath per pixel; so far its path tracing technique alone.
+enum class Estimator { Sppm, Pppm, Vcm };
+// VCM's techniques for tests (docs/vcm.md): path tracing alone, or light tracing alone (the
+// eye path keeps only the emission it meets before any rough scatter).
+enum class VcmTechniques { PathTracing, LightTracing };
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.
 enum class Instancing { Auto, TwoLevel, Flattened };
@@ -68,6 +72,7 @@ struct RenderSettings {
     // Several EGL devices, one worker each (pppm only); empty: `device` alone.
     std::vector<int> devices;
     Estimator estimator = Estimator::Sppm;
+    VcmTechniques vcm_techniques = VcmTechniques::PathTracing;  // estimator vcm only
     // Light tracing of caustics seen directly (L S+ D E paths: shaders/common/light_tracing.glsl,
     // docs/light_tracing.md): photons of pure mirror and glass chains are connected to the
     // camera instead of gathered there. Compiled only where the scene has smooth specular
@@ -107,7 +112,9 @@ struct RenderSettings {
 HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons" | "sampled-no-mis"
-Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm"
+Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm" | "vcm"
+VcmTechniques parse_vcm_techniques(const std::string& name);  // "pt" | "lt"
+std::string to_string(VcmTechniques techniques);
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);
 std::string to_string(RngKind kind);

@@ -19,9 +19,10 @@ constexpr double kPi = std::numbers::pi;
 
 const DensityEstimator& sppm() { return density_estimator(Estimator::Sppm); }
 const DensityEstimator& pppm() { return density_estimator(Estimator::Pppm); }
+const DensityEstimator& vcm() { return density_estimator(Estimator::Vcm); }
 
 TEST(DensityEstimator, EveryEstimatorHasItsRowAndName) {
-    ASSERT_EQ(density_estimators().size(), 2u);
+    ASSERT_EQ(density_estimators().size(), 3u);
     for (const DensityEstimator& e : density_estimators()) {
         EXPECT_EQ(&density_estimator(e.id), &e);
         EXPECT_EQ(find_density_estimator(e.name), &e);
@@ -32,19 +33,40 @@ TEST(DensityEstimator, EveryEstimatorHasItsRowAndName) {
     EXPECT_STREQ(pppm().name, "pppm");
     EXPECT_EQ(sppm().define, nullptr);  // the shaders' default
     EXPECT_STREQ(pppm().define, "ESTIMATOR_PPPM");
+    EXPECT_STREQ(vcm().name, "vcm");
+    EXPECT_STREQ(vcm().define, "ESTIMATOR_VCM");
     EXPECT_EQ(find_density_estimator("ppm"), nullptr);
     try {
         parse_estimator("ppm");
         FAIL() << "parse_estimator accepted 'ppm'";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "estimator: 'ppm' is not an estimator (sppm, pppm)");
+        EXPECT_STREQ(e.what(), "estimator: 'ppm' is not an estimator (sppm, pppm, vcm)");
     }
 }
 
-TEST(DensityEstimator, OnlyPppmsPassesAreIndependent) {
+TEST(DensityEstimator, SettingsNameWhatVcmDoesNotSupportYet) {
+    RenderSettings s;
+    s.estimator = Estimator::Vcm;
+    EXPECT_NO_THROW(validate(s));
+    s.direct_light = DirectLight::Photons;
+    EXPECT_THROW(validate(s), std::invalid_argument);
+    s.direct_light = DirectLight::Sampled;
+    s.passes = {RenderPass::Direct};
+    try {
+        validate(s);
+        FAIL() << "VCM with render passes";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "estimator vcm: render passes are not supported yet");
+    }
+}
+
+TEST(DensityEstimator, PppmsAndVcmsPassesAreIndependent) {
     EXPECT_FALSE(sppm().independent_passes);
     EXPECT_TRUE(pppm().independent_passes);
-    EXPECT_EQ(independent_estimator_names(), "pppm");
+    EXPECT_TRUE(vcm().independent_passes);
+    EXPECT_EQ(independent_estimator_names(), "pppm or vcm");
+    EXPECT_EQ(vcm().film, FilmResolve::MeanOfPasses);
+    EXPECT_EQ(vcm().pass_radius_of, pppm().pass_radius_of);  // PPPM's radius, for merging
     EXPECT_EQ(sppm().film, FilmResolve::FluxOverPixelRadius);
     EXPECT_EQ(pppm().film, FilmResolve::MeanOfPasses);
     EXPECT_EQ(sppm().pass_radius_of, nullptr);  // each pixel its own radius
@@ -58,6 +80,9 @@ TEST(DensityEstimator, PhotonStepsAPass) {
     EXPECT_EQ(sppm().photon_steps_per_pass(0), 1u);
     EXPECT_EQ(pppm().photon_steps_per_pass(9), 10u);  // a photon may land a 10th time
     EXPECT_EQ(pppm().photon_steps_per_pass(0), 1u);
+    // VCM's passes are eye paths alone so far (docs/vcm.md): no photon step runs.
+    EXPECT_EQ(vcm().photon_paths, PhotonPaths::NoPhotons);
+    EXPECT_EQ(vcm().photon_steps_per_pass(9), 0u);
 }
 
 TEST(DensityEstimator, PhotonSlotsAndStepsPerGather) {
@@ -115,7 +140,7 @@ TEST(DensityEstimator, SettingsRefuseWhatPassesThatDependOnEachOtherCannotDo) {
         FAIL() << "SPPM on two devices";
     } catch (const std::invalid_argument& e) {
         EXPECT_STREQ(e.what(),
-                     "devices: several devices need estimator pppm (SPPM's passes depend on each "
+                     "devices: several devices need estimator pppm or vcm (SPPM's passes depend on each "
                      "other and cannot be split)");
     }
     s.devices = {};
@@ -123,7 +148,8 @@ TEST(DensityEstimator, SettingsRefuseWhatPassesThatDependOnEachOtherCannotDo) {
         validate(s);
         FAIL() << "SPPM from pass 7";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "first_pass: only estimator pppm can start at a pass other than 0");
+        EXPECT_STREQ(e.what(), "first_pass: only estimator pppm or vcm can start at a pass "
+                               "other than 0");
     }
 }
 

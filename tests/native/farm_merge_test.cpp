@@ -71,12 +71,13 @@ TEST(FarmMerge, RefusesFilesWhosePassesDiffer) {
 TEST(FarmMerge, RefusesEstimatorsWhosePassesDependOnEachOther) {
     FarmInput sppm = job("s.exr", 1, 3, 5.0f);
     sppm.exr.attributes["glslppm.estimator"] = "sppm";
-    EXPECT_EQ(refusal(sppm), "s.exr: glslppm.estimator is sppm: only pppm renders merge (SPPM's "
+    EXPECT_EQ(refusal(sppm), "s.exr: glslppm.estimator is sppm: only pppm or vcm renders merge "
+                             "(SPPM's "
                              "passes depend on each other)");
     FarmInput unknown = job("u.exr", 1, 3, 5.0f);
-    unknown.exr.attributes["glslppm.estimator"] = "vcm";
-    EXPECT_EQ(refusal(unknown),
-              "u.exr: glslppm.estimator is vcm: only pppm renders merge (not an estimator)");
+    unknown.exr.attributes["glslppm.estimator"] = "bdpt";  // no such estimator
+    EXPECT_EQ(refusal(unknown), "u.exr: glslppm.estimator is bdpt: only pppm or vcm renders "
+                                "merge (not an estimator)");
 }
 
 TEST(FarmMerge, FilesKeepTheirLayerNamesThroughAWriteAndRead) {

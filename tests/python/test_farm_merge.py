@@ -114,7 +114,7 @@ def test_sppm_and_foreign_files_are_refused(glslppm, renders, tmp_path):
     assert result.returncode == 0, result.stderr
     result = merge(tmp_path / "m.exr", renders["first"], str(sppm))
     assert result.returncode == 1
-    assert "sppm.exr: glslppm.estimator is sppm: only pppm renders merge" in result.stderr
+    assert "sppm.exr: glslppm.estimator is sppm: only pppm or vcm renders merge" in result.stderr
     foreign = tmp_path / "foreign.exr"
     glslppm.write_exr(str(foreign), np.zeros((24, 32, 4), np.float32), {"note": "x"})
     result = merge(tmp_path / "m.exr", renders["first"], str(foreign))

@@ -68,6 +68,8 @@ CASES = {
     "photon direct light": (dict(direct_light="photons", passes=["direct"]), False),
     "pppm": (dict(estimator="pppm"), True),
     "pppm exact": (dict(estimator="pppm", hash="exact", photons_per_pass=1000), True),
+    "vcm": (dict(estimator="vcm"), False),
+    "vcm light tracing": (dict(estimator="vcm", vcm_techniques="lt"), True),
 }
 
 

@@ -1,0 +1,140 @@
+// VCM's eye subpaths (ESTIMATOR_VCM; docs/vcm.md), spliced into eye_trace.comp in place of
+// its visible points' main, whose helpers (camera_ray, add_direct_light, ...) it uses. So
+// far its first technique: unidirectional path tracing. Each pixel traces one path a pass,
+// its light summed in the pixel's direct-light sum (the film: the mean of the passes).
+//
+// At every rough vertex (the lobes an SPPM eye path would hold a visible point on) the
+// path takes the whole direct light of common/light_sampling.glsl (a light sample, and at
+// glossy lobes and for the world one BSDF sample, combined by the balance heuristic) and
+// goes on by a BSDF sample of those lobes. The emission that sample's ray meets next (the
+// surfaces it passes through as a shadow ray does included) is the direct light already
+// counted, so it is left out there; after a smooth bounce (mirror, glass, a smooth coat)
+// the emission met is counted, as no light sample reaches it. Russian roulette from the
+// fourth scatter on, on the path's throughput; Cycles' Light Paths limits as the eye stage
+// counts them (common/bounces.glsl): a rough vertex takes its direct light while its
+// scatters so far are within them, and the path ends where the next scatter is not.
+#ifndef VCM_EYE_PATHS_GLSL
+#define VCM_EYE_PATHS_GLSL
+
+#ifdef ESTIMATOR_VCM
+#ifndef DIRECT_LIGHT_SAMPLED
+#error "ESTIMATOR_VCM takes its direct light from light sampling (direct_light sampled)"
+#endif
+
+// Scatters after which Russian roulette plays.
+const uint VCM_ROULETTE_AFTER = 3u;
+
+// Where a path leaves a rough vertex: a sample of the whole material (rough_only false), or
+// of its rough lobes alone where a smooth part is followed by the path instead (a plastic's
+// diffuse base under a smooth coat): cosine-weighted about the shading normal, weight
+// f cos / pdf = pi f. False where the sample carries nothing.
+bool vcm_rough_sample(Shading sh, vec3 wo, bool rough_only, vec3 u, out vec3 wi,
+                      out vec3 weight) {
+    if (!rough_only) return bsdf_sample(sh, wo, u, false, wi, weight);
+    wi = sample_cosine_hemisphere(sh.n, u.x, u.y);
+    weight = bsdf_f(sh, wo, wi, true, false) * PI;
+    return dot(wi, sh.n) > 0.0 && any(greaterThan(weight, vec3(0.0)));
+}
+
+void main() {
+    uint i = thread_index();
+    if (i >= image_width * image_height) return;
+    RNG_STATE rng = load_pixel_rng(i);
+    Ray ray = camera_ray(i % image_width, i / image_width, rng);
+    vec3 throughput = vec3(1.0), light = vec3(0.0);
+    uint rays = 0u, eye_bounces = 0u, scatters = 0u;
+    // seen_by_camera: no scatter yet; last_surface: past a limit, the next surface's
+    // emission ends the path; after_rough: the last scatter was rough, whose direct light
+    // holds the emission met next.
+    bool seen_by_camera = true, last_surface = false, after_rough = false;
+    for (uint depth = 0u; depth <= max_bounces; ++depth) {  // surfaces, as eye_trace's
+        ++rays;
+        Hit hit = closest_hit(ray);
+#ifdef SPHERE_LIGHT_RECORDS
+        vec3 sphere_radiance;
+        if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
+            if (!after_rough) light += throughput * sphere_radiance;
+            break;
+        }
+#endif
+        if (hit.triangle < 0) {
+            if (!after_rough) light += throughput * environment_radiance(ray.dir);
+            break;
+        }
+        Surface s = surface_at(ray, hit);
+        bool front = dot(ray.dir, s.geometric_normal) < 0.0;
+        int flags = material_flags(s.material);
+        bool hidden = (flags & (seen_by_camera ? MATERIAL_HIDDEN_FROM_CAMERA
+                                               : MATERIAL_HIDDEN_FROM_REFLECTIONS)) != 0;
+        if (hidden && (flags & MATERIAL_LIGHT_SURFACE) == 0) {
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
+#ifdef HAS_ABSORPTION
+        throughput *= segment_transmittance(s.material, front, ray.origin, s.position);
+#endif
+        if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
+            if (front && !hidden && !after_rough)
+                light += throughput * material_emission(s.material);
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+            continue;
+        }
+        vec3 wo = -ray.dir;
+        Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                                s.vertex_color, wo, rng_next(rng));
+        if ((front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) && !after_rough)
+            light += throughput * material_emission_at(s.material, sh.material, texture_point(s));
+        if (last_surface) break;
+        float p_smooth = bsdf_smooth_probability(sh, wo);
+        float u_lobe = rng_next(rng);
+        vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+        vec3 dir, weight;
+        bool smooth_bounce = u_lobe < p_smooth;
+        uint kind;
+        if (smooth_bounce) {
+            if (!bsdf_sample_smooth(sh, wo, u_dir, dir, weight)) break;
+            throughput *= weight / p_smooth;
+            dir = on_the_lobes_side(dir, sh, s.geometric_normal);
+            kind = smooth_bounce_kind(sh, wo, dir, s.geometric_normal);
+        } else {
+#ifdef VCM_LIGHT_TRACING
+            break;  // light tracing alone: the light subpaths take what reaches this vertex
+#endif
+            throughput /= 1.0 - p_smooth;
+            bool rough_only = p_smooth > 0.0;
+            LightSampleNumbers n = draw_light_sample_numbers(rng);
+            vec3 u_mis = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+            light += throughput * direct_light_sampled_lobes(s.material, s.position,
+                                                             s.geometric_normal, sh, wo,
+                                                             rough_only, n.pick, n.u, u_mis,
+                                                             rays);
+            if (!vcm_rough_sample(sh, wo, rough_only, u_dir, dir, weight)) break;
+            throughput *= weight;
+            dir = on_the_lobes_side(dir, sh, s.geometric_normal);
+            kind = bounce_kind(wo, dir, s.geometric_normal,
+                               rough_only || bsdf_sample_is_diffuse(sh, wo, u_dir));
+        }
+        eye_bounces = bounces_add(eye_bounces, kind);
+        bool within = bounces_within(eye_bounces);
+        // Past a limit: a smooth bounce still takes the emission it meets, a rough one's
+        // emission is its direct light, already counted.
+        if (!within && !smooth_bounce) break;
+        last_surface = !within;
+        if (kind != BOUNCE_NONE) {  // a cut-out passed through is no scatter
+            ++scatters;
+            after_rough = !smooth_bounce;
+        }
+        if (scatters > VCM_ROULETTE_AFTER) {
+            float q = min(1.0, max_component(throughput));
+            if (!(rng_next(rng) < q)) break;
+            throughput /= q;
+        }
+        ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
+        if (kind != BOUNCE_NONE) seen_by_camera = false;
+    }
+    add_direct_light(i, vec4(light, 0.0));
+    rng_store(i, rng);
+    atomicAdd(pass_rays, rays);
+}
+#endif
+#endif
