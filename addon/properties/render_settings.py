@@ -88,10 +88,15 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "radius shrinks with its own photons (passes run in order)"),
                    ('PPPM', "PPPM", "Probabilistic progressive photon mapping: a radius per "
                     "pass index, so passes run on several GPUs and farm machines and merge "
-                    "exactly (glslppm-merge)"))),
+                    "exactly (glslppm-merge)"),
+                   ('VCM', "VCM (in progress)", "Vertex connection and merging, being built "
+                    "(docs/vcm.md): today its path tracing technique alone, from the camera "
+                    "with light sampling, no photons; passes are independent as PPPM's. Not "
+                    "yet with render passes, light groups or linking, tiles or a transparent "
+                    "film"))),
         "first_pass": IntProperty(
             name="First Pass", default=0, min=0, max=INT_MAX,
-            description="PPPM: the pass offset, the index of the first pass this render "
+            description="PPPM and VCM: the pass offset, the index of the first pass this render "
                         "runs; farm job k of n passes each sets k * n (glslppm-merge joins "
                         "the files)"),
         "glossy_threshold": FloatProperty(

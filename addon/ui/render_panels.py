@@ -38,7 +38,7 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "light_tracing")
         column.prop(settings, "glossy_threshold")
         column.prop(settings, "estimator")
-        if settings.estimator == 'PPPM':
+        if settings.estimator in {'PPPM', 'VCM'}:
             column.prop(settings, "first_pass")
         column.prop(settings, "seed")
         column = layout.column(heading="Viewport")

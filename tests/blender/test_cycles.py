@@ -637,6 +637,37 @@ def test_issue30_cornell_box_matches_cycles_within_one_percent():
     assert errors.max() < 0.05, errors.round(3).tolist()
 
 
+def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
+    """The estimator VCM chosen in Render Properties (today its path tracing technique,
+    docs/vcm.md) on issue 30's Cornell box, 1 mm gap, against Cycles as above: both are
+    unbiased path tracers with MIS of light and BSDF samples, so the image means agree within
+    their noise. Measured (Blender 3.4.1, 1024 passes against 1024 samples): mean 0.9974,
+    the light's pixels 0.9962, the rest 0.9989, worst 4x4 region 0.49%: the rest's 0.5%
+    deficit that SPPM shows on this box (the test above) is SPPM's own, not the scene's
+    export. Bounds: the rest within 0.6% (a 1% bias fails), the mean and the light's pixels
+    within 1% (the gap's spike, as above), each region within 2.5%."""
+    helpers.reset_scene(size=(64, 64))
+    scene = _issue30_scene()
+    scene.glslppm.estimator = 'VCM'
+    scene.glslppm.passes = 1024
+    helpers.load_native()
+    ours, error, engine = helpers.render_recorded("issue30_cornell_vcm")
+    assert error is None, error
+    assert helpers.last_render_stats()["estimator"] == "vcm"
+    helpers.setup_cycles(samples=1024, bounces=64)
+    scene.cycles.pixel_filter_type = 'BOX'
+    scene.cycles.filter_width = 1.0
+    reference = helpers.render_image("issue30_cornell_vcm_cycles", 'CYCLES')
+    scene.render.engine = 'GLSLPPM'
+    mean, light, rest = _light_and_rest(ours, reference)
+    errors, a, b = _relative_errors(ours, reference, 4)
+    print(f"  VCM on issue 30's box / Cycles: mean {mean:.4f}, light's pixels {light:.4f}, "
+          f"rest {rest:.4f}; 4x4 region errors max {errors.max():.4f}")
+    assert abs(rest - 1.0) < 0.006 and abs(mean - 1.0) < 0.01 and abs(light - 1.0) < 0.01, \
+        (mean, light, rest)
+    assert errors.max() < 0.025, errors.round(3).tolist()
+
+
 def test_issue30_gltf_export_renders_as_the_addon_does():
     """The same box with Principled BSDF walls (roughness 1, no specular: what glTF keeps;
     Blender's exporter writes a Diffuse BSDF as glTF's default white metal) exported by
