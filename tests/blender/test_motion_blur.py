@@ -38,22 +38,26 @@ def spread(profile):
     return float((w * (x - (w * x).sum()) ** 2).sum())
 
 
-def _linear_keyframe(obj, frame):
-    """A location keyframe, every key of the object made linear. Blender 4.4+ keeps F-curves
-    in the layered action's channel bag (5.x has no Action.fcurves); 3.4 and 4.3 on the
-    action."""
-    obj.keyframe_insert("location", frame=frame)
-    action = obj.animation_data.action
+def linear_keys(id_data):
+    """Every F-curve key of an ID's action made linear. Blender 4.4+ keeps F-curves in the
+    layered action's channel bag (5.x has no Action.fcurves); 3.4 and 4.3 on the action."""
+    action = id_data.animation_data.action
     if hasattr(action, "fcurves"):
         curves = list(action.fcurves)
     else:
-        slot = obj.animation_data.action_slot
+        slot = id_data.animation_data.action_slot
         curves = [curve for layer in action.layers for strip in layer.strips
                   for curve in strip.channelbag(slot).fcurves]
     assert curves, "no F-curves found for the keyframes"
     for curve in curves:
         for point in curve.keyframe_points:
             point.interpolation = 'LINEAR'
+
+
+def _linear_keyframe(obj, frame):
+    """A location keyframe, every key of the object made linear."""
+    obj.keyframe_insert("location", frame=frame)
+    linear_keys(obj)
 
 
 def _moving_strip_scene(position):
