@@ -91,6 +91,13 @@ class GlslppmEngineMixin:
         # Previews show Combined alone.
         self.view_layer = None if self.is_preview else depsgraph.view_layer
         passes = render_passes.requested(self.view_layer) if self.view_layer else set()
+        if passes and settings.estimator == 'VCM':
+            # VCM renders Combined alone so far (docs/vcm.md): the passes stay empty, said once.
+            self.report_to_user('WARNING', "the VCM estimator (in progress) renders Combined "
+                                "only: the view layer's other passes (" +
+                                ", ".join(sorted(passes)) + ") stay empty")
+            passes = set()
+            self.view_layer = None
         devices = render_devices(settings)
         device = devices[0]
         film = film_options(scene)

@@ -208,7 +208,11 @@ def test_cornell_box_with_boxes_matches_cycles_in_both_direct_light_modes():
     edges). An 8x8-pixel region holds 32k Cycles samples, whose noise and the light's
     one-pixel sliver keep these bounds at 3.5% / 13% (sampled) and 5.5% / 22% (photons):
     too loose for a 1% bias, which the closed-form module tests catch; here the shadows'
-    placement is what is tested, and that light sampling is the closer of the two."""
+    placement is what is tested, and that light sampling is the closer of the two. A region
+    darker than a tenth of the brightest (the image's two top corners, 0.005 against 0.33,
+    mostly outside the box) is measured against that tenth: relative to itself its noise
+    read 10-13% (2026-11-26, after SPPM's warm-up; the ceiling's row, lit by photons alone,
+    reads 8-10% below Cycles, as the 8.7% above)."""
     helpers.reset_scene(size=(64, 64))
     _demo_module().build_cornell_box(glass=False, mirror=False)
     bpy.data.objects["CeilingLight"].visible_camera = False
@@ -230,7 +234,8 @@ def test_cornell_box_with_boxes_matches_cycles_in_both_direct_light_modes():
     bounds = {'SAMPLED': (0.035, 0.13), 'PHOTONS': (0.055, 0.22)}
     means = {}
     for mode, image in results.items():
-        errors, a, b = _relative_errors(image, reference, 8)
+        _, a, b = _relative_errors(image, reference, 8)
+        errors = np.abs(a - b) / np.maximum(b, 0.1 * b.max())
         print(f"  cornell with boxes, {mode.lower()}: region errors mean {errors.mean():.4f} "
               f"max {errors.max():.4f}")
         mean_bound, max_bound = bounds[mode]
@@ -651,9 +656,12 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
     scene.glslppm.estimator = 'VCM'
     scene.glslppm.passes = 1024
     helpers.load_native()
+    bpy.context.view_layer.use_pass_z = True  # Blender's default: VCM leaves it empty, warned
     ours, error, engine = helpers.render_recorded("issue30_cornell_vcm")
     assert error is None, error
     assert helpers.last_render_stats()["estimator"] == "vcm"
+    assert any("renders Combined only" in w for w in helpers.warnings_of(engine)), \
+        helpers.warnings_of(engine)
     helpers.setup_cycles(samples=1024, bounces=64)
     scene.cycles.pixel_filter_type = 'BOX'
     scene.cycles.filter_width = 1.0
