@@ -348,11 +348,10 @@ class Session:
 
 
 def _viewport_settings(settings):
-    """scene.glslppm with the viewport's photons per pass and no photon warm-up (a camera
-    move restarts the film: its first image must come at once; the warm-up's start-up bias,
-    1/passes, matters to final renders, not to a preview)."""
-    return _Overridden(settings, photons_per_pass=settings.viewport_photons_per_pass,
-                       photon_warm_up=False)
+    """scene.glslppm with the viewport's photons per pass. SPPM's photon warm-up stays on:
+    the viewport renders the computation F12 does (viewport_ui's tests compare the two),
+    so a camera move's first image waits for it."""
+    return _Overridden(settings, photons_per_pass=settings.viewport_photons_per_pass)
 
 
 def preview_settings(settings):
