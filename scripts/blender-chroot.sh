@@ -75,6 +75,11 @@ EOF
 }
 
 create() {
+  # One creator at a time (scripts/test-all.sh starts the chroots in the background while
+  # the first suites run; a suite that needs one waits here for it).
+  mkdir -p "$(dirname "$root")"
+  exec 9>"$root.lock"
+  flock 9
   # The stamp holds the package list, so a chroot made for an older list gets the rest.
   if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "${packages[*]}" ]; then
     echo "chroot: $root is ready (remove $stamp to recreate)"
