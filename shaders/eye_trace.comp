@@ -34,6 +34,11 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/emitters.glsl"
 #endif
 #include "common/light_groups.glsl"
+#ifdef VCM_MIS
+#include "common/bounces.glsl"
+#include "common/light_tracing.glsl"
+#include "common/vcm_mis.glsl"
+#endif
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"
 #endif

@@ -25,6 +25,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #if defined(HAS_LIGHT_TRACING) || defined(VCM_LIGHT_TRACING)
 #include "common/light_tracing.glsl"
 #endif
+#ifdef VCM_MIS
+#include "common/vcm_mis.glsl"
+#endif
 #include "common/light_linking.glsl"
 
 // Light linking (common/light_linking.glsl): a photon that still carries its emitter's link

@@ -69,7 +69,7 @@ PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* sce
               : settings.light_tracing && !layout.photon_split && !settings.full_variant;
     // VCM: its own light tracing technique splats, never the photons' (scene_features.cpp).
     if (settings.estimator == Estimator::Vcm)
-        s.light_tracing = settings.vcm_techniques == VcmTechniques::LightTracing;
+        s.light_tracing = settings.vcm_techniques != VcmTechniques::PathTracing;
     s.exact_hash = settings.hash == HashMode::Exact;
     s.paper_rng = settings.rng == RngKind::Paper;
     const DensityEstimator& estimator = density_estimator(settings.estimator);

@@ -109,6 +109,19 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
     // VCM's light tracing technique (common/vcm_light_paths.glsl) splats as light tracing does.
     if (settings.vcm_techniques == VcmTechniques::LightTracing)
         f.add("VCM_LIGHT_TRACING", "vcm=lt");
+    // Both, weighted against each other (common/vcm_mis.glsl).
+    const VcmTechniques t = settings.vcm_techniques;
+    if (t == VcmTechniques::PathAndLightTracing) f.add("VCM_MIS", "vcm=pt+lt");
+    if (t == VcmTechniques::PathAndLightTracingEyePart) {
+        f.add("VCM_MIS", "vcm=pt+lt:eye");
+        f.add("VCM_MIS_EYE_PART", "");
+    }
+    if (t == VcmTechniques::PathAndLightTracingLightPart) {
+        f.add("VCM_MIS", "vcm=pt+lt:light");
+        f.add("VCM_MIS_LIGHT_PART", "");
+    }
+    if (t != VcmTechniques::PathTracing && t != VcmTechniques::LightTracing)
+        f.add("VCM_LIGHT_TRACING", "");
     f.rows(SpecializationGroup::DirectLight);
     // Emitter MIS finds a hit triangle's record through the triangles' map.
     const auto& d = p.defines;

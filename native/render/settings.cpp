@@ -38,11 +38,21 @@ Estimator parse_estimator(const std::string& name) {
 VcmTechniques parse_vcm_techniques(const std::string& name) {
     if (name == "pt") return VcmTechniques::PathTracing;
     if (name == "lt") return VcmTechniques::LightTracing;
-    throw std::invalid_argument("vcm_techniques: '" + name + "' is not built (pt, lt)");
+    if (name == "pt+lt") return VcmTechniques::PathAndLightTracing;
+    if (name == "pt+lt:eye") return VcmTechniques::PathAndLightTracingEyePart;
+    if (name == "pt+lt:light") return VcmTechniques::PathAndLightTracingLightPart;
+    throw std::invalid_argument("vcm_techniques: '" + name +
+                                "' is not built (pt, lt, pt+lt, pt+lt:eye, pt+lt:light)");
 }
 
 std::string to_string(VcmTechniques techniques) {
-    return techniques == VcmTechniques::LightTracing ? "lt" : "pt";
+    switch (techniques) {
+        case VcmTechniques::LightTracing: return "lt";
+        case VcmTechniques::PathAndLightTracing: return "pt+lt";
+        case VcmTechniques::PathAndLightTracingEyePart: return "pt+lt:eye";
+        case VcmTechniques::PathAndLightTracingLightPart: return "pt+lt:light";
+        default: return "pt";
+    }
 }
 
 Instancing parse_instancing(const std::string& name) {

@@ -28,7 +28,16 @@ enum class DirectLight { Sampled, Photons, SampledNoMis };
 enum class Estimator { Sppm, Pppm, Vcm };
 // VCM's techniques for tests (docs/vcm.md): path tracing alone, or light tracing alone (the
 // eye path keeps only the emission it meets before any rough scatter).
-enum class VcmTechniques { PathTracing, LightTracing };
+// pt: path tracing alone; lt: light tracing alone (unweighted); pt+lt: both, weighted by
+// multiple importance sampling where both can sample a path (docs/vcm.md); pt+lt:eye and
+// pt+lt:light: one side's weighted part of pt+lt alone, for the test that they add up.
+enum class VcmTechniques {
+    PathTracing,
+    LightTracing,
+    PathAndLightTracing,
+    PathAndLightTracingEyePart,
+    PathAndLightTracingLightPart
+};
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.
 enum class Instancing { Auto, TwoLevel, Flattened };
@@ -113,7 +122,7 @@ HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons" | "sampled-no-mis"
 Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm" | "vcm"
-VcmTechniques parse_vcm_techniques(const std::string& name);  // "pt" | "lt"
+VcmTechniques parse_vcm_techniques(const std::string& name);  // "pt" | "lt" | "pt+lt" | "pt+lt:eye" | "pt+lt:light"
 std::string to_string(VcmTechniques techniques);
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);

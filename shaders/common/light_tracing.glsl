@@ -118,21 +118,21 @@ vec3 connection_f(Surface s, vec3 dir, vec3 to_camera, uint path_bounces, float 
 #endif
 }
 
-// Splats the photon that just landed at s, arriving along dir with `flux` and the path's
-// bounce word, into the pixel the camera sees it in, where the gather would have taken it
-// at a visible point seen directly: a surface the camera does not skip, the light and the
-// camera on the side of it the photon lit, weighed by connection_f. u_leaf picks a mix's
-// leaf, lens_u the point of a thin lens; rng gives the numbers for cut-outs crossed.
-void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
-                     vec2 lens_u, inout RNG_STATE rng) {
-    if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
+// Where the camera sees the point p from its lens point lens_u (a thin lens's, drawn
+// uniformly; ignored by other cameras): the pixel, the unit direction and distance to the
+// camera, and the importance factor of the splat below (1 / (d^2 cos^3(theta_c)) for a
+// perspective camera, 1 for an orthographic one). False behind the camera or off the film.
+bool camera_projection(vec3 p, vec2 lens_u, out uint pixel_index, out vec3 to_camera,
+                       out float distance, out float importance) {
+    pixel_index = 0u;
+    to_camera = vec3(0.0, 0.0, 1.0);
+    distance = 0.0;
+    importance = 0.0;
     // The camera's frame is rigid (scene_features.cpp checks it): its inverse is the
     // transpose, and camera-space distances and angles are the world's.
-    vec3 local = transpose(mat3(camera_to_world)) * (s.position - camera_to_world[3].xyz);
-    if (local.z >= 0.0) return;  // behind the camera (or its film plane)
+    vec3 local = transpose(mat3(camera_to_world)) * (p - camera_to_world[3].xyz);
+    if (local.z >= 0.0) return false;  // behind the camera (or its film plane)
     vec2 film;
-    vec3 to_camera;
-    float distance, importance;
     if (orthographic != 0u) {
         film = local.xy;
         to_camera = normalize(camera_to_world[2].xyz);
@@ -151,7 +151,7 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
 #else
         film = local.xy / -local.z;
         distance = length(local);
-        to_camera = normalize(camera_to_world[3].xyz - s.position);
+        to_camera = normalize(camera_to_world[3].xyz - p);
         float cos_camera = -local.z / distance;
 #endif
         importance = 1.0 / (distance * distance * cos_camera * cos_camera * cos_camera);
@@ -162,7 +162,24 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
                       0.5 * (1.0 - ndc.y) * float(image_height));
     if (!(pixel.x >= 0.0 && pixel.y >= 0.0 && pixel.x < float(image_width) &&
           pixel.y < float(image_height)))
-        return;
+        return false;
+    pixel_index = min(uint(pixel.y), image_height - 1u) * image_width +
+                  min(uint(pixel.x), image_width - 1u);
+    return true;
+}
+
+// Splats the photon that just landed at s, arriving along dir with `flux` and the path's
+// bounce word, into the pixel the camera sees it in, where the gather would have taken it
+// at a visible point seen directly: a surface the camera does not skip, the light and the
+// camera on the side of it the photon lit, weighed by connection_f. u_leaf picks a mix's
+// leaf, lens_u the point of a thin lens; rng gives the numbers for cut-outs crossed.
+void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
+                     vec2 lens_u, inout RNG_STATE rng) {
+    if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
+    uint i;
+    vec3 to_camera;
+    float distance, importance;
+    if (!camera_projection(s.position, lens_u, i, to_camera, distance, importance)) return;
     // The true surface's side the photon lit must face the camera (the gather's side test);
     // connection_f tests the shading normal's side.
     vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
@@ -171,8 +188,6 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
     vec3 f = connection_f(s, dir, to_camera, path_bounces, u_leaf);
     if (f == vec3(0.0)) return;
     if (!camera_sees(s.position, s.geometric_normal, to_camera, distance, rng)) return;
-    uint i = min(uint(pixel.y), image_height - 1u) * image_width +
-             min(uint(pixel.x), image_width - 1u);
     light_splat_add(i, flux * f * (cos_surface * importance));
 }
 

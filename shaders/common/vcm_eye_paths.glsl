@@ -47,6 +47,13 @@ void main() {
     // emission ends the path; after_rough: the last scatter was rough, whose direct light
     // holds the emission met next.
     bool seen_by_camera = true, last_surface = false, after_rough = false;
+#ifdef VCM_MIS
+    // lt: light tracing's partial quantity past the first vertex y1 (common/vcm_mis.glsl):
+    // n_L / p_camera(y1) times |cos| / p_bsdf at y1, the cosines out over in at the smooth
+    // vertices since; 0 where light tracing cannot sample the path.
+    vec3 lens_point = ray.origin;
+    float lt = 0.0;
+#endif
     for (uint depth = 0u; depth <= max_bounces; ++depth) {  // surfaces, as eye_trace's
         ++rays;
         Hit hit = closest_hit(ray);
@@ -73,9 +80,14 @@ void main() {
 #ifdef HAS_ABSORPTION
         throughput *= segment_transmittance(s.material, front, ray.origin, s.position);
 #endif
+        float emission_weight = 1.0;  // against light tracing's paths (VCM_MIS)
+#ifdef VCM_MIS
+        float lt_here = lt / max(abs(dot(ray.dir, s.geometric_normal)), 1e-30);
+        emission_weight = vcm_emission_weight(hit.triangle, -ray.dir, lt_here);
+#endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             if (front && !hidden && !after_rough)
-                light += throughput * material_emission(s.material);
+                light += throughput * material_emission(s.material) * emission_weight;
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -83,7 +95,8 @@ void main() {
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if ((front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) && !after_rough)
-            light += throughput * material_emission_at(s.material, sh.material, texture_point(s));
+            light += throughput * material_emission_at(s.material, sh.material, texture_point(s)) *
+                     emission_weight;
         if (last_surface) break;
         float p_smooth = bsdf_smooth_probability(sh, wo);
         float u_lobe = rng_next(rng);
@@ -96,9 +109,25 @@ void main() {
             throughput *= weight / p_smooth;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
             kind = smooth_bounce_kind(sh, wo, dir, s.geometric_normal);
+#ifdef VCM_MIS
+            // Light tracing follows a smooth vertex where its leaf is smooth alone.
+            lt = p_smooth >= 1.0 ? lt_here * abs(dot(dir, s.geometric_normal)) : 0.0;
+#endif
         } else {
-#ifdef VCM_LIGHT_TRACING
+#if defined(VCM_LIGHT_TRACING) && !defined(VCM_MIS)
             break;  // light tracing alone: the light subpaths take what reaches this vertex
+#endif
+#ifdef VCM_MIS
+            // The first vertex, where light tracing connects to the camera: the emission its
+            // continuation meets past smooth vertices weighs light tracing's paths in (lt).
+            float lt_camera = 0.0;  // n_L / p_camera(y1)
+            if (seen_by_camera && vcm_connectable(s, sh, wo)) {
+                vec3 from_camera = s.position - lens_point;
+                float distance = length(from_camera);
+                float p_camera = vcm_camera_area_pdf(from_camera / distance, distance,
+                                                     abs(dot(wo, s.geometric_normal)));
+                if (p_camera > 0.0) lt_camera = float(photon_threads) / p_camera;
+            }
 #endif
             throughput /= 1.0 - p_smooth;
             bool rough_only = p_smooth > 0.0;
@@ -111,6 +140,11 @@ void main() {
             if (!vcm_rough_sample(sh, wo, rough_only, u_dir, dir, weight)) break;
             throughput *= weight;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
+#ifdef VCM_MIS
+            float p_forward = lt_camera > 0.0 ? bsdf_pdf(sh, wo, dir) : 0.0;
+            lt = p_forward > 0.0 ? lt_camera * abs(dot(dir, s.geometric_normal)) / p_forward
+                                 : 0.0;
+#endif
             kind = bounce_kind(wo, dir, s.geometric_normal,
                                rough_only || bsdf_sample_is_diffuse(sh, wo, u_dir));
         }
@@ -132,6 +166,9 @@ void main() {
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
         if (kind != BOUNCE_NONE) seen_by_camera = false;
     }
+#ifdef VCM_MIS_LIGHT_PART
+    light = vec3(0.0);  // the light side's weighted part alone ("pt+lt:light")
+#endif
     add_direct_light(i, vec4(light, 0.0));
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);

@@ -19,7 +19,111 @@
 #ifndef VCM_LIGHT_PATHS_GLSL
 #define VCM_LIGHT_PATHS_GLSL
 
-#if defined(ESTIMATOR_VCM) && defined(VCM_LIGHT_TRACING)
+#if defined(ESTIMATOR_VCM) && defined(VCM_MIS)
+// Light tracing weighted against path tracing (vcm_techniques "pt+lt", common/vcm_mis.glsl):
+// the light paths of triangle emitters and point lights, followed while every vertex is
+// smooth, splatted at the first rough one past one or more smooth ones where the camera
+// connects (vcm_connectable) with the weight 1 / (1 + p_camera / n_L dVC p_rev), and ended
+// there. dVC is the eye path's emission hit's share: the cosine at the emitter over its
+// emission densities (area and direction), the cosines out over in at the smooth vertices,
+// over the cosine in at the rough vertex, times the BSDF's density p_rev there towards the
+// light (VCM's dVC, its connection terms left out: docs/vcm.md).
+void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bounces,
+                        vec2 lens_u, inout RNG_STATE rng) {
+#ifdef VCM_MIS_EYE_PART
+    return;  // the eye side's weighted part alone ("pt+lt:eye")
+#endif
+    if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
+    uint i;
+    vec3 to_camera;
+    float distance, importance;
+    if (!camera_projection(s.position, lens_u, i, to_camera, distance, importance)) return;
+    vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
+    float cos_surface = dot(to_camera, lit_side);
+    if (cos_surface <= 0.0) return;
+    Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                            s.vertex_color, to_camera, 0.5);
+    if (!vcm_connectable(s, sh, to_camera)) return;
+    vec3 f = connection_f(s, dir, to_camera, path_bounces, 0.5);
+    if (f == vec3(0.0)) return;
+    if (!camera_sees(s.position, s.geometric_normal, to_camera, distance, rng)) return;
+    float p_camera = cos_surface * importance / light_splat_pixel_area();
+    float p_reverse = bsdf_pdf(sh, to_camera, -dir);
+    float weight = 1.0 / (1.0 + p_camera / float(photon_threads) * dvc * p_reverse);
+    light_splat_add(i, flux * f * (cos_surface * importance * weight));
+}
+
+void main() {
+    uint i = thread_index();
+    if (i >= photon_threads) return;
+    uint state_index = image_width * image_height + i;
+    RNG_STATE rng = load_photon_rng(i, state_index);
+    RNG_STATE peek = rng;
+    uint k = pick_emitter(rng_next(peek));  // the emitter emit_photon picks with its first number
+    vec3 origin, dir, flux;
+    emit_photon(rng, origin, dir, flux);
+    atomicAdd(pass_emitted, 1u);
+    uint rays = 0u;
+    float p_direction = vcm_emission_direction_pdf(k, dir);
+#ifndef HAS_EMITTER_MIS
+    // The eye path cannot tell which triangle emitter it meets: path tracing keeps their light.
+    if (emitter_kind(k) == EMITTER_TRIANGLE) p_direction = 0.0;
+#endif
+    if (p_direction > 0.0) {
+        float dvc = 0.0;
+#ifdef HAS_TRIANGLE_EMITTERS
+        if (emitter_kind(k) == EMITTER_TRIANGLE) {
+            vec3 n = triangle_normal(emitter_record(k, EMITTER_A).xyz,
+                                     emitter_record(k, EMITTER_B).xyz,
+                                     emitter_record(k, EMITTER_C).xyz);
+            dvc = abs(dot(n, dir)) / (vcm_triangle_area_pdf(k) * p_direction);
+        }
+#endif
+        uint path_bounces = 0u, smooth_vertices = 0u;
+        for (uint surfaces = 0u; surfaces <= max_bounces; ++surfaces) {
+            ++rays;
+            Hit hit = closest_hit(make_ray(origin, dir));
+            if (hit.triangle < 0) break;
+            Surface s = surface_at(make_ray(origin, dir), hit);
+#ifdef HAS_ABSORPTION
+            flux *= segment_transmittance(s.material, dot(dir, s.geometric_normal) < 0.0, origin,
+                                          s.position);
+#endif
+            if ((material_flags(s.material) & MATERIAL_LIGHT_SURFACE) != 0) {
+                origin = offset_origin(s.position, s.geometric_normal, dir);  // lights cast none
+                continue;
+            }
+            float cos_in = abs(dot(dir, s.geometric_normal));
+            if (!(cos_in > 0.0)) break;
+            dvc /= cos_in;
+            if (smooth_vertices > 0u)  // L S+ D E: direct light is path tracing's alone
+                vcm_weighted_splat(s, dir, flux, dvc, path_bounces, LENS_NUMBERS, rng);
+            // On past smooth vertices alone: beyond a rough one every path is path tracing's.
+            Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
+                                    s.vertex_color, -dir, rng_next(rng));
+            vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
+            vec3 wi, w;
+            if (surfaces == max_bounces || bsdf_smooth_probability(sh, -dir) < 1.0 ||
+                !bsdf_sample(sh, -dir, u_dir, true, wi, w))
+                break;
+            float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
+            if (!(rng_next(rng) < q)) break;
+            flux *= w / q;
+            flux *= adjoint_shading_factor(-dir, wi, sh, s.geometric_normal);
+            wi = on_the_lobes_side(wi, sh, s.geometric_normal);
+            uint kind = photon_bounce_kind(sh, -dir, wi, s.geometric_normal, u_dir);
+            path_bounces = photon_bounces_scattered(path_bounces, kind);
+            if (!photon_bounces_useful(path_bounces)) break;
+            ++smooth_vertices;
+            dvc *= abs(dot(wi, s.geometric_normal));
+            dir = wi;
+            origin = offset_origin(s.position, s.geometric_normal, dir);
+        }
+    }
+    rng_store(state_index, rng);
+    atomicAdd(pass_rays, rays);
+}
+#elif defined(ESTIMATOR_VCM) && defined(VCM_LIGHT_TRACING)
 void main() {
     uint i = thread_index();
     if (i >= photon_threads) return;

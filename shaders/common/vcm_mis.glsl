@@ -1,0 +1,100 @@
+// VCM's path tracing and light tracing together (vcm_techniques "pt+lt", VCM_MIS;
+// docs/vcm.md): the balance heuristic over the techniques that can sample a path, with
+// VCM's partial quantities (Georgiev et al. 2012; the recursion restricted to these
+// techniques, written out in docs/vcm.md).
+//
+// Which paths are shared: light tracing takes a caustic seen directly, L S+ D E, whose light
+// subpath leaves a triangle emitter or a point light (radius 0), crosses one or more smooth
+// vertices (every lobe of the picked leaf smooth: glass, mirrors) and lands on a rough vertex
+// y that the camera sees directly and whose material is one leaf that only reflects, with no
+// smooth lobe (vcm_connectable). From the eye the same path is sampled by the emission that
+// y's BSDF-sampled continuation meets past the smooth vertices. Every other path belongs to
+// path tracing alone, weighted as before: direct light L D E too, where the light sample
+// beats light tracing (measured: a point light over a plane read 17 times path tracing's
+// pixel noise with the two weighted together, since light tracing's noise is in which pixel
+// a path lands, which no density measures). Both sides read the same
+// densities (bsdf_pdf, the emitter's pdfs below, the camera's) and the same geometric
+// cosines, so that the weights of a path add up to one whichever side computes them.
+//
+// n_L (photon_threads) light paths a pass against one eye path a pixel: the camera
+// connection's density carries n_L, its image-plane density the pixel's film area.
+#ifndef VCM_MIS_GLSL
+#define VCM_MIS_GLSL
+#ifdef VCM_MIS
+
+// Whether light tracing connects a vertex of material leaf sh, of surface s, to the camera:
+// one leaf (not a mix) that only reflects, without a smooth lobe (none the eye path follows),
+// and no normal map.
+// Not in a scene with objects that cast no shadow: shadow rays cross them where light paths
+// land on them, so the two sides would not sample the same paths.
+bool vcm_connectable(Surface s, Shading sh, vec3 wo) {
+#ifdef HAS_SHADOWLESS_SURFACES
+    return false;
+#else
+    return material_kind(s.material) != MATERIAL_MIX && light_traceable(s) &&
+           bsdf_smooth_probability(sh, wo) == 0.0;
+#endif
+}
+
+// The camera's density for the surface point it sees at `distance` along the unit direction
+// `from_camera` from the lens point, over the surface's area (cos_surface: the geometric
+// cosine there), in units of one pixel's film area: cos / (A_pixel d^2 cos^3(theta_c)) for a
+// perspective camera (the film at z = -1, as light_splat_pixel_area measures it), cos /
+// A_pixel for an orthographic one.
+float vcm_camera_area_pdf(vec3 from_camera, float distance, float cos_surface) {
+    float importance = 1.0;
+    if (orthographic == 0u) {
+        float cos_camera = dot(from_camera, -camera_to_world[2].xyz);
+        importance = 1.0 / (distance * distance * cos_camera * cos_camera * cos_camera);
+    }
+    return cos_surface * importance / light_splat_pixel_area();
+}
+
+// The density per solid angle with which emitter k's light paths leave along `travel` (unit,
+// from the emitter), for the emitters whose paths light tracing takes: a triangle's cosine
+// about its emitting face (either face, picked evenly, for a two-sided one), a point light's
+// uniform sphere. 0 for every other emitter (spheres of radius > 0, spots, sun, world).
+float vcm_emission_direction_pdf(uint k, vec3 travel) {
+    vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
+    int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
+#ifdef HAS_TRIANGLE_EMITTERS
+    if (kind == EMITTER_TRIANGLE) {
+        vec4 c = emitter_record(k, EMITTER_C);
+        float cos_l = dot(triangle_normal(a.xyz, b.xyz, c.xyz), travel);
+        if (triangle_emitter_two_sided(b.w)) return abs(cos_l) / (2.0 * PI);
+        return max(cos_l, 0.0) / PI;
+    }
+#endif
+#ifdef HAS_POINT_LIGHTS
+    if (kind == EMITTER_POINT && b.w <= 0.0) return 1.0 / (4.0 * PI);
+#endif
+    return 0.0;
+}
+
+// A triangle emitter's density of its light paths' origins per unit area, p_pick / A (light
+// samples draw its points with the same density, so p_e / p_light = 1 for the light sample).
+float vcm_triangle_area_pdf(uint k) {
+    vec3 a = emitter_record(k, EMITTER_A).xyz;
+    float area = 0.5 * length(cross(emitter_record(k, EMITTER_B).xyz - a,
+                                    emitter_record(k, EMITTER_C).xyz - a));
+    return area > 0.0 ? emitter_record(k, EMITTER_POWER).w / area : 0.0;
+}
+
+// The weight of emission met by the eye path at an emissive triangle (packed triangle t),
+// travelling along `travel` from it: lt_here is the eye path's light tracing quantity at
+// that surface (0 where light tracing cannot sample the path), p_e its emission density
+// (area and direction). Path tracing's emission hit against light tracing: 1 / (1 + p_e lt).
+float vcm_emission_weight(int t, vec3 travel, float lt_here) {
+#ifdef HAS_EMITTER_MIS
+    if (!(lt_here > 0.0)) return 1.0;
+    int k = triangle_emitter(t);
+    if (k < 0) return 1.0;
+    float p_e = vcm_triangle_area_pdf(uint(k)) * vcm_emission_direction_pdf(uint(k), travel);
+    return 1.0 / (1.0 + p_e * lt_here);
+#else
+    return 1.0;
+#endif
+}
+
+#endif
+#endif
