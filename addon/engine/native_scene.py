@@ -65,6 +65,14 @@ def film_options(scene):
     return {"transparent": transparent, "transparent_glass": transparent and glass}
 
 
+def vcm_techniques(settings):
+    """The VCM Techniques setting, for the VCM estimator (the module refuses it otherwise)."""
+    if settings.estimator != 'VCM':
+        return {}
+    technique = getattr(settings, "vcm_techniques", 'PT_LT')
+    return {"vcm_techniques": {'PT_LT': "pt+lt", 'PT': "pt"}[technique]}
+
+
 def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None,
                     passes=()):
     """settings is scene.glslppm; seed_offset varies the noise per animation frame; film is
@@ -77,6 +85,7 @@ def native_settings(native, settings, width, height, seed_offset=0, film=None, d
         devices = list(devices) if len(devices) > 1 else []
     return native.Settings(
         estimator=settings.estimator.lower(),
+        **vcm_techniques(settings),
         first_pass=settings.first_pass,
         devices=devices or [],
         **(film or {}),

@@ -90,10 +90,19 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "pass index, so passes run on several GPUs and farm machines and merge "
                     "exactly (glslppm-merge)"),
                    ('VCM', "VCM (in progress)", "Vertex connection and merging, being built "
-                    "(docs/vcm.md): today its path tracing technique alone, from the camera "
-                    "with light sampling, no photons; passes are independent as PPPM's. Not "
-                    "yet with render passes, light groups or linking, tiles or a transparent "
+                    "(docs/vcm.md): today path tracing from the camera with light sampling "
+                    "and light tracing of caustics seen directly, weighted together (VCM "
+                    "Techniques); no photons yet; passes are independent as PPPM's. Not yet "
+                    "with render passes, light groups or linking, tiles or a transparent "
                     "film"))),
+        "vcm_techniques": EnumProperty(
+            name="VCM Techniques", default='PT_LT',
+            items=(('PT_LT', "Path + Light Tracing", "Caustics seen directly (light through "
+                    "glass or mirrors onto a diffuse surface) from both the camera's paths and "
+                    "the lights' paths, weighted by multiple importance sampling; everything "
+                    "else by path tracing (docs/vcm.md)"),
+                   ('PT', "Path Tracing", "Paths from the camera alone, with light sampling: "
+                    "caustics only where a camera path happens to reach the light"))),
         "first_pass": IntProperty(
             name="First Pass", default=0, min=0, max=INT_MAX,
             description="PPPM and VCM: the pass offset, the index of the first pass this render "

@@ -38,6 +38,8 @@ class RENDER_PT_glslppm_sampling(GlslppmRenderPanel, bpy.types.Panel):
         column.prop(settings, "light_tracing")
         column.prop(settings, "glossy_threshold")
         column.prop(settings, "estimator")
+        if settings.estimator == 'VCM':
+            column.prop(settings, "vcm_techniques")
         if settings.estimator in {'PPPM', 'VCM'}:
             column.prop(settings, "first_pass")
         column.prop(settings, "seed")

@@ -80,8 +80,9 @@ std::string usage() {
         "                            several (or every GPU: all) run one worker each (pppm)\n"
         "  --estimator sppm|pppm|vcm progressive per-pixel radii (SPPM), a radius per pass\n"
         "                            index whose passes merge anywhere (PPPM; default %s),\n"
-        "                            or VCM's independent passes (so far path tracing alone:\n"
-        "                            docs/vcm.md)\n"
+        "                            or VCM's independent passes (docs/vcm.md)\n"
+        "  --vcm-techniques pt|lt|pt+lt  vcm: path tracing alone (default), light tracing\n"
+        "                            alone, or both weighted together\n"
         "  --first-pass K            pppm: run passes K, K+1, ... (a farm job's share)\n"
         "  --light-tracing on|off    caustics seen directly by light tracing (default %s;\n"
         "                            docs/light_tracing.md)\n"
@@ -171,6 +172,8 @@ Options parse(int argc, char** argv) {
             o.settings.device = devices[0];
         }
         else if (a == "--estimator") o.settings.estimator = parse_estimator(value());
+        else if (a == "--vcm-techniques")
+            o.settings.vcm_techniques = parse_vcm_techniques(value());
         else if (a == "--light-tracing") {
             const std::string v = value();
             if (v != "on" && v != "off")

@@ -643,8 +643,8 @@ def test_issue30_cornell_box_matches_cycles_within_one_percent():
 
 
 def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
-    """The estimator VCM chosen in Render Properties (today its path tracing technique,
-    docs/vcm.md) on issue 30's Cornell box, 1 mm gap, against Cycles as above: both are
+    """The estimator VCM chosen in Render Properties, its path tracing technique (VCM
+    Techniques > Path Tracing; docs/vcm.md) on issue 30's Cornell box, 1 mm gap, against Cycles as above: both are
     unbiased path tracers with MIS of light and BSDF samples, so the image means agree within
     their noise. Measured (Blender 3.4.1, 1024 passes against 1024 samples): mean 0.9974,
     the light's pixels 0.9962, the rest 0.9989, worst 4x4 region 0.49%: the rest's 0.5%
@@ -654,6 +654,7 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
     helpers.reset_scene(size=(64, 64))
     scene = _issue30_scene()
     scene.glslppm.estimator = 'VCM'
+    scene.glslppm.vcm_techniques = 'PT'
     scene.glslppm.passes = 1024
     helpers.load_native()
     bpy.context.view_layer.use_pass_z = True  # Blender's default: VCM leaves it empty, warned
@@ -674,6 +675,31 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
     assert abs(rest - 1.0) < 0.006 and abs(mean - 1.0) < 0.01 and abs(light - 1.0) < 0.01, \
         (mean, light, rest)
     assert errors.max() < 0.025, errors.round(3).tolist()
+
+
+def test_vcm_techniques_in_render_properties_reach_the_module():
+    """Render Properties > VCM Techniques: the default, Path + Light Tracing, compiles the
+    weighted pair (variant vcm=pt+lt), Path Tracing the eye paths alone; both render a
+    finite, lit image of issue 30's box (its light sampled, nothing for light tracing to
+    take there: the two images' means agree within their noise, 5% at 16 passes of 32²)."""
+    helpers.reset_scene(size=(32, 32))
+    scene = _issue30_scene()
+    scene.glslppm.estimator = 'VCM'
+    scene.glslppm.passes = 16
+    scene.glslppm.photons_per_pass = 4096
+    helpers.load_native()
+    assert scene.glslppm.vcm_techniques == 'PT_LT'
+    means = {}
+    for technique, variant in (('PT_LT', "vcm=pt+lt"), ('PT', None)):
+        scene.glslppm.vcm_techniques = technique
+        image, error, _ = helpers.render_recorded(f"issue30_vcm_{technique.lower()}")
+        assert error is None, error
+        variants = helpers.last_render_stats()["variant"].split(",")
+        assert (variant in variants) if variant else not any(v.startswith("vcm=") for v in variants), variants
+        assert np.isfinite(image).all()
+        means[technique] = float(image[..., :3].mean())
+    print(f"  VCM techniques: means {means}")
+    assert means['PT'] > 0.0 and abs(means['PT_LT'] / means['PT'] - 1.0) < 0.05, means
 
 
 def test_issue30_gltf_export_renders_as_the_addon_does():
