@@ -17,6 +17,7 @@
 uint sphere_light_group_code = 0u;
 #endif
 
+
 // The nearest sphere light the ray meets before origin + t_max ray_dir: true, with its
 // radiance.
 bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance) {
@@ -57,6 +58,9 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
         found = true;
 #ifdef LIGHT_GROUPS
         sphere_light_group_code = uint(floatBitsToInt(a.w)) >> EMITTER_GROUP_SHIFT;
+#endif
+#ifdef VCM_MIS
+        sphere_light_record = k;
 #endif
     }
     return found;

@@ -60,6 +60,9 @@ void main() {
 #ifdef SPHERE_LIGHT_RECORDS
         vec3 sphere_radiance;
         if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
+#ifdef VCM_MIS
+            sphere_radiance *= vcm_sphere_emission_weight(lt);
+#endif
             if (!after_rough) light += throughput * sphere_radiance;
             break;
         }

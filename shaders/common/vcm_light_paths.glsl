@@ -64,7 +64,7 @@ void main() {
     emit_photon(rng, origin, dir, flux);
     atomicAdd(pass_emitted, 1u);
     uint rays = 0u;
-    float p_direction = vcm_emission_direction_pdf(k, dir);
+    float p_direction = vcm_emission_direction_pdf(k, origin, dir);
 #ifndef HAS_EMITTER_MIS
     // The eye path cannot tell which triangle emitter it meets: path tracing keeps their light.
     if (emitter_kind(k) == EMITTER_TRIANGLE) p_direction = 0.0;
@@ -78,6 +78,12 @@ void main() {
                                      emitter_record(k, EMITTER_C).xyz);
             dvc = abs(dot(n, dir)) / (vcm_triangle_area_pdf(k) * p_direction);
         }
+#endif
+#ifdef HAS_POINT_LIGHTS
+        // A sphere light: its cosine at the origin over p_A p_dir (a point light's stays 0:
+        // no eye path meets it).
+        if (emitter_kind(k) == EMITTER_POINT && emitter_record(k, EMITTER_B).w > 0.0)
+            dvc = PI / vcm_sphere_area_pdf(k);
 #endif
         uint path_bounces = 0u, smooth_vertices = 0u;
         for (uint surfaces = 0u; surfaces <= max_bounces; ++surfaces) {

@@ -51,10 +51,11 @@ float vcm_camera_area_pdf(vec3 from_camera, float distance, float cos_surface) {
 }
 
 // The density per solid angle with which emitter k's light paths leave along `travel` (unit,
-// from the emitter), for the emitters whose paths light tracing takes: a triangle's cosine
-// about its emitting face (either face, picked evenly, for a two-sided one), a point light's
-// uniform sphere. 0 for every other emitter (spheres of radius > 0, spots, sun, world).
-float vcm_emission_direction_pdf(uint k, vec3 travel) {
+// from the emitter's point `from`), for the emitters whose paths light tracing takes: a
+// triangle's cosine about its emitting face (either face, picked evenly, for a two-sided
+// one), a point light's uniform sphere, a sphere light's cosine about its normal at `from`.
+// 0 for every other emitter (spots, sun, world).
+float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
     int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
 #ifdef HAS_TRIANGLE_EMITTERS
@@ -66,10 +67,21 @@ float vcm_emission_direction_pdf(uint k, vec3 travel) {
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    if (kind == EMITTER_POINT && b.w <= 0.0) return 1.0 / (4.0 * PI);
+    if (kind == EMITTER_POINT) {
+        if (b.w <= 0.0) return 1.0 / (4.0 * PI);
+        return max(dot(normalize(from - a.xyz), travel), 0.0) / PI;
+    }
 #endif
     return 0.0;
 }
+
+#ifdef HAS_POINT_LIGHTS
+// A sphere light's density of its light paths' origins per unit area, p_pick / (4 pi r^2).
+float vcm_sphere_area_pdf(uint k) {
+    float r = emitter_record(k, EMITTER_B).w;
+    return emitter_record(k, EMITTER_POWER).w / (4.0 * PI * r * r);
+}
+#endif
 
 // A triangle emitter's density of its light paths' origins per unit area, p_pick / A (light
 // samples draw its points with the same density, so p_e / p_light = 1 for the light sample).
@@ -89,12 +101,29 @@ float vcm_emission_weight(int t, vec3 travel, float lt_here) {
     if (!(lt_here > 0.0)) return 1.0;
     int k = triangle_emitter(t);
     if (k < 0) return 1.0;
-    float p_e = vcm_triangle_area_pdf(uint(k)) * vcm_emission_direction_pdf(uint(k), travel);
+    float p_e = vcm_triangle_area_pdf(uint(k)) *
+                vcm_emission_direction_pdf(uint(k), vec3(0.0), travel);
     return 1.0 / (1.0 + p_e * lt_here);
 #else
     return 1.0;
 #endif
 }
+
+#ifdef SPHERE_LIGHT_RECORDS
+// The emitter record of the sphere light hit_sphere_light (common/sphere_lights.glsl) found
+// last.
+uint sphere_light_record = 0u;
+
+// The same for the sphere light the eye path met last (hit_sphere_light): with lt the eye
+// path's quantity before the hit, p_A p_dir lt / cos_l = p_pick lt / (4 pi^2 r^2) (the
+// cosine at the sphere cancels). Spot lights of a radius are left to path tracing (their
+// light paths leave a disc, their hits are on a sphere).
+float vcm_sphere_emission_weight(float lt) {
+    uint k = sphere_light_record;
+    if (!(lt > 0.0) || emitter_kind(k) != EMITTER_POINT) return 1.0;
+    return 1.0 / (1.0 + vcm_sphere_area_pdf(k) * lt / PI);
+}
+#endif
 
 #endif
 #endif
