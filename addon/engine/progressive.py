@@ -124,10 +124,17 @@ def format_rate(value):
 def stats_line(schedule, stats, elapsed):
     """Pass 12/64 | 1.23 M photons/s | radius 0.0123 | 00:05 elapsed, 00:20 left"""
     parts = [f"Pass {schedule.done}/{schedule.passes}"]
-    if stats.get("photons_per_second"):
-        parts.append(f"{format_rate(stats['photons_per_second'])}photons/s")
-    if stats.get("mean_radius"):
-        parts.append(f"radius {stats['mean_radius']:.4g}")
+    if stats.get("estimator") == "vcm":
+        # VCM has no photons or radius yet (docs/vcm.md): its light paths where it traces any.
+        variant = stats.get("variant", "").split(",")
+        if stats.get("photons_per_second") and any(v in variant for v in
+                                                   ("vcm=lt", "vcm=pt+lt")):
+            parts.append(f"{format_rate(stats['photons_per_second'])}light paths/s")
+    else:
+        if stats.get("photons_per_second"):
+            parts.append(f"{format_rate(stats['photons_per_second'])}photons/s")
+        if stats.get("mean_radius"):
+            parts.append(f"radius {stats['mean_radius']:.4g}")
     devices = stats.get("devices", [])
     if len(devices) > 1:
         rates = ", ".join(f"{d['passes_per_second']:.3g}" for d in devices)

@@ -7,6 +7,7 @@ errors are 0.1-2%, the Cornell box's worst region 5%); each test prints its
 measured errors so a regression shows as a number, not only a failure.
 """
 
+import importlib
 import math
 import os
 import sys
@@ -698,6 +699,12 @@ def test_vcm_techniques_in_render_properties_reach_the_module():
         assert (variant in variants) if variant else not any(v.startswith("vcm=") for v in variants), variants
         assert np.isfinite(image).all()
         means[technique] = float(image[..., :3].mean())
+        # The status line speaks of light paths where pt+lt traces them, never of a radius.
+        progressive = importlib.import_module(helpers.ADDON.__name__ + ".engine.progressive")
+        line = progressive.stats_line(progressive.PassSchedule(16),
+                                      helpers.last_render_stats(), 1.0)
+        assert "radius" not in line and "photons/s" not in line, line
+        assert ("light paths/s" in line) == (technique == 'PT_LT'), line
     print(f"  VCM techniques: means {means}")
     assert means['PT'] > 0.0 and abs(means['PT_LT'] / means['PT'] - 1.0) < 0.05, means
 
