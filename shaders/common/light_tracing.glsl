@@ -168,6 +168,22 @@ bool camera_projection(vec3 p, vec2 lens_u, out uint pixel_index, out vec3 to_ca
     return true;
 }
 
+// camera_projection of a light path's point s, arriving along dir, where the camera may see
+// it: a surface the camera does not skip, whose true side the path lit faces the camera (the
+// gather's side test; connection_f tests the shading normal's side), cos_surface the cosine
+// there.
+bool camera_connection(Surface s, vec3 dir, vec2 lens_u, out uint pixel_index,
+                       out vec3 to_camera, out float distance, out float cos_surface,
+                       out float importance) {
+    cos_surface = 0.0;
+    bool seen = camera_projection(s.position, lens_u, pixel_index, to_camera, distance,
+                                  importance);
+    if (!seen || (material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return false;
+    vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
+    cos_surface = dot(to_camera, lit_side);
+    return cos_surface > 0.0;
+}
+
 // Splats the photon that just landed at s, arriving along dir with `flux` and the path's
 // bounce word, into the pixel the camera sees it in, where the gather would have taken it
 // at a visible point seen directly: a surface the camera does not skip, the light and the
@@ -175,16 +191,11 @@ bool camera_projection(vec3 p, vec2 lens_u, out uint pixel_index, out vec3 to_ca
 // leaf, lens_u the point of a thin lens; rng gives the numbers for cut-outs crossed.
 void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_leaf,
                      vec2 lens_u, inout RNG_STATE rng) {
-    if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
     uint i;
     vec3 to_camera;
-    float distance, importance;
-    if (!camera_projection(s.position, lens_u, i, to_camera, distance, importance)) return;
-    // The true surface's side the photon lit must face the camera (the gather's side test);
-    // connection_f tests the shading normal's side.
-    vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
-    float cos_surface = dot(to_camera, lit_side);
-    if (cos_surface <= 0.0) return;
+    float distance, cos_surface, importance;
+    if (!camera_connection(s, dir, lens_u, i, to_camera, distance, cos_surface, importance))
+        return;
     vec3 f = connection_f(s, dir, to_camera, path_bounces, u_leaf);
     if (f == vec3(0.0)) return;
     if (!camera_sees(s.position, s.geometric_normal, to_camera, distance, rng)) return;

@@ -19,6 +19,41 @@
 #ifndef VCM_LIGHT_PATHS_GLSL
 #define VCM_LIGHT_PATHS_GLSL
 
+#if defined(ESTIMATOR_VCM) && defined(VCM_LIGHT_TRACING)
+// The surface a light path meets next from origin along dir, its flux through the medium
+// it crossed (absorption); false where it leaves the scene.
+bool light_path_next_surface(vec3 origin, vec3 dir, inout vec3 flux, out Surface s) {
+    Hit hit = closest_hit(make_ray(origin, dir));
+    if (hit.triangle < 0) return false;
+    s = surface_at(make_ray(origin, dir), hit);
+#ifdef HAS_ABSORPTION
+    flux *= segment_transmittance(s.material, dot(dir, s.geometric_normal) < 0.0, origin,
+                                  s.position);
+#endif
+    return true;
+}
+
+// The light path's scatter at s by the material's sample u_dir (the photons' own: Russian
+// roulette on the sample's weight by u_survive, Cycles' Light Paths limits as the photons
+// count them): dir and flux become the next segment's, false where the path ends.
+bool light_path_scatter(Surface s, Shading sh, vec3 u_dir, float mix_weight, float u_survive,
+                        inout vec3 dir, inout vec3 flux, inout uint path_bounces) {
+    vec3 wi, w;
+    if (!bsdf_sample(sh, -dir, u_dir, true, wi, w)) return false;
+    w *= mix_weight;
+    float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
+    if (!(u_survive < q)) return false;
+    flux *= w / q;
+    flux *= adjoint_shading_factor(-dir, wi, sh, s.geometric_normal);
+    wi = on_the_lobes_side(wi, sh, s.geometric_normal);
+    uint kind = photon_bounce_kind(sh, -dir, wi, s.geometric_normal, u_dir);
+    path_bounces = photon_bounces_scattered(path_bounces, kind);
+    if (!photon_bounces_useful(path_bounces)) return false;
+    dir = wi;
+    return true;
+}
+#endif
+
 #if defined(ESTIMATOR_VCM) && defined(VCM_MIS)
 // Light tracing weighted against path tracing (vcm_techniques "pt+lt", common/vcm_mis.glsl):
 // the light paths of triangle emitters and point lights, followed while every vertex is
@@ -33,14 +68,11 @@ void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bou
 #ifdef VCM_MIS_EYE_PART
     return;  // the eye side's weighted part alone ("pt+lt:eye")
 #endif
-    if ((material_flags(s.material) & MATERIAL_HIDDEN_FROM_CAMERA) != 0) return;
     uint i;
     vec3 to_camera;
-    float distance, importance;
-    if (!camera_projection(s.position, lens_u, i, to_camera, distance, importance)) return;
-    vec3 lit_side = dot(dir, s.geometric_normal) < 0.0 ? s.geometric_normal : -s.geometric_normal;
-    float cos_surface = dot(to_camera, lit_side);
-    if (cos_surface <= 0.0) return;
+    float distance, cos_surface, importance;
+    if (!camera_connection(s, dir, lens_u, i, to_camera, distance, cos_surface, importance))
+        return;
     Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                             s.vertex_color, to_camera, 0.5);
     if (!vcm_connectable(s, sh, to_camera)) return;
@@ -88,13 +120,8 @@ void main() {
         uint path_bounces = 0u, smooth_vertices = 0u;
         for (uint surfaces = 0u; surfaces <= max_bounces; ++surfaces) {
             ++rays;
-            Hit hit = closest_hit(make_ray(origin, dir));
-            if (hit.triangle < 0) break;
-            Surface s = surface_at(make_ray(origin, dir), hit);
-#ifdef HAS_ABSORPTION
-            flux *= segment_transmittance(s.material, dot(dir, s.geometric_normal) < 0.0, origin,
-                                          s.position);
-#endif
+            Surface s;
+            if (!light_path_next_surface(origin, dir, flux, s)) break;
             if ((material_flags(s.material) & MATERIAL_LIGHT_SURFACE) != 0) {
                 origin = offset_origin(s.position, s.geometric_normal, dir);  // lights cast none
                 continue;
@@ -108,21 +135,11 @@ void main() {
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
-            vec3 wi, w;
             if (surfaces == max_bounces || bsdf_smooth_probability(sh, -dir) < 1.0 ||
-                !bsdf_sample(sh, -dir, u_dir, true, wi, w))
+                !light_path_scatter(s, sh, u_dir, 1.0, rng_next(rng), dir, flux, path_bounces))
                 break;
-            float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
-            if (!(rng_next(rng) < q)) break;
-            flux *= w / q;
-            flux *= adjoint_shading_factor(-dir, wi, sh, s.geometric_normal);
-            wi = on_the_lobes_side(wi, sh, s.geometric_normal);
-            uint kind = photon_bounce_kind(sh, -dir, wi, s.geometric_normal, u_dir);
-            path_bounces = photon_bounces_scattered(path_bounces, kind);
-            if (!photon_bounces_useful(path_bounces)) break;
             ++smooth_vertices;
-            dvc *= abs(dot(wi, s.geometric_normal));
-            dir = wi;
+            dvc *= abs(dot(dir, s.geometric_normal));
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
     }
@@ -141,13 +158,8 @@ void main() {
     uint path_bounces = 0u, rays = 0u;
     for (uint surfaces = 0u; surfaces <= max_bounces; ++surfaces) {
         ++rays;
-        Hit hit = closest_hit(make_ray(origin, dir));
-        if (hit.triangle < 0) break;
-        Surface s = surface_at(make_ray(origin, dir), hit);
-#ifdef HAS_ABSORPTION
-        flux *= segment_transmittance(s.material, dot(dir, s.geometric_normal) < 0.0, origin,
-                                      s.position);
-#endif
+        Surface s;
+        if (!light_path_next_surface(origin, dir, flux, s)) break;
         int flags = material_flags(s.material);
         bool shadowless = (flags & MATERIAL_CASTS_NO_SHADOW) != 0;
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0 ||
@@ -162,7 +174,6 @@ void main() {
             splat_to_camera(s, dir, flux, path_bounces, u_leaf, LENS_NUMBERS, rng);
         }
         vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
-        vec3 wi, w;
         float mix_weight = 1.0;
 #ifdef HAS_ROUGH_LOBES
         if (material_kind(s.material) == MATERIAL_MIX)
@@ -173,17 +184,9 @@ void main() {
             origin = offset_origin(s.position, s.geometric_normal, dir);
             continue;
         }
-        if (surfaces == max_bounces || !bsdf_sample(sh, -dir, u_dir, true, wi, w)) break;
-        w *= mix_weight;
-        float q = min(1.0, max_component(w) / photon_refraction_factor(sh, wi));
-        if (!(rng_next(rng) < q)) break;
-        flux *= w / q;
-        flux *= adjoint_shading_factor(-dir, wi, sh, s.geometric_normal);
-        wi = on_the_lobes_side(wi, sh, s.geometric_normal);
-        uint kind = photon_bounce_kind(sh, -dir, wi, s.geometric_normal, u_dir);
-        path_bounces = photon_bounces_scattered(path_bounces, kind);
-        if (!photon_bounces_useful(path_bounces)) break;
-        dir = wi;
+        if (surfaces == max_bounces ||
+            !light_path_scatter(s, sh, u_dir, mix_weight, rng_next(rng), dir, flux, path_bounces))
+            break;
         origin = offset_origin(s.position, s.geometric_normal, dir);
     }
     rng_store(state_index, rng);
