@@ -25,15 +25,12 @@
 // Whether light tracing connects a vertex of material leaf sh, of surface s, to the camera:
 // one leaf (not a mix) that only reflects, without a smooth lobe (none the eye path follows),
 // and no normal map.
-// Not in a scene with objects that cast no shadow: shadow rays cross them where light paths
-// land on them, so the two sides would not sample the same paths.
+// Objects that cast no shadow are surfaces like any other to both sides here (the eye path
+// and these light paths scatter at them; only shadow rays, which carry direct light alone,
+// cross them).
 bool vcm_connectable(Surface s, Shading sh, vec3 wo) {
-#ifdef HAS_SHADOWLESS_SURFACES
-    return false;
-#else
     return material_kind(s.material) != MATERIAL_MIX && light_traceable(s) &&
            bsdf_smooth_probability(sh, wo) == 0.0;
-#endif
 }
 
 // The camera's density for the surface point it sees at `distance` along the unit direction
