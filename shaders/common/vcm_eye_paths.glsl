@@ -121,15 +121,19 @@ void main() {
             break;  // light tracing alone: the light subpaths take what reaches this vertex
 #endif
 #ifdef VCM_MIS
-            // The first vertex, where light tracing connects to the camera: the emission its
-            // continuation meets past smooth vertices weighs light tracing's paths in (lt).
-            float lt_camera = 0.0;  // n_L / p_camera(y1)
-            if (seen_by_camera && vcm_connectable(s, sh, wo)) {
+            // The first vertex, where light tracing connects to the camera (n_L / p_camera),
+            // and each rough vertex past it where light paths scatter as well (lt_here, times
+            // p_rev below): the emission the path meets past smooth vertices weighs light
+            // tracing's paths in (lt).
+            bool connectable = vcm_connectable(s, sh, wo);
+            // lt_here past y1; at y1, n_L / p_camera:
+            float lt_scatter = seen_by_camera || !connectable ? 0.0 : lt_here;
+            if (seen_by_camera && connectable) {
                 vec3 from_camera = s.position - lens_point;
                 float distance = length(from_camera);
                 float p_camera = vcm_camera_area_pdf(from_camera / distance, distance,
                                                      abs(dot(wo, s.geometric_normal)));
-                if (p_camera > 0.0) lt_camera = float(photon_threads) / p_camera;
+                if (p_camera > 0.0) lt_scatter = float(photon_threads) / p_camera;
             }
 #endif
             throughput /= 1.0 - p_smooth;
@@ -144,8 +148,9 @@ void main() {
             throughput *= weight;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
 #ifdef VCM_MIS
-            float p_forward = lt_camera > 0.0 ? bsdf_pdf(sh, wo, dir) : 0.0;
-            lt = p_forward > 0.0 ? lt_camera * abs(dot(dir, s.geometric_normal)) / p_forward
+            if (!seen_by_camera) lt_scatter *= bsdf_pdf(sh, dir, wo);  // p_rev: the light's side
+            float p_forward = lt_scatter > 0.0 ? bsdf_pdf(sh, wo, dir) : 0.0;
+            lt = p_forward > 0.0 ? lt_scatter * abs(dot(dir, s.geometric_normal)) / p_forward
                                  : 0.0;
 #endif
             kind = bounce_kind(wo, dir, s.geometric_normal,

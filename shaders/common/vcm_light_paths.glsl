@@ -56,13 +56,13 @@ bool light_path_scatter(Surface s, Shading sh, vec3 u_dir, float mix_weight, flo
 
 #if defined(ESTIMATOR_VCM) && defined(VCM_MIS)
 // Light tracing weighted against path tracing (vcm_techniques "pt+lt", common/vcm_mis.glsl):
-// the light paths of triangle emitters and point lights, followed while every vertex is
-// smooth, splatted at the first rough one past one or more smooth ones where the camera
-// connects (vcm_connectable) with the weight 1 / (1 + p_camera / n_L dVC p_rev), and ended
-// there. dVC is the eye path's emission hit's share: the cosine at the emitter over its
-// emission densities (area and direction), the cosines out over in at the smooth vertices,
-// over the cosine in at the rough vertex, times the BSDF's density p_rev there towards the
-// light (VCM's dVC, its connection terms left out: docs/vcm.md).
+// the light paths of triangle emitters and point lights that begin with one or more smooth
+// vertices, followed past smooth and connectable rough vertices (vcm_connectable), splatted
+// at each rough one with the weight 1 / (1 + p_camera / n_L dVC p_rev). dVC is the eye path's
+// emission hit's share: the cosine at the emitter over its emission densities (area and
+// direction), the cosines out over in at the vertices, p_rev over p_fwd at the rough ones
+// passed, over the cosine in at the splatting vertex; times the BSDF's density p_rev there
+// towards the light (VCM's dVC, its connection terms left out: docs/vcm.md).
 void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bounces,
                         vec2 lens_u, inout RNG_STATE rng) {
 #ifdef VCM_MIS_EYE_PART
@@ -129,16 +129,31 @@ void main() {
             float cos_in = abs(dot(dir, s.geometric_normal));
             if (!(cos_in > 0.0)) break;
             dvc /= cos_in;
-            if (smooth_vertices > 0u)  // L S+ D E: direct light is path tracing's alone
+            if (smooth_vertices > 0u)  // L S+ ... D E: direct light is path tracing's alone
                 vcm_weighted_splat(s, dir, flux, dvc, path_bounces, LENS_NUMBERS, rng);
-            // On past smooth vertices alone: beyond a rough one every path is path tracing's.
+            // On past smooth vertices, and past rough ones once a smooth one began the path
+            // where both sides weigh them alike (vcm_connectable); elsewhere every path is
+            // path tracing's.
             Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                     s.vertex_color, -dir, rng_next(rng));
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
-            if (surfaces == max_bounces || bsdf_smooth_probability(sh, -dir) < 1.0 ||
+            float p_smooth = bsdf_smooth_probability(sh, -dir);
+            bool rough = p_smooth <= 0.0 && smooth_vertices > 0u && vcm_connectable(s, sh, -dir);
+            vec3 from = -dir;
+            if (surfaces == max_bounces || !(p_smooth >= 1.0 || rough) ||
                 !light_path_scatter(s, sh, u_dir, 1.0, rng_next(rng), dir, flux, path_bounces))
                 break;
-            ++smooth_vertices;
+            if (rough) {
+                // VCM's dVC past a rough vertex: |cos_out| / p_fwd times dVC p_rev, with the
+                // densities read from the leaf as the eye path sees it (from the next vertex).
+                Shading seen = shading_at(s.material, s.normal, s.geometric_normal,
+                                          texture_point(s), s.vertex_color, dir, 0.5);
+                float p_forward = bsdf_pdf(seen, from, dir);
+                dvc = p_forward > 0.0 ? dvc * bsdf_pdf(seen, dir, from) / p_forward : 0.0;
+                if (!(dvc > 0.0)) break;
+            } else {
+                ++smooth_vertices;
+            }
             dvc *= abs(dot(dir, s.geometric_normal));
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }

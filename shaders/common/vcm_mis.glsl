@@ -3,18 +3,20 @@
 // VCM's partial quantities (Georgiev et al. 2012; the recursion restricted to these
 // techniques, written out in docs/vcm.md).
 //
-// Which paths are shared: light tracing takes a caustic seen directly, L S+ D E, whose light
-// subpath leaves a triangle emitter or a point light (of radius 0 or a sphere light), crosses
-// one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors) and lands
-// on a rough vertex y that the camera sees directly and whose material is one leaf that only
-// reflects, with no smooth lobe (vcm_connectable). From the eye the same path is sampled by
-// the emission that y's BSDF-sampled continuation meets past the smooth vertices. Every other
-// path belongs to path tracing alone, weighted as before: direct light L D E too, where the
-// light sample beats light tracing (measured: a point light over a plane read 17 times path
-// tracing's pixel noise with the two weighted together, since light tracing's noise is in
-// which pixel a path lands, which no density measures). Both sides read the same densities
-// (bsdf_pdf, the emitter's pdfs below, the camera's) and the same geometric cosines, so that
-// the weights of a path add up to one whichever side computes them.
+// Which paths are shared: light that leaves its emitter through a smooth vertex. Light tracing
+// takes a caustic seen directly, L S+ D E, and the light it sends on, L S+ (D|S)* D E: its
+// light subpath leaves a triangle emitter or a point light (of radius 0 or a sphere light),
+// crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
+// then rough and smooth ones, every rough vertex of a material of one leaf that only reflects,
+// with no smooth lobe (vcm_connectable), and connects to the camera at each rough one. From
+// the eye the same paths are sampled by the emission that the BSDF-sampled continuation meets
+// past the smooth vertices. Every other path belongs to path tracing alone, weighted as
+// before: direct light L D E too, where the light sample beats light tracing (measured: a
+// point light over a plane read 17 times path tracing's pixel noise with the two weighted
+// together, since light tracing's noise is in which pixel a path lands, which no density
+// measures). Both sides read the same densities (bsdf_pdf of the leaf as the eye path sees it,
+// the emitter's pdfs below, the camera's) and the same geometric cosines, so that the weights
+// of a path add up to one whichever side computes them.
 //
 // n_L (photon_threads) light paths a pass against one eye path a pixel: the camera
 // connection's density carries n_L, its image-plane density the pixel's film area.
