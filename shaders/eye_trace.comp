@@ -115,11 +115,16 @@ Ray camera_ray(uint x, uint y, inout RNG_STATE rng) {
     return make_ray(origin, normalize(dir));
 }
 
+// Pixel i's index in the whole frame: a tile or render region draws the numbers the whole
+// frame's render draws there.
+uint frame_pixel_index(uint i) {
+    return frame_first_pixel + (i / image_width) * frame_width + i % image_width;
+}
+
 RNG_STATE load_pixel_rng(uint i) {
 #ifdef RNG_PCG
-    // The pixel's stream is its index in the whole frame: a tile or render region draws the
-    // numbers the whole frame's render draws there.
-    return rng_load(frame_first_pixel + (i / image_width) * frame_width + i % image_width);
+    // The pixel's stream is its index in the whole frame.
+    return rng_load(frame_pixel_index(i));
 #else
     return rng_load(i);
 #endif
@@ -281,6 +286,9 @@ void main() {
     RNG_STATE rng = load_pixel_rng(i);
 #ifdef DIRECT_LIGHT_SAMPLED
     LightSampleNumbers light_numbers = draw_light_sample_numbers(rng);
+#endif
+#ifdef HAS_EMITTER_MIS
+    emitter_mis_choice(frame_pixel_index(i));  // the work group's, this pass (issue 30)
 #endif
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
     vec3 throughput = vec3(1.0), direct = vec3(0.0);

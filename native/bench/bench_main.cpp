@@ -42,7 +42,7 @@ void usage(std::FILE* out) {
                          "       glslppm-bench rng --generator paper|pcg [--json] ...\n"
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
                          "--hash M --rng G --direct sampled|photons|sampled-no-mis --glossy-threshold R "
-                         "--device D --scene S --light-tracing on|off "
+                         "--emitter-mis-fraction Q --device D --scene S --light-tracing on|off "
                          "--render-passes all|depth,...] [--light-groups N] [--json]\n"
                          "       glslppm-bench rays [--rays N --batches B --scenes a,b --leaf 1,2,4,8 "
                          "--layout mtbvh,tbvh] [--json]\n"

@@ -134,6 +134,7 @@ int bench_passes(int argc, char** argv) {
                 {"rng", to_string(settings.rng)},
                 {"direct_light", to_string(settings.direct_light)},
                 {"glossy_threshold", settings.glossy_threshold},
+                {"emitter_mis_fraction", settings.emitter_mis_fraction},
                 {"estimator", to_string(settings.estimator)},
                 {"light_tracing", settings.light_tracing},
                 {"max_bounces", settings.max_bounces},

@@ -248,6 +248,8 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
     else if (a == "--direct") settings.direct_light = parse_direct_light(text());
     else if (a == "--glossy-threshold")
         settings.glossy_threshold = static_cast<float>(option_number(a, argc, argv, i));
+    else if (a == "--emitter-mis-fraction")
+        settings.emitter_mis_fraction = static_cast<float>(option_number(a, argc, argv, i));
     else if (a == "--device") {
         // "0,1" or "all": one worker per device (estimator pppm).
         const std::vector<int> devices = gl::parse_device_list(text());

@@ -50,7 +50,7 @@ constexpr std::uint32_t kCliPhotons = 262144;
 
 std::string usage() {
     const RenderSettings d;
-    char text[4096];
+    char text[6144];
     std::snprintf(
         text, sizeof text,
         "usage: glslppm-render [options]\n"
@@ -74,6 +74,8 @@ std::string usage() {
         "  --direct sampled|photons  direct light by light sampling or by photons alone\n"
         "                            (default %s; docs/direct_light.md says why;\n"
         "                            sampled-no-mis: light samples without MIS, the baseline)\n"
+        "  --emitter-mis-fraction Q  probability of a Lambertian point's BSDF sample of\n"
+        "                            emitters, per 64 pixels and pass (default %g; (0, 1])\n"
         "  --instancing auto|two-level|flattened  how instances are traced (default %s;\n"
         "                            docs/instancing.md)\n"
         "  --device N|N,M,...|all    EGL device index (default $GLSLPPM_DEVICE or the first GPU);\n"
@@ -110,7 +112,7 @@ std::string usage() {
         "  --json                    print the final statistics as one JSON object\n",
         kCliSize, kCliSize, d.width, d.height, kCliPhotons, d.photons_per_pass, d.alpha,
         d.radius_scale, d.max_bounces, d.max_diffuse_bounces, to_string(d.hash).c_str(), to_string(d.rng).c_str(),
-        to_string(d.direct_light).c_str(), to_string(d.instancing).c_str(),
+        to_string(d.direct_light).c_str(), d.emitter_mis_fraction, to_string(d.instancing).c_str(),
         to_string(d.estimator).c_str(), d.light_tracing ? "on" : "off",
         static_cast<unsigned long long>(d.seed));
     return text;
@@ -165,6 +167,8 @@ Options parse(int argc, char** argv) {
         else if (a == "--hash") o.settings.hash = parse_hash_mode(value());
         else if (a == "--rng") o.settings.rng = parse_rng_kind(value());
         else if (a == "--direct") o.settings.direct_light = parse_direct_light(value());
+        else if (a == "--emitter-mis-fraction")
+            o.settings.emitter_mis_fraction = static_cast<float>(number());
         else if (a == "--instancing") o.settings.instancing = parse_instancing(value());
         else if (a == "--device") {
             const std::vector<int> devices = gl::parse_device_list(value());
@@ -334,6 +338,7 @@ int main(int argc, char** argv) {
                        {"hash", to_string(o.settings.hash)},
                        {"rng", to_string(o.settings.rng)},
                        {"direct_light", to_string(o.settings.direct_light)},
+                       {"emitter_mis_fraction", std::to_string(o.settings.emitter_mis_fraction)},
                        {"max_bounces", std::to_string(o.settings.max_bounces)},
                        {"max_diffuse_bounces", std::to_string(o.settings.max_diffuse_bounces)},
                        {"max_glossy_bounces", std::to_string(o.settings.max_glossy_bounces)},

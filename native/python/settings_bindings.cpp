@@ -31,7 +31,7 @@ void bind_settings(py::module_& m) {
                          const std::string& bump_shadowing, int max_diffuse_bounces,
                          int max_glossy_bounces, int max_transmission_bounces,
                          bool light_tracing, bool photon_warm_up,
-                         const std::string& vcm_techniques) {
+                         const std::string& vcm_techniques, float emitter_mis_fraction) {
                  RenderSettings s;
                  s.width = width;
                  s.height = height;
@@ -55,6 +55,7 @@ void bind_settings(py::module_& m) {
                  s.transparent = transparent;
                  s.transparent_glass = transparent_glass;
                  s.glossy_threshold = glossy_threshold;
+                 s.emitter_mis_fraction = emitter_mis_fraction;
                  s.estimator = parse_estimator(estimator);
                  s.devices = std::move(devices);
                  s.first_pass = first_pass;
@@ -96,7 +97,8 @@ void bind_settings(py::module_& m) {
              py::arg("max_transmission_bounces") = defaults.max_transmission_bounces,
              py::arg("light_tracing") = defaults.light_tracing,
              py::arg("photon_warm_up") = defaults.photon_warm_up,
-             py::arg("vcm_techniques") = to_string(defaults.vcm_techniques))
+             py::arg("vcm_techniques") = to_string(defaults.vcm_techniques),
+             py::arg("emitter_mis_fraction") = defaults.emitter_mis_fraction)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("max_bounces", &RenderSettings::max_bounces)
         .def_readonly("max_diffuse_bounces", &RenderSettings::max_diffuse_bounces)
@@ -120,6 +122,7 @@ void bind_settings(py::module_& m) {
         .def_readonly("transparent", &RenderSettings::transparent)
         .def_readonly("transparent_glass", &RenderSettings::transparent_glass)
         .def_readonly("glossy_threshold", &RenderSettings::glossy_threshold)
+        .def_readonly("emitter_mis_fraction", &RenderSettings::emitter_mis_fraction)
         .def_readonly("light_tracing", &RenderSettings::light_tracing)
         .def_readonly("photon_warm_up", &RenderSettings::photon_warm_up)
         .def_property_readonly("vcm_techniques",

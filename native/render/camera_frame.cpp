@@ -167,6 +167,12 @@ void fill_frame(const Scene& scene, const RenderSettings& settings, const Packed
     f.max_glossy_bounces = static_cast<std::uint32_t>(settings.max_glossy_bounces);
     f.max_transmission_bounces = static_cast<std::uint32_t>(settings.max_transmission_bounces);
     f.glossy_threshold = settings.glossy_threshold;
+    // A whole number of 2^-32, as common/light_sampling.glsl's emitter_mis_choice steps by
+    // (already so for q >= 2^-8; below, rounded by less than 2^-33).
+    f.emitter_mis_fraction = static_cast<float>(
+        std::round(static_cast<double>(settings.emitter_mis_fraction) * 4294967296.0) /
+        4294967296.0);
+    f.render_seed = static_cast<std::uint32_t>(settings.seed ^ (settings.seed >> 32));
     f.shadow_terminator = settings.bump_shadowing == BumpShadowing::Conty2021 ? 1u : 0u;
     f.emitter_count = static_cast<std::uint32_t>(p.emitters.count);
     f.sppm_alpha = settings.alpha;

@@ -68,6 +68,13 @@ struct FrameBlock {
     // Light tracing's fixed-point unit (common/light_splats.glsl): a splat's value per unit
     // of its 64-bit integer sum.
     float light_splat_unit = 0.0f;
+    // Issue 30 (common/light_sampling.glsl, emitter_mis_choice): the probability q of a
+    // Lambertian point's BSDF sample of emitters, and the render's seed folded to 32 bits,
+    // from which each pass and work group draws whether it takes the sample.
+    float emitter_mis_fraction = 1.0f;
+    std::uint32_t render_seed = 0;
+    // std140 rounds the block's size up to 16 bytes: the buffer holds that much.
+    std::uint32_t end_padding[2] = {0, 0};
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -106,7 +113,10 @@ static_assert(offsetof(FrameBlock, shadow_terminator) == 284);
 static_assert(offsetof(FrameBlock, max_diffuse_bounces) == 288);
 static_assert(offsetof(FrameBlock, max_glossy_bounces) == 292);
 static_assert(offsetof(FrameBlock, max_transmission_bounces) == 296);
-static_assert(sizeof(FrameBlock) == 304);
+static_assert(offsetof(FrameBlock, light_splat_unit) == 300);
+static_assert(offsetof(FrameBlock, emitter_mis_fraction) == 304);
+static_assert(offsetof(FrameBlock, render_seed) == 308);
+static_assert(sizeof(FrameBlock) == 320);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.

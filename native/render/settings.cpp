@@ -103,6 +103,9 @@ void validate(const RenderSettings& s) {
         fail("initial_radius: must be 0 (automatic) or a positive distance");
     if (!(s.glossy_threshold >= 0.0f && s.glossy_threshold <= 1.0f))
         fail("glossy_threshold: must be a roughness in [0, 1]");
+    if (!(s.emitter_mis_fraction > 0.0f && s.emitter_mis_fraction <= 1.0f))
+        fail("emitter_mis_fraction: " + std::to_string(s.emitter_mis_fraction) +
+             " is outside (0, 1] (the probability of a Lambertian point's BSDF sample)");
     if (!(s.radius_scale > 0.0f) || !std::isfinite(s.radius_scale))
         fail("radius_scale: must be a positive number");
     for (const auto& [name, value] :

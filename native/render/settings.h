@@ -14,7 +14,8 @@ enum class RngKind { Paper, Pcg };
 // Where a visible point's direct light comes from: a light sample and a shadow ray each pass
 // (photons then carry only light that has scattered at least once), or photons alone, as in
 // Hachisuka 2015.
-// Sampled: light samples, combined by MIS with a BSDF sample at glossy visible points;
+// Sampled: light samples, combined by MIS with a BSDF sample at glossy visible points and
+// (in a fraction emitter_mis_fraction of passes) at Lambertian ones;
 // SampledNoMis: light samples alone for every emitter but the world (MIS's baseline, as
 // the renderer was before it: docs/direct_light.md); Photons: the photons alone.
 enum class DirectLight { Sampled, Photons, SampledNoMis };
@@ -73,6 +74,12 @@ struct RenderSettings {
     // gather on a glossy lobe stays noisy: on the glossy Cornell box 0.5 still gives 0.0264
     // RMSE outside the light against 0.0433 at 0.2 (256 passes, scripts/emitter_mis_regions.py).
     float glossy_threshold = 0.5f;
+    // Issue 30: the probability q with which a Lambertian visible point takes the BSDF sample
+    // that looks for emissive triangles (and the world) beside its light sample, decided per
+    // work group of 64 pixels and pass so that a GPU's warps skip the ray together. The two
+    // samples are weighed by the balance heuristic with q BSDF samples, unbiased for any q in
+    // (0, 1] (docs/direct_light.md); 1: every pass. Glossy points always take it.
+    float emitter_mis_fraction = 0.25f;
     HashMode hash = HashMode::Stochastic;
     RngKind rng = RngKind::Pcg;   // docs/rng.md: better in dieharder and faster
     // docs/direct_light.md: less error at equal time.

@@ -47,6 +47,8 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     uint max_glossy_bounces;
     uint max_transmission_bounces;
     float light_splat_unit;       // light tracing's fixed-point unit (common/light_splats.glsl)
+    float emitter_mis_fraction;   // q of a Lambertian point's BSDF sample (common/light_sampling.glsl)
+    uint render_seed;             // the render's seed folded to 32 bits
 };
 
 const float PI = 3.14159265358979;

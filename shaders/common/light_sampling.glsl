@@ -325,13 +325,62 @@ vec3 triangle_emitter_radiance(uint k, int t, vec2 bc, vec3 wi) {
     return material_emission(floatBitsToInt(triangles[3 * t].w)) * triangle_emitter_texel(b.w, bc);
 }
 
+// Issue 30: the BSDF sample costs the GPU a closest-hit walk per pixel and pass (a third to a
+// half of its passes/s on mostly Lambertian scenes), and a Lambertian lobe needs it only for
+// the rare emitter a light sample by area misses (one a millimetre away). So a Lambertian
+// point takes it with probability q (Settings::emitter_mis_fraction) and the two samples are
+// combined by the balance heuristic with q BSDF samples to one light sample (Veach 1997,
+// 9.2.2, n_light = 1, n_bsdf = q). For a direction wi of densities p_L and p_B:
+//   light sample:  f L_e cos / p_L * p_L / (p_L + q p_B)          = f L_e cos / (p_L + q p_B)
+//   BSDF sample:   taken / q * f L_e cos / p_B * q p_B / (p_L + q p_B)
+//                                                        = taken * f L_e cos / (p_L + q p_B)
+// where `taken` is 1 with probability q, drawn independently of wi. The expected sum is
+//   int f L_e cos (p_L + q p_B) / (p_L + q p_B) dwi = int f L_e cos dwi
+// for any q in (0, 1]: unbiased, and q = 1 is the sample of every pass. Both terms stay below
+// f L_e cos / (q p_B), so the variance stays bounded where p_L vanishes (the near spike).
+// The draw is made per work group of pixels and pass (emitter_mis_choice), so that a GPU's
+// warps skip the ray together: a draw per pixel would leave nearly every warp paying for it.
+// Glossy lobes, whose highlights need the sample most, keep q = 1. The world's BSDF sample
+// at a Lambertian point shares the ray and so the same q (its light sample's weight too).
+// The stage sets these before direct_light_sampled_lobes; their defaults (q = 1, taken) are
+// the sample of every pass, which VCM's eye subpaths keep.
+float lambertian_emitter_mis_fraction = 1.0;
+bool lambertian_emitter_mis_taken = true;
+
+uint emitter_mis_hash(uint v) {  // the PCG hash (Jarzynski and Olano, JCGT 2020)
+    v = v * 747796405u + 2891336453u;
+    v = ((v >> ((v >> 28u) + 4u)) ^ v) * 277803737u;
+    return (v >> 22u) ^ v;
+}
+
+// Whether this pass's Lambertian points of the LOCAL_SIZE pixels about `frame_pixel` (its
+// index in the whole frame; in a whole frame the block is the work group) take the BSDF
+// sample. Each block walks the Weyl sequence phi + k q (mod 1) over the pass index k from a
+// phase phi hashed from (the render's seed, the block), and takes the sample in pass k where
+// the step from k q + phi to (k + 1) q + phi crosses an integer: with phi uniform that is
+// probability q in every pass, as the weights need, while K passes take it floor(K q) or
+// ceil(K q) times, where independent draws would spread that count by sqrt(K q (1 - q)): where
+// only the BSDF sample finds the light, a block 22% off after 64 passes at q = 1/4. In 32-bit
+// fixed point: q = step / 2^32 exactly (the host rounds q so: camera_frame.cpp), the carry
+// out of phi + k step + step is the crossing. A pass stays a function of (seed, pass index),
+// and a tile or region draws what the whole frame draws.
+void emitter_mis_choice(uint frame_pixel) {
+    lambertian_emitter_mis_fraction = emitter_mis_fraction;
+    if (emitter_mis_fraction >= 1.0) return;  // every pass (2^32 steps do not fit a uint)
+    uint step = uint(emitter_mis_fraction * 4294967296.0);
+    uint phase = emitter_mis_hash(frame_pixel / LOCAL_SIZE + emitter_mis_hash(render_seed));
+    uint at = phase + pass_index * step;  // mod 2^32
+    lambertian_emitter_mis_taken = at + step < at;
+}
+
 // A BSDF-sampled ray sees the scene as a shadow ray does: through area lights, objects that
 // cast no shadow and cut-outs (shadow_passes), adding the emitters it crosses, up to this
 // many surfaces.
 const int BSDF_RAY_CROSSINGS = 8;
 
 // The light a BSDF sample wi from p meets, each emitter's radiance over p_bsdf + p_light (its
-// balance-heuristic weight over p_bsdf): the emissive triangles on its way (`triangles_too`:
+// balance-heuristic weight over p_bsdf; at a Lambertian point p_bsdf is q times the BSDF's
+// density, above): the emissive triangles on its way (`triangles_too`:
 // at glossy points) and the world where it leaves the scene. `side` and `transmits` as
 // environment_light_pdf reads them; `seed` for the cut-outs it crosses.
 vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triangles_too,
@@ -412,6 +461,13 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
                                         sh.kind == MATERIAL_DIELECTRIC ||
                                         sh.kind == MATERIAL_PLASTIC);
     bool picked_triangle = emitter_kind(picked) == EMITTER_TRIANGLE;
+    // Issue 30: a Lambertian point takes the BSDF sample with probability q (above); p_bsdf
+    // counts q times in both weights, the world's included, as the sample looks for both.
+    bool lambertian = sh.kind == MATERIAL_DIFFUSE;
+    float bsdf_fraction = lambertian ? lambertian_emitter_mis_fraction : 1.0;
+    bool bsdf_taken = !lambertian || lambertian_emitter_mis_taken;
+#else
+    float bsdf_fraction = 1.0;  // the world's BSDF sample below is taken every pass
 #endif
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
     if (transmits && world) ls.radiance_over_pdf *= 2.0;
@@ -436,14 +492,14 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
 #ifdef HAS_ENVIRONMENT
             if (world) {
                 float p_light = environment_light_pdf(ls.wi, ng_wo, transmits);
-                float p_bsdf = bsdf_pdf(sh, wo, ls.wi);
+                float p_bsdf = bsdf_fraction * bsdf_pdf(sh, wo, ls.wi);
                 weight = p_light / (p_light + p_bsdf);
             }
 #endif
 #ifdef HAS_EMITTER_MIS
             if (triangle_mis && picked_triangle) {
                 float p_light = triangle_light_pdf(picked, ls.wi, ls.distance);
-                weight = p_light / (p_light + bsdf_pdf(sh, wo, ls.wi));
+                weight = p_light / (p_light + bsdf_fraction * bsdf_pdf(sh, wo, ls.wi));
             }
 #endif
             vec3 part = f * ls.radiance_over_pdf * (cos_theta * weight);
@@ -459,7 +515,8 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
     world_too = true;
 #endif
     vec3 wi, sampled;
-    if ((triangle_mis || world_too) && bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
+    if ((triangle_mis || world_too) && bsdf_taken &&
+        bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
         float p_bsdf = bsdf_pdf(sh, wo, wi);
         vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
 #ifdef HAS_NORMAL_MAP
@@ -471,8 +528,8 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
             light_group_bsdf_weight = f_rough * abs(dot(ng, wi));
 #endif
             result += f_rough * abs(dot(ng, wi)) *
-                      light_along_bsdf_sample(p, ng, wi, p_bsdf, triangle_mis, ng_wo,
-                                              transmits, seed, rays);
+                      light_along_bsdf_sample(p, ng, wi, bsdf_fraction * p_bsdf, triangle_mis,
+                                              ng_wo, transmits, seed, rays);
         }
     }
 #elif defined(HAS_ENVIRONMENT)

@@ -123,6 +123,71 @@ def test_white_lobe_under_an_emitter_filling_the_sky(glslppm, kind, light, two_s
     assert abs(mean - expected) < 0.004, mean
 
 
+# Issue 30's fraction: a Lambertian point takes the BSDF sample in a fraction q of passes,
+# decided per work group of 64 pixels and pass (common/light_sampling.glsl,
+# emitter_mis_choice), and the two samples are weighed by the balance heuristic with q BSDF
+# samples. Under the emitter filling the sky the light samples find almost nothing: the
+# image is the BSDF sample's alone, so a weight that forgot q would read q, and a sample
+# taken without its q in the weights 1 / q. Each work group takes it in exactly 64 q of the
+# 64 passes (a Weyl sequence over the pass index), so the pixels' spread is the images'
+# only noise and bounds the mean's error.
+@pytest.mark.parametrize("fraction", [1.0, 0.5, 0.25])
+def test_lambertian_points_taking_the_bsdf_sample_in_a_fraction_of_passes_read_the_closed_form(
+        glslppm, fraction):
+    g = glslppm
+    scene = glossy_plane(g, white(g, "diffuse", 0.15), half=1000.0, centre=(0.0, 0.0),
+                         radiance=1.0, eye=(0.0, -0.5, 0.5), target=(0.0, 0.2, 0.0))
+    size, passes = 32, 64
+
+    def run(q):
+        r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=1024,
+                                         seed=1, glossy_threshold=0.05,
+                                         emitter_mis_fraction=q))
+        r.run(passes)
+        image, rays = r.film()[..., 0].astype(np.float64), r.stats()["rays"]
+        r.close()
+        return image, rays
+
+    image, rays = run(fraction)
+    every_pass, rays_every_pass = run(1.0)
+    mean = image.mean()
+    error = image.std(ddof=1) / math.sqrt(image.size)
+    print(f"  q = {fraction}: mean {mean:.5f} +- {error:.5f} (q = 1: {every_pass.mean():.5f}), "
+          f"pixels {image.min():.3f}..{image.max():.3f}, rays {rays} (q = 1: {rays_every_pass})")
+    # Measured 0.99963 +- 0.00043 at q = 1/4, 0.99983 +- 0.00015 at 1: three standard
+    # errors resolve a 1% bias, and the mean lies within them of the closed form 1.
+    assert 3.0 * error < 0.004, error
+    assert abs(mean - 1.0) < 3.0 * error + 1e-4, (mean, error)
+    # The BSDF rays fall to q of a pass's pixels: 64 q passes of each work group (one
+    # surface each: the emitter, which passes no ray on).
+    assert rays_every_pass - rays == round((1.0 - fraction) * passes * size * size)
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, 1.5, float("nan")])
+def test_emitter_mis_fraction_outside_zero_to_one_is_an_error_naming_it(glslppm, bad):
+    with pytest.raises(ValueError, match=r"emitter_mis_fraction: .* is outside \(0, 1\]"):
+        glslppm.Settings(emitter_mis_fraction=bad)
+
+
+def test_emitter_mis_fraction_reaches_the_cli_and_the_bench(glslppm):
+    """The command line's --emitter-mis-fraction is the module's setting: the bench reports
+    it, and a value outside (0, 1] is refused with the setting's name."""
+    import json
+    import os
+    import subprocess
+    from conftest import BUILD
+    assert glslppm.Settings().emitter_mis_fraction == 0.25  # the default
+    bad = subprocess.run([os.path.join(BUILD, "glslppm-render"), "--emitter-mis-fraction", "0"],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode != 0 and "emitter_mis_fraction: " in bad.stderr, bad.stderr
+    bench = subprocess.run([os.path.join(BUILD, "glslppm-bench"), "passes", "--width", "8",
+                            "--height", "8", "--photons", "64", "--passes", "2",
+                            "--emitter-mis-fraction", "0.5", "--json"],
+                           capture_output=True, text=True, timeout=120)
+    assert bench.returncode == 0, bench.stderr
+    assert json.loads(bench.stdout)["emitter_mis_fraction"] == 0.5
+
+
 # The world's MIS and the emitters' share the BSDF sample: an emissive quad of radiance 1 over
 # the half x < 0 of the sky, a world of radiance 1 beyond it. The radiance is 1 everywhere
 # above the plane, so a white lobe reads 1 again, whichever estimate finds which part.
