@@ -5,7 +5,8 @@ Pixels are read with ``foreach_get`` from ``image.pixels``, which is laid out as
 renderer wants it (row 0 at the bottom). Blender keeps 8-bit images in their file's
 encoding there, float images in scene-linear values, hence:
 
-- 8-bit sRGB          -> uint8 (pixels x 255, rounded; the GPU decodes sRGB to linear)
+- 8-bit sRGB          -> uint8 (pixels x 255, rounded; the renderer filters the bytes, then
+                         decodes sRGB to linear, as Cycles)
 - 8-bit Non-Color/Linear/Raw, and float images -> float32 linear as they are
 - 8-bit in any other colour space -> float32 as stored, with a warning.
 

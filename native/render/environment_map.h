@@ -14,7 +14,8 @@
 
 namespace glslppm {
 
-// sRGB-encoded byte to linear (IEC 61966-2-1), as the GPU decodes GL_SRGB8_ALPHA8.
+// sRGB-encoded byte to linear (IEC 61966-2-1), the decode shaders/common/textures.glsl
+// applies to filtered sRGB bytes.
 float srgb_to_linear(std::uint8_t value);
 
 // Linear RGB of texel (x, y) of a texture (row 0 at the bottom).

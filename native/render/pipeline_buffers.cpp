@@ -67,8 +67,10 @@ void Renderer::Gpu::upload_atlas(const TextureAtlas& atlas) {
         glBindTexture(GL_TEXTURE_2D_ARRAY, atlases[e]);
         while (glGetError() != GL_NO_ERROR) {
         }
-        glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, e == 0 ? GL_SRGB8_ALPHA8 : GL_RGBA32F, size.x,
-                       size.y, layers);
+        // sRGB images as UNORM bytes, not GL_SRGB8_ALPHA8: the shaders filter the bytes and
+        // then decode, as Cycles does (shaders/common/textures.glsl).
+        glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, e == 0 ? GL_RGBA8 : GL_RGBA32F, size.x, size.y,
+                       layers);
         if (glGetError() != GL_NO_ERROR)
             throw gl::GlError("out of GPU memory for the scene's images (" +
                               std::to_string(layers) + " layers of " + std::to_string(size.x) +

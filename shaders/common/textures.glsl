@@ -1,7 +1,10 @@
 // Image textures: every image sits in its own rectangle of one of two array textures (8-bit
-// sRGB, decoded to linear by the sampler; float), laid out by native/render/texture_atlas.h.
-// Bilinear filtering is done here with texelFetch so that every extension wraps inside the
-// image's rectangle and never bleeds into a neighbour.
+// sRGB bytes, read as UNORM; float), laid out by native/render/texture_atlas.h. Bilinear
+// filtering is done here with texelFetch so that every extension wraps inside the image's
+// rectangle and never bleeds into a neighbour. 8-bit sRGB images are filtered as bytes and
+// the result decoded to linear, as Cycles does (NODE_IMAGE_COMPRESS_AS_SRGB in
+// kernel/svm/image.h): a GL sRGB format would decode each texel before filtering, which
+// reads brighter across colour edges (the decode is convex).
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
 #include "common/bindings.glsl"
@@ -79,6 +82,14 @@ vec4 fetch_texel(ivec4 rect, ivec4 info, ivec2 p) {
     return info.y == 0 ? texelFetch(srgb_atlas, at, 0) : texelFetch(float_atlas, at, 0);
 }
 
+// The sRGB EOTF (IEC 61966-2-1) on colour; alpha is stored linear. Cycles'
+// color_srgb_to_linear (util/color.h).
+vec4 srgb_to_linear(vec4 c) {
+    vec3 low = c.rgb / 12.92;
+    vec3 high = pow((max(c.rgb, vec3(0.04045)) + 0.055) / 1.055, vec3(2.4));
+    return vec4(mix(high, low, lessThanEqual(c.rgb, vec3(0.04045))), c.a);
+}
+
 // Bilinear at the image's own uv st (texel (x, y) covers [x, x+1] / width), between the four
 // nearest texel centres, each wrapped by the extension (Cycles' interp_linear).
 vec4 sample_texture_st(int k, vec2 st) {
@@ -96,7 +107,8 @@ vec4 sample_texture_st(int k, vec2 st) {
     ivec2 q0 = wrap_texel(p0, rect.zw, info.z), q1 = wrap_texel(p1, rect.zw, info.z);
     vec4 a = mix(fetch_texel(rect, info, q0), fetch_texel(rect, info, ivec2(q1.x, q0.y)), f.x);
     vec4 b = mix(fetch_texel(rect, info, ivec2(q0.x, q1.y)), fetch_texel(rect, info, q1), f.x);
-    return mix(a, b, f.y);
+    vec4 filtered = mix(a, b, f.y);
+    return info.y == 0 ? srgb_to_linear(filtered) : filtered;
 }
 
 // Texture k at mesh uv (textures on the uvs only), and at a surface point.

@@ -191,9 +191,10 @@ def test_spinning_textured_disk_matches_cycles():
     1-pixel box filter; GLSLPPM 128 passes): the image mean within 0.5% and each 8x8-pixel
     region within 1.5% of the brightest region (measured 0.01% and 0.33% on Blender 3.4.1);
     the disk frozen at frame 1 (its motion blur off) misses by 9.6% in its worst region, so
-    the check can fail. An 8-bit sRGB PNG of the same blocks read 1.7% brighter than Cycles
-    even standing still (measured; the linear EXR agrees to 0.02%), a texture difference
-    outside motion blur, so the test uses the EXR."""
+    the check can fail. The test uses the blocks as a linear EXR, so that it checks motion
+    blur only: the same blocks as an 8-bit sRGB PNG read 1.7% brighter than Cycles standing
+    still until sRGB bytes were filtered before decoding, as Cycles does (now within 0.01%:
+    test_cycles' test_srgb_image_texture_on_a_disk_matches_cycles)."""
     helpers.load_native()
     scene, disk = _spinning_disk_scene()
     scene.glslppm.passes = 128
