@@ -43,6 +43,7 @@ void usage(std::FILE* out) {
                          "       glslppm-bench passes [--width W --height H --photons N --passes K "
                          "--hash M --rng G --direct sampled|photons|sampled-no-mis --glossy-threshold R "
                          "--emitter-mis-fraction Q --device D --scene S --light-tracing on|off "
+                         "--estimator sppm|pppm|vcm --vcm-techniques pt|lt|pt+lt "
                          "--render-passes all|depth,...] [--light-groups N] [--json]\n"
                          "       glslppm-bench rays [--rays N --batches B --scenes a,b --leaf 1,2,4,8 "
                          "--layout mtbvh,tbvh] [--json]\n"

@@ -257,6 +257,7 @@ bool parse_render_option(int argc, char** argv, int& i, RenderSettings& settings
         settings.device = devices[0];
     }
     else if (a == "--estimator") settings.estimator = parse_estimator(text());
+    else if (a == "--vcm-techniques") settings.vcm_techniques = parse_vcm_techniques(text());
     else if (a == "--light-tracing") {
         const std::string v = text();
         if (v != "on" && v != "off")
