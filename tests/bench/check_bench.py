@@ -143,6 +143,22 @@ def check_passes(bench):
     check(positive(out["motion_refit_ms_per_pass"]), f"refit {out['motion_refit_ms_per_pass']}")
 
 
+def check_passes_vcm(bench):
+    """passes --estimator vcm --vcm-techniques pt+lt: the variant names the weighted pair, the
+    rates are positive, the stage times null (VCM has no profile yet, docs/vcm.md)."""
+    out = run(bench, "passes", "--width", "32", "--height", "32", "--photons", "4096",
+              "--passes", "2", "--warmup", "1", "--scene", "caustic", "--estimator", "vcm",
+              "--vcm-techniques", "pt+lt", "--json")
+    if out is None:
+        return
+    variant = out["variant"].split(",")
+    check("estimator=vcm" in variant and "vcm=pt+lt" in variant, f"vcm variant {out['variant']}")
+    check(out["vcm_techniques"] == "pt+lt", f"vcm techniques {out.get('vcm_techniques')}")
+    for key in ("passes_per_second", "rays_per_second"):
+        check(positive(out.get(key)), f"vcm passes {key} = {out.get(key)}")
+    check(out["stage_ms"] is None, f"vcm stage times {out['stage_ms']}")
+
+
 def check_render_passes(bench):
     """--render-passes: the variant names them and every pass's films add to the bytes per
     pixel (32 each, Direct 32 with sampled direct light: 9 passes, 288 bytes). The plain run
@@ -442,6 +458,7 @@ def main():
         check_bvh(bench)
         check_rng(bench)
         check_passes(bench)
+        check_passes_vcm(bench)
         check_render_passes(bench)
         check_passes_two_workers(bench)
         check_rays(bench)
