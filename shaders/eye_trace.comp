@@ -280,6 +280,14 @@ void add_direct_light(uint i, vec4 light) {
 // world) of the surface it meets next, as Cycles' PATH_RAY_TERMINATE_AFTER_TRANSPARENT, and
 // ends there: no visible point, no light sample. Its state stays in main's locals: passed
 // around as a struct through inout functions it made the eye stage 1.5x slower on the H200.
+// Whether this pass's Lambertian points of pixel i's work group take the BSDF sample of
+// their direct light (issue 30, common/light_sampling.glsl).
+#ifdef HAS_EMITTER_MIS
+#define EMITTER_MIS_CHOICE(i) emitter_mis_choice(frame_pixel_index(i))
+#else
+#define EMITTER_MIS_CHOICE(i)
+#endif
+
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
@@ -287,9 +295,7 @@ void main() {
 #ifdef DIRECT_LIGHT_SAMPLED
     LightSampleNumbers light_numbers = draw_light_sample_numbers(rng);
 #endif
-#ifdef HAS_EMITTER_MIS
-    emitter_mis_choice(frame_pixel_index(i));  // the work group's, this pass (issue 30)
-#endif
+    EMITTER_MIS_CHOICE(i);
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
     vec3 throughput = vec3(1.0), direct = vec3(0.0);
     uint rays = 0u, eye_bounces = 0u;
@@ -380,8 +386,7 @@ void main() {
         throughput *= sampled / p_smooth;
         dir = on_the_lobes_side(dir, sh, s.geometric_normal);
         int kind = sh.kind;
-        eye_bounces =
-            bounces_add(eye_bounces, smooth_bounce_kind(sh, wo, dir, s.geometric_normal));
+        eye_bounces = bounces_add(eye_bounces, smooth_bounce_kind(sh, wo, dir, s.geometric_normal));
         last_surface = !bounces_within(eye_bounces);
 #ifdef FILM_TRANSPARENT
         through_glass = through_glass && kind == MATERIAL_DIELECTRIC &&

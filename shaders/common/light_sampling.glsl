@@ -451,11 +451,10 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
     LINK_LIGHT_SAMPLE(material, picked, ls);
     bool world = emitter_kind(picked) == EMITTER_ENVIRONMENT;
 #ifdef HAS_EMITTER_MIS
-    // Emissive triangles meet BSDF samples at Lambertian and glossy lobes: a light sample
-    // drawn by area misses the spike cos cos' / d^2 of a triangle a millimetre away, which a
-    // cosine-sampled ray finds at once (issue 30, docs/cornell_vs_cycles.md). A translucent
-    // point, and a plastic whose coat the eye path follows (rough_only), keep light samples
-    // alone.
+    // Emissive triangles meet BSDF samples at Lambertian and glossy lobes: a light sample drawn by
+    // area misses the spike cos cos' / d^2 of a triangle a millimetre away, which a cosine-sampled
+    // ray finds at once (issue 30, docs/cornell_vs_cycles.md). A translucent point, and a plastic
+    // whose coat the eye path follows (rough_only), keep light samples alone.
     bool triangle_mis = !rough_only && (sh.kind == MATERIAL_DIFFUSE ||
                                         sh.kind == MATERIAL_CONDUCTOR ||
                                         sh.kind == MATERIAL_DIELECTRIC ||

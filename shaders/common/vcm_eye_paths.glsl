@@ -36,6 +36,33 @@ bool vcm_rough_sample(Shading sh, vec3 wo, bool rough_only, vec3 u, out vec3 wi,
     return dot(wi, sh.n) > 0.0 && any(greaterThan(weight, vec3(0.0)));
 }
 
+#ifdef VCM_MIS
+// The eye path's light tracing quantity lt (common/vcm_mis.glsl) past the rough vertex s,
+// left along dir: at the first vertex y1, where light tracing connects to the camera,
+// n_L / p_camera(y1) |cos_out| / p_fwd; at each rough vertex past it where light paths
+// scatter as well (vcm_connectable), lt_here p_rev |cos_out| / p_fwd, p_rev the density of
+// the light's side (the direction back to wo from dir); 0 elsewhere.
+float vcm_lt_past_rough(Surface s, Shading sh, vec3 wo, vec3 dir, bool first, vec3 lens_point,
+                        float lt_here) {
+    if (!vcm_connectable(s, sh, wo)) return 0.0;
+    float lt_scatter = lt_here * bsdf_pdf(sh, dir, wo);
+    if (first) {
+        vec3 from_camera = s.position - lens_point;
+        float distance = length(from_camera);
+        float p_camera = vcm_camera_area_pdf(from_camera / distance, distance,
+                                             abs(dot(wo, s.geometric_normal)));
+        lt_scatter = p_camera > 0.0 ? float(photon_threads) / p_camera : 0.0;
+    }
+    float p_forward = lt_scatter > 0.0 ? bsdf_pdf(sh, wo, dir) : 0.0;
+    return p_forward > 0.0 ? lt_scatter * abs(dot(dir, s.geometric_normal)) / p_forward : 0.0;
+}
+#endif
+
+// One eye path. seen_by_camera: no scatter yet; last_surface: past a limit, the next
+// surface's emission ends the path; after_rough: the last scatter was rough, whose direct
+// light holds the emission met next. With VCM_MIS, lt: light tracing's partial quantity past
+// the first vertex y1 (common/vcm_mis.glsl, vcm_lt_past_rough), divided by the cosine at each
+// surface met (lt_here); 0 where light tracing cannot sample the path.
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
@@ -43,14 +70,8 @@ void main() {
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
     vec3 throughput = vec3(1.0), light = vec3(0.0);
     uint rays = 0u, eye_bounces = 0u, scatters = 0u;
-    // seen_by_camera: no scatter yet; last_surface: past a limit, the next surface's
-    // emission ends the path; after_rough: the last scatter was rough, whose direct light
-    // holds the emission met next.
     bool seen_by_camera = true, last_surface = false, after_rough = false;
 #ifdef VCM_MIS
-    // lt: light tracing's partial quantity past the first vertex y1 (common/vcm_mis.glsl):
-    // n_L / p_camera(y1) times |cos| / p_bsdf at y1, the cosines out over in at the smooth
-    // vertices since; 0 where light tracing cannot sample the path.
     vec3 lens_point = ray.origin;
     float lt = 0.0;
 #endif
@@ -120,22 +141,6 @@ void main() {
 #if defined(VCM_LIGHT_TRACING) && !defined(VCM_MIS)
             break;  // light tracing alone: the light subpaths take what reaches this vertex
 #endif
-#ifdef VCM_MIS
-            // The first vertex, where light tracing connects to the camera (n_L / p_camera),
-            // and each rough vertex past it where light paths scatter as well (lt_here, times
-            // p_rev below): the emission the path meets past smooth vertices weighs light
-            // tracing's paths in (lt).
-            bool connectable = vcm_connectable(s, sh, wo);
-            // lt_here past y1; at y1, n_L / p_camera:
-            float lt_scatter = seen_by_camera || !connectable ? 0.0 : lt_here;
-            if (seen_by_camera && connectable) {
-                vec3 from_camera = s.position - lens_point;
-                float distance = length(from_camera);
-                float p_camera = vcm_camera_area_pdf(from_camera / distance, distance,
-                                                     abs(dot(wo, s.geometric_normal)));
-                if (p_camera > 0.0) lt_scatter = float(photon_threads) / p_camera;
-            }
-#endif
             throughput /= 1.0 - p_smooth;
             bool rough_only = p_smooth > 0.0;
             LightSampleNumbers n = draw_light_sample_numbers(rng);
@@ -148,10 +153,7 @@ void main() {
             throughput *= weight;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
 #ifdef VCM_MIS
-            if (!seen_by_camera) lt_scatter *= bsdf_pdf(sh, dir, wo);  // p_rev: the light's side
-            float p_forward = lt_scatter > 0.0 ? bsdf_pdf(sh, wo, dir) : 0.0;
-            lt = p_forward > 0.0 ? lt_scatter * abs(dot(dir, s.geometric_normal)) / p_forward
-                                 : 0.0;
+            lt = vcm_lt_past_rough(s, sh, wo, dir, seen_by_camera, lens_point, lt_here);
 #endif
             kind = bounce_kind(wo, dir, s.geometric_normal,
                                rough_only || bsdf_sample_is_diffuse(sh, wo, u_dir));
