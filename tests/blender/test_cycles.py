@@ -708,8 +708,10 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
 def test_vcm_techniques_in_render_properties_reach_the_module():
     """Render Properties > VCM Techniques: the default, Path + Light Tracing, compiles the
     weighted pair (variant vcm=pt+lt), Path Tracing the eye paths alone; both render a
-    finite, lit image of issue 30's box (its light sampled, nothing for light tracing to
-    take there: the two images' means agree within their noise, 5% at 16 passes of 32²)."""
+    finite, lit image of issue 30's box. Nothing there for light tracing to take (no glass or
+    mirror), and the eye paths draw the same numbers either way, so the two images' means are
+    equal: measured identical (Blender 3.4.1), asserted within 1e-6 relative, which any
+    weight below one on the eye side would break."""
     helpers.reset_scene(size=(32, 32))
     scene = _issue30_scene()
     scene.glslppm.estimator = 'VCM'
@@ -733,7 +735,7 @@ def test_vcm_techniques_in_render_properties_reach_the_module():
         assert "radius" not in line and "photons/s" not in line, line
         assert ("light paths/s" in line) == (technique == 'PT_LT'), line
     print(f"  VCM techniques: means {means}")
-    assert means['PT'] > 0.0 and abs(means['PT_LT'] / means['PT'] - 1.0) < 0.05, means
+    assert means['PT'] > 0.0 and abs(means['PT_LT'] / means['PT'] - 1.0) < 1e-6, means
 
 
 def test_vcm_path_and_light_tracing_quiets_the_caustic_through_the_addon():
