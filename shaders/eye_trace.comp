@@ -59,13 +59,16 @@ layout(local_size_x = LOCAL_SIZE) in;
 // Light on the eye path goes into Combined's sum and, with render passes, into its part of
 // the light split as well: emission, the world, or light sampled at the visible point; with
 // light groups into its emitter's group too (common/light_groups.glsl; `group` is a code).
+// The light sample's parts go into their groups inside direct_light_sampled_lobes, times
+// the throughput, which is set before `value` is computed.
 #ifdef LIGHT_GROUPS
 #define ADD_LIGHT(part, group, value)              \
     {                                              \
+        light_group_throughput = throughput;       \
         vec3 light_ = (value);                     \
         direct += light_;                          \
         passes.part += light_;                     \
-        light_group_add(group, light_, throughput); \
+        light_group_add(group, light_);             \
     }
 #elif defined(PASS_STRIDE)
 #define ADD_LIGHT(part, group, value) { vec3 light_ = (value); direct += light_; passes.part += light_; }

@@ -7,7 +7,7 @@
 // photon's record word) and the gather adds each photon into its group's tau as well
 // (gather.comp). The eye stage keeps this sample's light per group here: emission and the
 // world where the path meets them, and the light samples' parts, which
-// direct_light_sampled_lobes hands over before the throughput (light_group_sampled_add).
+// direct_light_sampled_lobes hands over (light_group_sampled_add).
 //
 // A group's record in the pass films (native/render/render_passes.h, PassLayout): from
 // LIGHT_GROUP_FIRST + 4 group, the eye stage's (sum, compensation) and the photons' tau
@@ -21,7 +21,7 @@
 #ifdef LIGHT_GROUPS
 
 const uint WORLD_GROUP_CODE = uint(WORLD_LIGHT_GROUP + 1);
-// light_group_add's code for the light sample's parts (light_group_sampled).
+// light_group_add's code for the light sample's parts (added by light_group_sampled_add).
 const uint LIGHT_GROUP_SAMPLED = 0xFFFFFFFFu;
 
 // Below the material's light link row (common/records.glsl).
@@ -32,42 +32,38 @@ uint material_group_code(int m) {
 uint light_group_record(uint group) { return LIGHT_GROUP_FIRST + 4u * group; }
 
 #ifdef USES_PIXEL_STATE
-// This eye sample's light per group, and the light sample's parts before the throughput.
+// This eye sample's light per group. The light sample's parts go straight in, times the
+// path's throughput there, which the stage sets before direct_light_sampled_lobes
+// (light_group_throughput): no second array per group, whose loop at every light sample
+// kept the eye stage in local memory (docs/light_groups.md, Cost).
 vec3 light_group_eye[LIGHT_GROUPS];
-vec3 light_group_sampled[LIGHT_GROUPS];
+vec3 light_group_throughput = vec3(0.0);
 // What light_along_bsdf_sample's terms are multiplied by after it returns (f cos), so that
 // it can hand each its group's share (common/light_sampling.glsl).
 vec3 light_group_bsdf_weight = vec3(0.0);
 
 void light_groups_begin() {
-    for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g) {
-        light_group_eye[g] = vec3(0.0);
-        light_group_sampled[g] = vec3(0.0);
-    }
+    for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g) light_group_eye[g] = vec3(0.0);
 }
 
 // A part of direct_light_sampled_lobes' result from an emitter of this code.
 void light_group_sampled_add(uint code, vec3 part) {
-    if (code > 0u) light_group_sampled[code - 1u] += part;
+    if (code > 0u) light_group_eye[code - 1u] += light_group_throughput * part;
 }
 
-// Light the eye path adds to Combined (eye_trace.comp, ADD_LIGHT): into its emitter's group;
-// LIGHT_GROUP_SAMPLED: the light sample's parts, times the path's throughput.
-void light_group_add(uint code, vec3 light, vec3 throughput) {
-    if (code == LIGHT_GROUP_SAMPLED) {
-        for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g) {
-            light_group_eye[g] += throughput * light_group_sampled[g];
-            light_group_sampled[g] = vec3(0.0);
-        }
-    } else if (code > 0u) {
-        light_group_eye[code - 1u] += light;
-    }
+// Light the eye path adds to Combined (eye_trace.comp, ADD_LIGHT): into its emitter's group.
+// LIGHT_GROUP_SAMPLED: the light sample's parts, already in (light_group_sampled_add).
+void light_group_add(uint code, vec3 light) {
+    if (code > 0u && code != LIGHT_GROUP_SAMPLED) light_group_eye[code - 1u] += light;
 }
 
-// The sample's light per group into the groups' eye sums.
+// The sample's light per group into the groups' eye sums. A group this sample did not
+// reach is left alone: most samples light one or two groups, and each add reads and
+// writes two vec4 (Kahan's sum: not adding a zero only leaves its compensation unfolded).
 void store_light_groups(uint pixel) {
     for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g)
-        pass_add(pixel, light_group_record(g), vec4(light_group_eye[g], 0.0));
+        if (any(notEqual(light_group_eye[g], vec3(0.0))))
+            pass_add(pixel, light_group_record(g), vec4(light_group_eye[g], 0.0));
 }
 #endif
 
