@@ -63,14 +63,20 @@ void validate_deformation(const Scene& scene) {
     }
 }
 
-void DeformMotion::at(double t, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n) const {
+void DeformMotion::segment(double t, std::size_t& a, std::size_t& b, float& u) const {
     const std::size_t k = std::clamp<std::size_t>(
         std::upper_bound(times.begin(), times.end(), t) - times.begin(), 1,
         std::max<std::size_t>(times.size(), 2) - 1);
-    const std::size_t a = times.size() == 1 ? 0 : k - 1, b = times.size() == 1 ? 0 : k;
-    const float u = a == b ? 0.0f
-                           : static_cast<float>(std::clamp(
-                                 (t - times[a]) / (times[b] - times[a]), 0.0, 1.0));
+    a = times.size() == 1 ? 0 : k - 1;
+    b = times.size() == 1 ? 0 : k;
+    u = a == b ? 0.0f
+               : static_cast<float>(std::clamp((t - times[a]) / (times[b] - times[a]), 0.0, 1.0));
+}
+
+void DeformMotion::at(double t, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n) const {
+    std::size_t a = 0, b = 0;
+    float u = 0.0f;
+    segment(t, a, b, u);
     p.resize(positions[a].size());
     for (std::size_t v = 0; v < p.size(); ++v)
         p[v] = positions[a][v] + u * (positions[b][v] - positions[a][v]);

@@ -12,47 +12,100 @@ namespace {
 
 inline std::int32_t float_bits(float f) { return std::bit_cast<std::int32_t>(f); }
 
+// What deform_mesh.comp reads, for every deforming mesh at once: the steps' vertices and
+// normals, each packed triangle's vertices, and the refit's entries per depth.
+struct DeformTables {
+    std::vector<glm::vec4> positions, normals;
+    std::vector<glm::uvec4> triangles;              // (packed triangle, its three vertices)
+    std::vector<std::vector<glm::ivec4>> by_depth;  // (node, left, right, 0); -1: a leaf's
+};
+
 // A deforming mesh's bottom tree (the nodes of one mesh lie in preorder, left child first,
-// from its root): children per node and the packed triangles' range, and copies.
+// from its root) into the tables: its packed triangles' vertices and its nodes by depth.
 DeformScratch start_deformation(const TwoLevelBvh& tree, std::uint32_t root,
-                                std::uint32_t node_count) {
+                                std::uint32_t node_count, const DeformMotion& dm,
+                                DeformTables& t) {
     DeformScratch d;
-    d.root = root;
-    d.children.assign(node_count, glm::ivec2(-1));
-    d.first_triangle = tree.triangles.size();
+    d.traced = true;
+    d.first_entry = static_cast<std::uint32_t>(t.triangles.size());
+    std::vector<glm::ivec2> children(node_count, glm::ivec2(-1));
+    std::vector<std::uint32_t> depth(node_count, 0);
     std::vector<std::uint32_t> open;  // inner nodes still waiting for their right child
     for (std::uint32_t j = 0; j < node_count; ++j) {
         if (j > 0) {
             // j is the left child of the node before it, if that one is inner; else the right
             // child of the innermost inner node still waiting for one.
-            const std::uint32_t prev = j - 1;
-            if (float_bits(tree.nodes[2 * (root + prev) + 1].w) == 0) {
-                d.children[prev].x = static_cast<std::int32_t>(j);
+            std::uint32_t parent = j - 1;
+            if (float_bits(tree.nodes[2 * (root + parent) + 1].w) == 0) {
+                children[parent].x = static_cast<std::int32_t>(j);
             } else {
-                d.children[open.back()].y = static_cast<std::int32_t>(j);
+                parent = open.back();
                 open.pop_back();
+                children[parent].y = static_cast<std::int32_t>(j);
             }
+            depth[j] = depth[parent] + 1;
         }
         const std::int32_t count = float_bits(tree.nodes[2 * (root + j) + 1].w);
         if (count == 0) {
             open.push_back(j);
-        } else {
-            const auto first = static_cast<std::size_t>(float_bits(tree.nodes[2 * (root + j)].w));
-            d.first_triangle = std::min(d.first_triangle, first);
-            d.end_triangle = std::max(d.end_triangle, first + static_cast<std::size_t>(count));
+            continue;
+        }
+        const std::int32_t first = float_bits(tree.nodes[2 * (root + j)].w);
+        for (std::int32_t i = first; i < first + count; ++i) {
+            // Vertex 1's w: the triangle's index in the mesh.
+            const auto id = static_cast<std::size_t>(float_bits(tree.triangles[3 * i + 1].w));
+            const glm::uvec3 v = dm.triangles[id];
+            t.triangles.emplace_back(static_cast<std::uint32_t>(i), v.x, v.y, v.z);
         }
     }
-    d.nodes.assign(tree.nodes.begin() + 2 * root, tree.nodes.begin() + 2 * (root + node_count));
-    d.triangles.assign(tree.triangles.begin() + 3 * d.first_triangle,
-                       tree.triangles.begin() + 3 * d.end_triangle);
-    if (!tree.normals.empty())
-        d.normals.assign(tree.normals.begin() + 3 * d.first_triangle,
-                         tree.normals.begin() + 3 * d.end_triangle);
+    d.entry_count = static_cast<std::uint32_t>(t.triangles.size()) - d.first_entry;
+    for (std::uint32_t j = 0; j < node_count; ++j) {
+        if (t.by_depth.size() <= depth[j]) t.by_depth.resize(depth[j] + 1);
+        const glm::ivec2 c = children[j];
+        const auto global = [&](std::int32_t local) {
+            return local < 0 ? -1 : static_cast<std::int32_t>(root) + local;
+        };
+        t.by_depth[depth[j]].emplace_back(static_cast<std::int32_t>(root + j), global(c.x),
+                                          global(c.y), 0);
+    }
+    d.first_vertex = static_cast<std::uint32_t>(t.positions.size());
+    d.vertex_count = static_cast<std::uint32_t>(dm.positions[0].size());
+    for (std::size_t step = 0; step < dm.positions.size(); ++step)
+        for (std::uint32_t v = 0; v < d.vertex_count; ++v) {
+            t.positions.emplace_back(dm.positions[step][v], 0.0f);
+            t.normals.emplace_back(dm.normals.empty() ? glm::vec3(0.0f) : dm.normals[step][v],
+                                   0.0f);
+        }
+    Aabb box;
+    dm.box(box.lo, box.hi);
+    box = pad_box(box);
+    d.root_lo = box.lo;
+    d.root_hi = box.hi;
     return d;
 }
 
+// The tables uploaded, the depths deepest first.
+void upload_deformation(Renderer::Gpu& g, DeformTables& t) {
+    MotionScratch& s = g.motion;
+    std::vector<glm::ivec4> refit;
+    for (std::size_t depth = t.by_depth.size(); depth-- > 0;) {
+        s.refit_levels.push_back(static_cast<std::uint32_t>(refit.size()));
+        refit.insert(refit.end(), t.by_depth[depth].begin(), t.by_depth[depth].end());
+    }
+    s.refit_levels.push_back(static_cast<std::uint32_t>(refit.size()));
+    const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    g.make_buffer(BINDING_DEFORM_POSITIONS, bytes(t.positions), t.positions.data(),
+                  "deforming meshes' steps");
+    g.make_buffer(BINDING_DEFORM_NORMALS, bytes(t.normals), t.normals.data(),
+                  "deforming meshes' normals");
+    g.make_buffer(BINDING_DEFORM_TRIANGLES, bytes(t.triangles), t.triangles.data(),
+                  "deforming meshes' triangles");
+    g.make_buffer(BINDING_DEFORM_REFIT, bytes(refit), refit.data(), "deforming meshes' trees");
+}
+
 // The copies and the map from records to top leaves, once per worker.
-void start_scratch(MotionScratch& s, const TwoLevelBvh& tree, const MotionPlan& plan) {
+void start_scratch(Renderer::Gpu& g, const TwoLevelBvh& tree, const MotionPlan& plan) {
+    MotionScratch& s = g.motion;
     s.top_nodes.assign(tree.nodes.begin(), tree.nodes.begin() + 2 * tree.top_node_count);
     s.records = tree.instances;
     const std::size_t record_count = tree.instances.size() / kInstanceRecordVec4;
@@ -70,6 +123,7 @@ void start_scratch(MotionScratch& s, const TwoLevelBvh& tree, const MotionPlan& 
         s.end_record = std::max(s.end_record, record + 1);
         refit[record] = true;
     }
+    DeformTables tables;
     for (std::size_t k = 0; k < plan.meshes.size(); ++k) {
         const std::uint32_t mesh = plan.meshes[k].mesh;
         if (s.deformed_of_mesh.size() <= mesh) s.deformed_of_mesh.resize(mesh + 1, -1);
@@ -80,12 +134,13 @@ void start_scratch(MotionScratch& s, const TwoLevelBvh& tree, const MotionPlan& 
             // The tree's mesh 0 is the placed-once triangles: the scene's mesh m is its m + 1.
             if (static_cast<std::uint32_t>(float_bits(rec[7].x)) != mesh + 1u) continue;
             refit[r] = true;
-            if (s.meshes.back().children.empty())
+            if (!s.meshes.back().traced)
                 s.meshes.back() = start_deformation(
                     tree, static_cast<std::uint32_t>(float_bits(rec[6].x)),
-                    static_cast<std::uint32_t>(float_bits(rec[6].y)));
+                    static_cast<std::uint32_t>(float_bits(rec[6].y)), plan.meshes[k], tables);
         }
     }
+    if (!plan.meshes.empty()) upload_deformation(g, tables);
     for (std::size_t r = 0; r < record_count; ++r)
         if (refit[r]) s.refit_records.push_back(r);
 }
@@ -109,13 +164,12 @@ void Renderer::Gpu::move_to_shutter_time(std::uint64_t pass_index) {
     const auto start = std::chrono::steady_clock::now();
     const TwoLevelBvh& tree = *two_level;
     MotionScratch& s = motion;
-    if (s.top_nodes.empty()) start_scratch(s, tree, plan);
-    deform_meshes(t);
+    if (s.top_nodes.empty()) start_scratch(*this, tree, plan);
     for (std::size_t k = 0; k < plan.instances.size(); ++k)
         write_instance_transform(&s.records[kInstanceRecordVec4 * (plan.instances[k] + 1u)],
                                  plan.instance_motion[k].at(t));
     // The moved and deformed instances' leaf boxes (instance_world_box: the mesh's root box
-    // mapped and padded as the build maps it).
+    // mapped and padded as the build maps it; a deforming mesh's box over all its steps).
     for (std::size_t record : s.refit_records) {
         const glm::vec4* rec = &s.records[kInstanceRecordVec4 * record];
         const std::int32_t leaf = s.leaf_of_instance[record];
@@ -124,9 +178,9 @@ void Renderer::Gpu::move_to_shutter_time(std::uint64_t pass_index) {
         const std::int32_t deformed =
             mesh < s.deformed_of_mesh.size() ? s.deformed_of_mesh[mesh] : -1;
         const auto root = static_cast<std::size_t>(float_bits(rec[6].x));
-        const glm::vec4* root_box = deformed >= 0 ? s.meshes[std::size_t(deformed)].nodes.data()
-                                                  : &tree.nodes[2 * root];
-        const Aabb box = instance_world_box(glm::vec3(root_box[0]), glm::vec3(root_box[1]),
+        const DeformScratch* d = deformed >= 0 ? &s.meshes[std::size_t(deformed)] : nullptr;
+        const Aabb box = instance_world_box(d ? d->root_lo : glm::vec3(tree.nodes[2 * root]),
+                                            d ? d->root_hi : glm::vec3(tree.nodes[2 * root + 1]),
                                             record_to_world(rec));
         s.top_nodes[2 * leaf] = glm::vec4(box.lo, s.top_nodes[2 * leaf].w);
         s.top_nodes[2 * leaf + 1] = glm::vec4(box.hi, s.top_nodes[2 * leaf + 1].w);
@@ -154,58 +208,47 @@ void Renderer::Gpu::move_to_shutter_time(std::uint64_t pass_index) {
         glBufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(first) * kVec4,
                         GLsizeiptr(count) * kVec4, s.records.data() + first);
     }
+    deform_meshes(t);
     s.refit_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Each deforming mesh at time t: its packed triangles' corners (and normals) rewritten, its
-// bottom tree refitted (leaves padded as the build pads them, inner boxes the unions of
-// their children's; the topology built at the frame's time stays), and the three ranges
-// uploaded. A triangle kept or dropped as degenerate at the frame stays so.
+// Each deforming mesh at time t, on the GPU (deform_mesh.comp): its packed triangles'
+// corners and normals, then its bottom tree's boxes, one depth at a time from the deepest.
+// A triangle kept or dropped as degenerate at the frame stays so; the topology stays.
 void Renderer::Gpu::deform_meshes(double t) {
-    MotionScratch& s = motion;
-    constexpr GLsizeiptr kVec4 = sizeof(glm::vec4);
+    const MotionScratch& s = motion;
+    if (s.refit_levels.empty()) return;
+    const gl::ComputeProgram& vertices = *programs.deform_vertices;
+    vertices.use();
     for (std::size_t k = 0; k < s.meshes.size(); ++k) {
-        DeformScratch& d = s.meshes[k];
-        if (d.children.empty()) continue;  // no instance traces it
+        const DeformScratch& d = s.meshes[k];
+        if (!d.traced || d.entry_count == 0) continue;  // no instance traces it
         const DeformMotion& dm = scene.motion->meshes[k];
-        dm.at(t, s.positions, s.normals);
-        for (std::size_t i = 0; i < d.end_triangle - d.first_triangle; ++i) {
-            glm::vec4* tri = &d.triangles[3 * i];
-            const glm::uvec3 v = dm.triangles[static_cast<std::size_t>(float_bits(tri[1].w))];
-            for (int c = 0; c < 3; ++c) tri[c] = glm::vec4(s.positions[v[c]], tri[c].w);
-            if (s.normals.empty()) continue;  // the mesh has none (its zeros, or faces')
-            for (int c = 0; c < 3; ++c)
-                d.normals[3 * i + c] = glm::vec4(s.normals[v[c]], d.normals[3 * i + c].w);
-        }
-        for (std::size_t j = d.children.size(); j-- > 0;) {
-            const glm::ivec2 c = d.children[j];
-            Aabb box;
-            if (c.x < 0) {
-                const auto first = static_cast<std::size_t>(float_bits(d.nodes[2 * j].w));
-                const auto count = static_cast<std::size_t>(float_bits(d.nodes[2 * j + 1].w));
-                for (std::size_t i = first; i < first + count; ++i)
-                    for (int v = 0; v < 3; ++v)
-                        box.grow(glm::vec3(d.triangles[3 * (i - d.first_triangle) + v]));
-                box = pad_box(box);
-            } else {
-                box = Aabb{glm::vec3(d.nodes[2 * c.x]), glm::vec3(d.nodes[2 * c.x + 1])};
-                box.grow(Aabb{glm::vec3(d.nodes[2 * c.y]), glm::vec3(d.nodes[2 * c.y + 1])});
-            }
-            d.nodes[2 * j] = glm::vec4(box.lo, d.nodes[2 * j].w);
-            d.nodes[2 * j + 1] = glm::vec4(box.hi, d.nodes[2 * j + 1].w);
-        }
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.bvh_nodes);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(2 * d.root) * kVec4,
-                        GLsizeiptr(d.nodes.size()) * kVec4, d.nodes.data());
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.triangles);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(3 * d.first_triangle) * kVec4,
-                        GLsizeiptr(d.triangles.size()) * kVec4, d.triangles.data());
-        if (s.normals.empty() || d.normals.empty()) continue;
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.normals);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(3 * d.first_triangle) * kVec4,
-                        GLsizeiptr(d.normals.size()) * kVec4, d.normals.data());
+        std::size_t a = 0, b = 0;
+        float u = 0.0f;
+        dm.segment(t, a, b, u);
+        glUniform1ui(vertices.uniform("u_first"), d.first_entry);
+        glUniform1ui(vertices.uniform("u_count"), d.entry_count);
+        glUniform1ui(vertices.uniform("u_step_a"),
+                     d.first_vertex + static_cast<std::uint32_t>(a) * d.vertex_count);
+        glUniform1ui(vertices.uniform("u_step_b"),
+                     d.first_vertex + static_cast<std::uint32_t>(b) * d.vertex_count);
+        glUniform1f(vertices.uniform("u_blend"), u);
+        glUniform1ui(vertices.uniform("u_normals"), !dm.normals.empty() && buffers.normals);
+        dispatch(vertices, d.entry_count);
     }
+    const gl::ComputeProgram& refit = *programs.deform_refit;
+    for (std::size_t level = 0; level + 1 < s.refit_levels.size(); ++level) {
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const std::uint32_t first = s.refit_levels[level];
+        const std::uint32_t count = s.refit_levels[level + 1] - first;
+        refit.use();
+        glUniform1ui(refit.uniform("u_first"), first);
+        glUniform1ui(refit.uniform("u_count"), count);
+        dispatch(refit, count);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
 }  // namespace glslppm

@@ -60,6 +60,9 @@ struct StagePrograms {
     const gl::ComputeProgram* resolve = nullptr;
     const gl::ComputeProgram* radius_reduce = nullptr;
     const gl::ComputeProgram* light_splats = nullptr;  // HAS_LIGHT_TRACING: a pass's splats folded in
+    // Deforming meshes (deform_mesh.comp): their vertices, then their trees' boxes.
+    const gl::ComputeProgram* deform_vertices = nullptr;
+    const gl::ComputeProgram* deform_refit = nullptr;
     int compiled = 0, reused = 0;  // from source, from an earlier renderer's binaries
     double compile_seconds = 0.0;
 };
@@ -83,18 +86,20 @@ struct PipelineBuffers {
     std::size_t pass_state_bytes = 0;  // allocate_pass_state's buffers (render/memory_estimate.h)
 };
 
+// A deforming mesh, deformed on the GPU each pass (deform_mesh.comp): its entries in the
+// triangle table, its vertices' place in the steps' buffers (step s of vertex v at
+// first_vertex + s vertex_count + v), and its bottom root's box over every step, padded,
+// which the top level's leaves bound it by.
+struct DeformScratch {
+    bool traced = false;  // an instance traces it
+    std::uint32_t first_entry = 0, entry_count = 0;
+    std::uint32_t first_vertex = 0, vertex_count = 0;
+    glm::vec3 root_lo{0.0f}, root_hi{0.0f};
+};
+
 // Motion blur's per-pass copies (motion_pass.cpp): the two-level tree's top nodes and the
 // instance records, rewritten at each pass's time and uploaded, the moving instances'
 // record range and top leaves.
-// A deforming mesh's bottom tree: its node range, each node's children (local, -1 at
-// leaves) and its packed triangles' range, with copies of its nodes, triangles and normals.
-struct DeformScratch {
-    std::uint32_t root = 0;
-    std::vector<glm::ivec2> children;
-    std::size_t first_triangle = 0, end_triangle = 0;
-    std::vector<glm::vec4> nodes, triangles, normals;
-};
-
 struct MotionScratch {
     std::vector<glm::vec4> top_nodes, records;
     std::vector<std::int32_t> leaf_of_instance;  // the top leaf of each record, -1 none
@@ -102,7 +107,8 @@ struct MotionScratch {
     std::vector<DeformScratch> meshes;    // one per MotionPlan::meshes
     std::vector<std::size_t> refit_records;  // records whose top leaf moves: moving or deforming
     std::vector<std::int32_t> deformed_of_mesh;  // mesh index -> meshes' index, -1 none
-    std::vector<glm::vec3> positions, normals;  // one mesh's vertices at the pass's time
+    // The refit table's depths, deepest first: depth d's entries are [levels[d], levels[d+1]).
+    std::vector<std::uint32_t> refit_levels;
     double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
 };
 

@@ -20,7 +20,8 @@ std::size_t bytes(const std::vector<T>& v) {
 
 // The stage programs of the prepared variant, from the thread's program cache.
 void compile_programs(gl::ProgramCache& cache, const gl::Defines& defines, HashMode hash,
-                      bool light_tracing, const CancelFlag* cancel, StagePrograms& s) {
+                      bool light_tracing, bool deforms, const CancelFlag* cancel,
+                      StagePrograms& s) {
     const auto compile_start = std::chrono::steady_clock::now();
     auto program = [&](const char* file, const char* phase) -> const gl::ComputeProgram* {
         throw_if_cancelled(cancel);  // a compile on llvmpipe takes up to a second
@@ -45,9 +46,14 @@ void compile_programs(gl::ProgramCache& cache, const gl::Defines& defines, HashM
     s.resolve = program("resolve_film.comp", nullptr);
     s.radius_reduce = program("radius_stats.comp", nullptr);
     if (light_tracing) s.light_splats = program("light_splats.comp", nullptr);
+    if (deforms) {
+        s.deform_vertices = program("deform_mesh.comp", "PHASE_VERTICES");
+        s.deform_refit = program("deform_mesh.comp", "PHASE_REFIT");
+    }
     for (const gl::ComputeProgram* p :
          {s.eye, s.photon, s.hash_clear, s.hash_a, s.hash_b, s.scan[0], s.scan[1], s.scan[2],
-          s.gather, s.end_pass, s.restart, s.resolve, s.light_splats}) {
+          s.gather, s.end_pass, s.restart, s.resolve, s.light_splats, s.deform_vertices,
+          s.deform_refit}) {
         if (p) ++(p->reused() ? s.reused : s.compiled);
     }
     s.compile_seconds =
@@ -207,8 +213,9 @@ void Renderer::set_up(Gpu& g, int device, const Scene& scene, const RenderSettin
     g.thread = std::make_unique<gl::GlThread>(g.device);
     g.thread->call([&] {
         try {
+            const bool deforms = g.scene.motion && !g.scene.motion->meshes.empty();
             compile_programs(g.thread->context().programs(), g.scene.defines, settings.hash,
-                             g.scene.light_tracing, cancel, g.programs);
+                             g.scene.light_tracing, deforms, cancel, g.programs);
             // The traversal's node count, in every program that traces rays.
             const std::uint32_t node_count =
                 g.two_level ? g.two_level->top_node_count : g.bvh->node_count;

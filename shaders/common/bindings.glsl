@@ -29,6 +29,10 @@
 #define BINDING_PASS_FILMS 21      // render passes beside Combined (common/pass_films.glsl)
 #define BINDING_VERTEX_COLORS 22   // vertex colours per packed triangle (common/scene_buffers.glsl)
 #define BINDING_LIGHT_SPLATS 23    // light tracing's splats and their sums (common/light_splats.glsl)
+#define BINDING_DEFORM_POSITIONS 24 // deforming meshes' vertices at their motion steps (deform_mesh.comp)
+#define BINDING_DEFORM_NORMALS 25   // and their vertex normals
+#define BINDING_DEFORM_TRIANGLES 26 // their packed triangles' vertices
+#define BINDING_DEFORM_REFIT 27     // their bottom trees' nodes by depth, deepest first
 
 // Uniform block and texture units.
 #define BINDING_FRAME 0            // uniform Frame (common/frame.glsl)
