@@ -94,6 +94,13 @@ void upload_deformation(Renderer::Gpu& g, DeformTables& t) {
     }
     s.refit_levels.push_back(static_cast<std::uint32_t>(refit.size()));
     const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    const std::size_t largest = g.largest_block(false);
+    if (largest > 0 && bytes(t.positions) > largest)
+        throw gl::GlError("the deforming meshes' vertices at their motion steps need " +
+                          std::to_string(bytes(t.positions) >> 20) +
+                          " MiB, more than this GPU's largest storage buffer (" +
+                          std::to_string(largest >> 20) +
+                          " MiB): lower the objects' motion blur steps or their vertex count");
     g.make_buffer(BINDING_DEFORM_POSITIONS, bytes(t.positions), t.positions.data(),
                   "deforming meshes' steps");
     g.make_buffer(BINDING_DEFORM_NORMALS, bytes(t.normals), t.normals.data(),
