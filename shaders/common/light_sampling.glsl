@@ -31,10 +31,15 @@
 #define LINK_LIGHT_SAMPLE(m, picked, ls) light_link_sample(m, picked, ls.radiance_over_pdf)
 #define LINK_REACHES(set) light_link_reaches(set, light_link_receiver)
 #define LINK_SHADOW_RAY(set) shadow_link_set = (set)
+// A BSDF sample's ray learns whose light it meets only at its end: it keeps the sets that
+// the surfaces it crossed shadow (`link_shadowed`, light_along_bsdf_sample) and counts an
+// emitter only where its set is not among them.
+#define LINK_UNSHADOWED(set) (((link_shadowed >> (set)) & 1u) == 0u)
 #else
 #define LINK_LIGHT_SAMPLE(m, picked, ls)
 #define LINK_REACHES(set) true
 #define LINK_SHADOW_RAY(set)
+#define LINK_UNSHADOWED(set) true
 #endif
 
 #ifdef BVH_ANY_HIT_FILTER
@@ -390,14 +395,18 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 #ifdef BVH_ANY_HIT_FILTER
     shadow_ray_seed = seed;
 #endif
-    LINK_SHADOW_RAY(LINK_SET_ANY);  // whose light it meets is not known: every surface shadows
+    LINK_SHADOW_RAY(LINK_SET_ANY);  // shadow_passes: what passes every emitter's light
+#ifdef LIGHT_LINKING
+    uint link_shadowed = 0u;  // the sets shadowed by the surfaces crossed so far
+#endif
     for (int crossing = 0; crossing < BSDF_RAY_CROSSINGS; ++crossing) {
         ++rays;
         Hit hit = closest_hit(ray);
         if (hit.triangle < 0) {
 #ifdef HAS_ENVIRONMENT
             float p_light = environment_light_pdf(wi, side, transmits);
-            if (p_light > 0.0 && LINK_REACHES(0u)) {  // the world's link set is 0
+            // The world's link set is 0.
+            if (p_light > 0.0 && LINK_REACHES(0u) && LINK_UNSHADOWED(0u)) {
                 vec3 term = environment_radiance(wi) / (p_bsdf + p_light);
                 sum += term;
                 LIGHT_GROUP_PART(WORLD_GROUP_CODE, light_group_bsdf_weight * term);
@@ -409,7 +418,8 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
         vec3 a = triangles[3 * t].xyz, b = triangles[3 * t + 1].xyz, c = triangles[3 * t + 2].xyz;
         vec3 q = a + hit.u * (b - a) + hit.v * (c - a);
         int k = triangles_too ? triangle_emitter(t) : -1;
-        if (k >= 0 && LINK_REACHES(emitter_link_set(uint(k)))) {
+        if (k >= 0 && LINK_REACHES(emitter_link_set(uint(k))) &&
+            LINK_UNSHADOWED(emitter_link_set(uint(k)))) {
             // The light sample's distance is from p, whatever the ray crossed on the way.
             float p_light = triangle_light_pdf(uint(k), wi, length(q - p));
             vec3 term = triangle_emitter_radiance(uint(k), t, vec2(hit.u, hit.v), wi) /
@@ -418,7 +428,16 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
             LIGHT_GROUP_PART(emitter_group_code(uint(k)), light_group_bsdf_weight * term);
         }
 #ifdef BVH_ANY_HIT_FILTER
-        if (!shadow_passes(floatBitsToInt(triangles[3 * t].w), t, hit.u, hit.v)) break;
+        int m = floatBitsToInt(triangles[3 * t].w);
+#ifdef LIGHT_LINKING
+        // An opaque surface shadows the sets of its row; the ray goes on while some set
+        // is still unshadowed (an ordinary surface's row shadows every set).
+        if (!shadow_passes(m, t, hit.u, hit.v))
+            link_shadowed |= shadow_link_blocks[material_link_row(m)];
+        if (link_shadowed == 0xFFFFFFFFu) break;
+#else
+        if (!shadow_passes(m, t, hit.u, hit.v)) break;
+#endif
         ray = make_ray(offset_origin(q, triangle_normal(a, b, c), wi), wi);
 #else
         break;
