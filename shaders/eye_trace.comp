@@ -34,6 +34,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/emitters.glsl"
 #endif
 #include "common/light_groups.glsl"
+#include "common/light_linking.glsl"
 #ifdef VCM_MIS
 #include "common/bounces.glsl"
 #include "common/light_tracing.glsl"
@@ -87,6 +88,22 @@ layout(local_size_x = LOCAL_SIZE) in;
 #else
 #define SEE_LIGHT(part, group, radiance) ADD_LIGHT(part, group, throughput * (radiance))
 #endif
+// Light linking (common/light_linking.glsl): emission of link set `set` met after a mirror or
+// glass counts where it reaches the surface the path last scattered from (eye_link_receiver,
+// which SET_EYE_LINK_RECEIVER sets); the camera's own view is not linked, as in Cycles.
+#ifdef LIGHT_LINKING
+#define EYE_LINK_REACHES(set) eye_link_reaches(set)
+#define SET_EYE_LINK_RECEIVER(m) eye_link_receiver = (m)
+#else
+#define EYE_LINK_REACHES(set) true
+#define SET_EYE_LINK_RECEIVER(m)
+#endif
+// Emission of material m (its group's and link set's) and the world (link set 0) the path sees.
+#define SEE_EMISSION(m, radiance)               \
+    if (EYE_LINK_REACHES(material_link_set(m))) \
+        SEE_LIGHT(emitted, material_group_code(m), radiance)
+#define SEE_WORLD(dir) \
+    if (EYE_LINK_REACHES(0u)) SEE_LIGHT(world, WORLD_GROUP_CODE, environment_radiance(dir))
 
 // The numbers of the pixel's light sample, drawn first, so that draws only some variants
 // make (the lens) do not change them: every variant of a scene renders the same image.
@@ -330,7 +347,7 @@ void main() {
             if (leaves_through_film(seen_by_camera, through_glass, throughput, transparent))
                 break;
 #endif
-            SEE_LIGHT(world, WORLD_GROUP_CODE, environment_radiance(ray.dir));
+            SEE_WORLD(ray.dir);
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -349,8 +366,7 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden)
-                SEE_LIGHT(emitted, material_group_code(s.material), material_emission(s.material));
+            if (front && !hidden) SEE_EMISSION(s.material, material_emission(s.material));
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -363,8 +379,8 @@ void main() {
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            SEE_LIGHT(emitted, material_group_code(s.material),
-                      material_emission_at(s.material, sh.material, texture_point(s)));
+            SEE_EMISSION(s.material,
+                         material_emission_at(s.material, sh.material, texture_point(s)));
 #ifdef DENOISING_FEATURES
         add_feature_surface_at(features, s, sh, wo);
 #endif
@@ -397,7 +413,8 @@ void main() {
 #endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
         // Through a cut-out (transparent) the camera still sees what lies behind.
-        if (kind == MATERIAL_TRANSPARENT) continue;
+        if (kind == MATERIAL_TRANSPARENT && seen_by_camera) continue;
+        SET_EYE_LINK_RECEIVER(s.material);
         seen_by_camera = false;
     }
     if (!held) hold_no_visible_point(i, eye_bounces);

@@ -203,7 +203,8 @@ struct GpuMaterial {
     // absorption.glsl). Its own vec4, 16 bytes more per material: the five before are full.
     glm::vec3 absorption;
     // Material::light_group + 1 (0: none), common/light_groups.glsl, plus
-    // MATERIAL_LINK_ROW_SCALE x Material::light_link_row (common/light_linking.glsl)
+    // MATERIAL_LINK_ROW_SCALE x Material::light_link_row plus MATERIAL_LINK_SET_SCALE x
+    // Material::light_link_set (common/light_linking.glsl)
     float light_group_code;
 };
 static_assert(sizeof(GpuMaterial) == MATERIAL_VEC4 * 16 &&

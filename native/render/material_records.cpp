@@ -91,8 +91,11 @@ std::vector<glm::vec4> material_records(const std::vector<Material>& materials,
         g.emission_texture = textures ? m.emission_texture : -1;
         g.f82_tint = m.f82_tint;
         g.absorption = m.absorption;
+        static_assert(MATERIAL_LINK_SET_SCALE == MATERIAL_LINK_ROW_SCALE * MAX_LIGHT_LINK_ROWS &&
+                      MATERIAL_LINK_SET_SCALE * MAX_LIGHT_LINK_SETS <= (1 << 24));
         g.light_group_code = static_cast<float>(m.light_group + 1 +
-                                                MATERIAL_LINK_ROW_SCALE * m.light_link_row);
+                                                MATERIAL_LINK_ROW_SCALE * m.light_link_row +
+                                                MATERIAL_LINK_SET_SCALE * m.light_link_set);
         if (textures && m.bump_texture >= 0)
             g.options |= glm::packHalf1x16(m.bump_distance) << kOptionBumpDistanceShift;
         const bool rough = m.roughness > 0.0f || m.roughness_texture >= 0;

@@ -11,7 +11,9 @@
 //   nor going on, unless its emitter's light reaches that surface; before that it passes
 //   the surfaces that do not shadow its emitter. So a caustic (light, glass, receiver) lands
 //   only on receivers its light reaches, and light scattered once is free of links, as in
-//   Cycles, where the link is checked at the receiving shading point.
+//   Cycles, where the link is checked at the receiving shading point;
+// - emission the eye path meets after a mirror or glass counts only where the emitter's light
+//   reaches the surface it last scattered from (eye_link_reaches).
 // Nothing here is compiled without links (the specialization row `light-linking`).
 #ifndef LIGHT_LINKING_GLSL
 #define LIGHT_LINKING_GLSL
@@ -24,7 +26,13 @@ const uint shadow_link_blocks[LIGHT_LINK_ROWS] = uint[](SHADOW_LINK_BLOCKS);
 const uint LINK_SET_ANY = uint(MAX_LIGHT_LINK_SETS);
 
 uint material_link_row(int m) {
-    return uint(material_record(m, MATERIAL_ABSORPTION).w) / uint(MATERIAL_LINK_ROW_SCALE);
+    return (uint(material_record(m, MATERIAL_ABSORPTION).w) / uint(MATERIAL_LINK_ROW_SCALE)) %
+           uint(MAX_LIGHT_LINK_ROWS);
+}
+
+// The link set of material m's emission (Material::light_link_set).
+uint material_link_set(int m) {
+    return uint(material_record(m, MATERIAL_ABSORPTION).w) / uint(MATERIAL_LINK_SET_SCALE);
 }
 
 // Whether light of link set `set` reaches material m.
@@ -42,6 +50,7 @@ bool shadow_link_blocks_set(int m, uint set) {
 uint shadow_link_set = LINK_SET_ANY;
 int light_link_receiver = 0;
 
+#ifdef USES_EMITTERS
 // A light sample from emitter `picked` for material m: nothing where its light does not reach
 // m; its shadow ray passes what does not shadow it.
 void light_link_sample(int m, uint picked, inout vec3 radiance_over_pdf) {
@@ -49,6 +58,20 @@ void light_link_sample(int m, uint picked, inout vec3 radiance_over_pdf) {
     if (!light_link_reaches(set, m)) radiance_over_pdf = vec3(0.0);
     light_link_receiver = m;
     shadow_link_set = set;
+}
+#endif
+
+// The eye path's receiver of the emission it meets: as in Cycles (the object the last BSDF
+// sample left, the forward receiver), the root material of the surface it last scattered
+// from (a mirror, glass); -1 while the camera sees the path directly: the camera is no
+// receiver, so emitters seen directly are not linked. Set by eye_trace.comp; read by
+// eye_link_reaches and by hit_sphere_light (common/sphere_lights.glsl), which, as Cycles'
+// light intersection, passes over the sphere lights that do not reach it.
+int eye_link_receiver = -1;
+
+// Whether emission of link set `set` met by the eye path counts.
+bool eye_link_reaches(uint set) {
+    return eye_link_receiver < 0 || light_link_reaches(set, eye_link_receiver);
 }
 
 #ifdef USES_PHOTON_PATHS

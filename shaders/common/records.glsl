@@ -118,10 +118,12 @@
 
 // --- Light linking (common/light_linking.glsl, docs/light_linking.md) ---
 // A link set is a bit of a row's masks; a material's row rides above its group code in
-// MATERIAL_ABSORPTION's w (times MATERIAL_LINK_ROW_SCALE, exact in a float).
+// MATERIAL_ABSORPTION's w (times MATERIAL_LINK_ROW_SCALE), and the link set of its emission
+// above the row (times MATERIAL_LINK_SET_SCALE): below 2^19, exact in a float.
 #define MAX_LIGHT_LINK_SETS 32
 #define MAX_LIGHT_LINK_ROWS 256
 #define MATERIAL_LINK_ROW_SCALE 64
+#define MATERIAL_LINK_SET_SCALE 16384  // MATERIAL_LINK_ROW_SCALE x MAX_LIGHT_LINK_ROWS
 
 // --- Visible points, one per pixel (common/visible_points.glsl names the fields) ---
 #define VISIBLE_POINT_VEC4 4u

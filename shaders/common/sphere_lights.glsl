@@ -11,6 +11,7 @@
 #define SPHERE_LIGHTS_GLSL
 
 #include "common/emitters.glsl"
+#include "common/light_linking.glsl"
 
 #ifdef LIGHT_GROUPS
 // The light group code of the sphere light hit_sphere_light found last (light_groups.glsl).
@@ -19,7 +20,7 @@ uint sphere_light_group_code = 0u;
 
 
 // The nearest sphere light the ray meets before origin + t_max ray_dir: true, with its
-// radiance.
+// radiance. With links, only those whose light reaches the eye path's receiver.
 bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance) {
     radiance = vec3(0.0);
     bool found = false;
@@ -32,6 +33,10 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
         int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
         float r = kind == EMITTER_POINT ? b.w : (kind == EMITTER_SPOT ? c.y : 0.0);
         if (r <= 0.0) continue;
+#ifdef LIGHT_LINKING
+        // Not there for the eye path's receiver (common/light_linking.glsl).
+        if (!eye_link_reaches(uint(floatBitsToInt(a.w)) >> EMITTER_LINK_SHIFT)) continue;
+#endif
         // |origin + t dir - centre| = r, dir of unit length; the nearer root outside.
         vec3 oc = origin - a.xyz;
         float half_b = dot(oc, dir);
