@@ -64,3 +64,33 @@ def test_two_light_groups_sum_to_combined_and_match_each_light_alone():
         assert abs(ratio - 1.0) <= 0.01, (name, ratio)
     assert groups["key"][..., 0].sum() > 1.5 * groups["key"][..., 2].sum()
     assert groups["fill"][..., 2].sum() > 1.5 * groups["fill"][..., 0].sum()
+
+
+def test_light_group_panels_show_for_the_engine():
+    """Blender draws View Layer > Light Groups and the objects' and World's Light Group
+    fields in Cycles' panels, which poll for Cycles alone: with GLSLPPM chosen a user could not
+    make a group. The engine's own panels (addon/ui/light_group_panels.py) poll for it, and
+    the operator their list uses makes a group the render then writes."""
+    from types import SimpleNamespace
+    scene = two_light_scene(groups=False)
+    layer = scene.view_layers[0]
+    names = ("VIEWLAYER_PT_glslppm_light_groups", "OBJECT_PT_glslppm_light_group",
+             "WORLD_PT_glslppm_light_group")
+    panels = [getattr(bpy.types, name) for name in names]
+    light = next(o for o in scene.objects if o.type == 'LIGHT')
+    if scene.world is None:
+        scene.world = bpy.data.worlds.new("World")
+
+    def context(engine):
+        return SimpleNamespace(engine=engine, view_layer=layer, object=light, world=scene.world)
+
+    assert all(panel.poll(context('GLSLPPM')) for panel in panels)
+    assert not any(panel.poll(context('CYCLES')) for panel in panels)
+    cycles = [getattr(bpy.types, name, None) for name in (
+        "CYCLES_OBJECT_PT_lightgroup", "CYCLES_WORLD_PT_settings_light_group")]
+    assert all(panel is None or not panel.poll(context('GLSLPPM')) for panel in cycles)
+    before = len(layer.lightgroups)
+    with bpy.context.temp_override(scene=scene, view_layer=layer):
+        bpy.ops.scene.view_layer_add_lightgroup(name="key")
+    assert len(layer.lightgroups) == before + 1
+    assert layer.lightgroups[-1].name.startswith("key")
