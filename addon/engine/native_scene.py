@@ -34,7 +34,8 @@ def native_scene(native, data):
     camera = native.Camera(**asdict(data.camera))
     # Fields, not asdict(): asdict would deep-copy every texture's pixels.
     textures = [native.Texture(texture.pixels, wrap=texture.wrap, name=texture.name,
-                               uv_map=texture.uv_map, position_map=texture.position_map)
+                               uv_map=texture.uv_map, position_map=texture.position_map,
+                               interpolation=texture.interpolation)
                 for texture in data.textures]
     scene = native.Scene(
         positions=data.positions, indices=data.indices, normals=data.normals,

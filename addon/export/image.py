@@ -1,5 +1,5 @@
 """Image converter: Blender images -> TextureData for the renderer, one per image, wrap
-mode and uv map, shared by every material and the world that use it.
+mode, interpolation and uv map, shared by every material and the world that use it.
 
 Pixels are read with ``foreach_get`` from ``image.pixels``, which is laid out as the
 renderer wants it (row 0 at the bottom). Blender keeps 8-bit images in their file's
@@ -29,6 +29,9 @@ LINEAR_COLOR_SPACES = {"Non-Color", "Linear", "Linear Rec.709", "Raw", "Linear C
 # image: shaders/common/textures.glsl).
 WRAP_OF_EXTENSION = {'REPEAT': "repeat", 'CLIP': "clip", 'EXTEND': "extend", 'MIRROR': "mirror"}
 IDENTITY_UV_MAP = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+# Image Texture interpolation -> the renderer's. Cubic is not implemented, and Cycles reads
+# Smart as Cubic: both render as Linear, warned once per image.
+INTERPOLATION_OF_NODE = {'Linear': "linear", 'Closest': "closest"}
 
 
 class TextureTable:
@@ -40,18 +43,19 @@ class TextureTable:
     def __init__(self, warn, spaces=None, shared=None):
         self.spaces = spaces
         if shared is not None:  # a view of another table for one object
-            self.textures, self._index, self._pixels = shared
+            self.textures, self._index, self._pixels, self._warned = shared
         else:
-            self.textures, self._index, self._pixels = [], {}, {}
+            self.textures, self._index, self._pixels, self._warned = [], {}, {}, set()
         self._warn = warn
 
     def for_object(self, spaces):
         """This table, converting for the object of spaces (its Generated and Object
         coordinates)."""
-        return TextureTable(self._warn, spaces, (self.textures, self._index, self._pixels))
+        return TextureTable(self._warn, spaces,
+                            (self.textures, self._index, self._pixels, self._warned))
 
     def index(self, image, extension='REPEAT', warn=None, uv_map=IDENTITY_UV_MAP,
-              position_map=None):
+              position_map=None, interpolation='Linear'):
         """Index of image in the table, or -1 (missing or unreadable: warned)."""
         warn = warn or self._warn
         if image is None:
@@ -60,16 +64,22 @@ class TextureTable:
         wrap = WRAP_OF_EXTENSION.get(extension, "repeat")
         if extension not in WRAP_OF_EXTENSION:
             warn(f"image '{image.name}': extension {extension.title()} is rendered as Repeat")
+        filtering = INTERPOLATION_OF_NODE.get(interpolation, "linear")
+        if interpolation not in INTERPOLATION_OF_NODE and \
+                (image.name_full, interpolation) not in self._warned:
+            self._warned.add((image.name_full, interpolation))
+            warn(f"image '{image.name}': {interpolation} interpolation is rendered as Linear")
         uv_map = tuple(tuple(float(x) for x in row) for row in uv_map)
         if position_map is not None:
             position_map = tuple(tuple(float(x) for x in row) for row in position_map)
-        key = (image.name_full, wrap, uv_map, position_map)
+        key = (image.name_full, wrap, uv_map, position_map, filtering)
         if key not in self._index:
             if image.name_full not in self._pixels:
                 self._pixels[image.name_full] = image_texture(image, wrap, warn)
             texture = self._pixels[image.name_full]
             if texture is not None:
-                texture = TextureData(texture.pixels, wrap, texture.name, uv_map, position_map)
+                texture = TextureData(texture.pixels, wrap, texture.name, uv_map, position_map,
+                                      filtering)
             self._index[key] = -1 if texture is None else len(self.textures)
             if texture is not None:
                 self.textures.append(texture)

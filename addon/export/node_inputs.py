@@ -48,10 +48,10 @@ def linked_output(socket):
 
 
 def image_texture_index(node, warn, textures, uv_only=False):
-    """The TextureTable index of an Image Texture node's image under its extension and the
-    uv or position map of its Vector input (texture_mapping.py), -1 for none, warning about
-    what of the node is not followed. uv_only: normal and bump maps, whose tangent frame the
-    renderer takes from the uvs, are looked up at the uvs."""
+    """The TextureTable index of an Image Texture node's image under its extension,
+    interpolation and the uv or position map of its Vector input (texture_mapping.py), -1
+    for none, warning about what of the node is not followed. uv_only: normal and bump maps,
+    whose tangent frame the renderer takes from the uvs, are looked up at the uvs."""
     source, rows = texture_map(node, warn, spaces=getattr(textures, "spaces", None))
     if source == "position" and uv_only:
         warn(f"image texture '{node.name}': a normal or bump map on Generated or Object "
@@ -61,8 +61,10 @@ def image_texture_index(node, warn, textures, uv_only=False):
         warn(f"image texture '{node.name}': {node.projection.title()} projection is "
              "rendered as Flat")
     if source == "position":
-        return textures.index(node.image, node.extension, warn, position_map=rows)
-    return textures.index(node.image, node.extension, warn, rows)
+        return textures.index(node.image, node.extension, warn, position_map=rows,
+                              interpolation=node.interpolation)
+    return textures.index(node.image, node.extension, warn, rows,
+                          interpolation=node.interpolation)
 
 
 def socket_color_texture(socket, warn, textures, clamp=True):

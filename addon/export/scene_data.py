@@ -68,6 +68,7 @@ class TextureData:
     # Or, where given, at (a x + b y + c z + d, e x + f y + g z + h) for the world position
     # (Generated and Object coordinates): ((a, b, c, d), (e, f, g, h)); uv_map unused.
     position_map: tuple = None
+    interpolation: str = "linear"    # "linear" or "closest" (export/image.py)
 
 
 @dataclass

@@ -83,7 +83,7 @@ def _environment_texture(node, warn, textures):
         warn(f"environment texture '{node.name}': {node.projection.title()} projection "
              "is not supported; using the Background colour")
         return -1
-    return textures.index(node.image, 'REPEAT', warn)
+    return textures.index(node.image, 'REPEAT', warn, interpolation=node.interpolation)
 
 
 def _to_world(lookup):

@@ -27,6 +27,7 @@ constexpr std::size_t kMaxEmbeddedTexels = std::size_t(1) << 26;
 constexpr int kWrapRepeat = TINYGLTF_TEXTURE_WRAP_REPEAT;
 constexpr int kWrapClamp = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
 constexpr int kWrapMirror = TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
+constexpr int kFilterNearest = TINYGLTF_TEXTURE_FILTER_NEAREST;
 
 struct Converter {
     const tinygltf::Model& model;
@@ -222,6 +223,10 @@ int Converter::texture(const tinygltf::TextureInfo& info, const std::string& ele
     Texture texture;
     if (!image_texture(t.source, what, texture)) return scene_texture[info.index] = -1;
     texture.wrap = wrap_of(t.sampler, what);
+    // magFilter NEAREST is Closest, as Blender's glTF importer sets the Image Texture (the
+    // renderer has no mip levels, so minFilter has nothing to choose).
+    if (t.sampler >= 0 && model.samplers[std::size_t(t.sampler)].magFilter == kFilterNearest)
+        texture.interpolation = TextureInterpolation::Closest;
     scene.textures.push_back(std::move(texture));
     return scene_texture[info.index] = int(scene.textures.size()) - 1;
 }

@@ -18,6 +18,7 @@ inline constexpr const char* kMaterialKinds[] = {"diffuse",     "conductor",   "
 inline constexpr const char* kTextureChannels[] = {"red", "green", "blue", "alpha", "luminance"};
 inline constexpr const char* kMixModes[] = {"constant", "fresnel", "facing", "layer_fresnel"};
 inline constexpr const char* kTextureWraps[] = {"repeat", "clip", "extend", "mirror"};
+inline constexpr const char* kTextureInterpolations[] = {"linear", "closest"};
 inline constexpr const char* kLightKinds[] = {"point", "spot", "sun", "area"};
 inline constexpr const char* kAreaShapes[] = {"square", "rectangle", "disk", "ellipse"};
 inline constexpr const char* kProjections[] = {"perspective", "orthographic"};
@@ -26,6 +27,8 @@ static_assert(std::size(kMaterialKinds) == std::size_t(MaterialKind::Mix) + 1);
 static_assert(std::size(kTextureChannels) == std::size_t(TextureChannel::Luminance) + 1);
 static_assert(std::size(kMixModes) == std::size_t(MixFactor::LayerFresnel) + 1);
 static_assert(std::size(kTextureWraps) == std::size_t(TextureWrap::Mirror) + 1);
+static_assert(std::size(kTextureInterpolations) ==
+              std::size_t(TextureInterpolation::Closest) + 1);
 static_assert(std::size(kLightKinds) == std::size_t(LightKind::Area) + 1);
 static_assert(std::size(kAreaShapes) == std::size_t(AreaShape::Ellipse) + 1);
 static_assert(std::size(kProjections) == std::size_t(Projection::Orthographic) + 1);

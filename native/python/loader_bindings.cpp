@@ -39,6 +39,7 @@ py::dict texture_dict(const Texture& t) {
     d["width"] = t.width;
     d["height"] = t.height;
     d["wrap"] = name_of(t.wrap, kTextureWraps);
+    d["interpolation"] = name_of(t.interpolation, kTextureInterpolations);
     d["encoding"] = t.srgb8.empty() ? "linear" : "srgb8";
     const std::vector<py::ssize_t> shape{t.height, t.width, 4};
     if (!t.srgb8.empty()) {

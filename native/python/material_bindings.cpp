@@ -67,7 +67,8 @@ Material make_material(const std::string& kind, std::array<float, 3> color, floa
 // bottom as in Blender's pixels.
 Texture make_texture(const py::array& pixels, const std::string& wrap, const std::string& name,
                      std::array<std::array<float, 3>, 2> uv_map,
-                     std::optional<std::array<std::array<float, 4>, 2>> position_map) {
+                     std::optional<std::array<std::array<float, 4>, 2>> position_map,
+                     const std::string& interpolation) {
     Texture t;
     t.uv_map_u = {uv_map[0][0], uv_map[0][1], uv_map[0][2]};
     t.uv_map_v = {uv_map[1][0], uv_map[1][1], uv_map[1][2]};
@@ -94,6 +95,8 @@ Texture make_texture(const py::array& pixels, const std::string& wrap, const std
                               "(linear), got " + describe(pixels));
     }
     t.wrap = parse_name<TextureWrap>(wrap, kTextureWraps, "Texture wrap");
+    t.interpolation = parse_name<TextureInterpolation>(
+        interpolation, kTextureInterpolations, ("Texture '" + name + "' interpolation").c_str());
     return t;
 }
 
@@ -133,14 +136,19 @@ void bind_materials(py::module_& m) {
              py::arg("name") = "image",
              py::arg("uv_map") =
                  std::array<std::array<float, 3>, 2>{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}},
-             py::arg("position_map") = py::none(),
+             py::arg("position_map") = py::none(), py::arg("interpolation") = "linear",
              "An image; uv_map ((a, b, c), (d, e, f)) looks it up at (a u + b v + c, "
              "d u + e v + f) for mesh uv (u, v) (Blender's Mapping node on the UVs). "
              "position_map ((a, b, c, d), (e, f, g, h)), where given, looks it up at "
              "(a x + b y + c z + d, e x + f y + g z + h) for the surface point's world "
-             "position (x, y, z) instead (Generated and Object coordinates).")
+             "position (x, y, z) instead (Generated and Object coordinates). interpolation: "
+             "'linear' (bilinear between the four nearest texel centres) or 'closest' (the "
+             "texel the point falls in), as Blender's Image Texture node.")
         .def_readonly("width", &Texture::width)
-        .def_readonly("height", &Texture::height);
+        .def_readonly("height", &Texture::height)
+        .def_property_readonly("interpolation", [](const Texture& t) {
+            return name_of(t.interpolation, kTextureInterpolations);
+        });
 }
 
 }  // namespace glslppm

@@ -159,7 +159,9 @@ static_assert(sizeof(GpuEmitter) == EMITTER_VEC4 * 16 && offsetof(GpuEmitter, a)
 // `buffer TextureInfo` (shaders/common/textures.glsl, std430): one record per scene texture.
 struct GpuTexture {
     glm::ivec4 rect;     // (x, y, width, height) of the image in its atlas layer
-    glm::ivec4 info;     // (layer, float 0/1, TextureWrap, kTextureFrom*)
+    // (layer, float 0/1, TextureWrap | TextureInterpolation << TEXTURE_INTERPOLATION_SHIFT,
+    // kTextureFrom*): a Linear texture's third word is its wrap alone.
+    glm::ivec4 info;
     // kTextureFromUv: Texture::uv_map_u, w unused; kTextureFromPosition:
     // Texture::position_map_u, over (p, 1).
     glm::vec4 uv_map_u;
@@ -167,6 +169,7 @@ struct GpuTexture {
 };
 inline constexpr int kTextureFromUv = TEXTURE_FROM_UV;
 inline constexpr int kTextureFromPosition = TEXTURE_FROM_POSITION;
+static_assert(WRAP_MIRROR <= TEXTURE_WRAP_MASK);
 static_assert(sizeof(GpuTexture) == 64 && offsetof(GpuTexture, info) == 16 &&
               offsetof(GpuTexture, uv_map_u) == 32 && offsetof(GpuTexture, uv_map_v) == 48);
 

@@ -77,13 +77,18 @@ Texture halve(const Texture& t) {
     return out;
 }
 
+// GpuTexture's info.z: the wrap, and the interpolation from TEXTURE_INTERPOLATION_SHIFT.
+int texture_sampling(TextureWrap wrap, TextureInterpolation interpolation) {
+    return static_cast<int>(wrap) | static_cast<int>(interpolation) << TEXTURE_INTERPOLATION_SHIFT;
+}
+
 }  // namespace
 
 std::vector<GpuTexture> TextureAtlas::records() const {
     std::vector<GpuTexture> r;
     for (const AtlasPlacement& p : placements)
         r.push_back({{p.x, p.y, p.width, p.height},
-                     {p.layer, p.is_float ? 1 : 0, static_cast<int>(p.wrap),
+                     {p.layer, p.is_float ? 1 : 0, texture_sampling(p.wrap, p.interpolation),
                       p.from_position ? kTextureFromPosition : kTextureFromUv},
                      p.from_position ? p.position_map_u : glm::vec4(p.uv_map_u, 0.0f),
                      p.from_position ? p.position_map_v : glm::vec4(p.uv_map_v, 0.0f)});
@@ -170,6 +175,7 @@ TextureAtlas pack_textures(const std::vector<Texture>& textures, const std::vect
         AtlasPlacement& p = atlas.placements[k];
         if (shared[k] != k) p = atlas.placements[shared[k]];
         p.wrap = textures[k].wrap;
+        p.interpolation = textures[k].interpolation;
         p.uv_map_u = textures[k].uv_map_u;
         p.uv_map_v = textures[k].uv_map_v;
         p.from_position = textures[k].from_position;

@@ -1,7 +1,7 @@
 // Packing the scene's images into two 2-D array textures (8-bit sRGB and float), so that
 // any number of images fits in two sampler bindings. Each image keeps its own rectangle;
-// the shaders filter bilinearly with texelFetch inside it, so wrapping never bleeds into a
-// neighbour (shaders/common/textures.glsl).
+// the shaders filter (bilinear, or the one nearest texel) with texelFetch inside it, so
+// wrapping never bleeds into a neighbour (shaders/common/textures.glsl).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +19,7 @@ struct AtlasPlacement {
     int layer = 0, x = 0, y = 0, width = 0, height = 0;
     bool is_float = false;
     TextureWrap wrap = TextureWrap::Repeat;
+    TextureInterpolation interpolation = TextureInterpolation::Linear;
     glm::vec3 uv_map_u{1.0f, 0.0f, 0.0f}, uv_map_v{0.0f, 1.0f, 0.0f};
     bool from_position = false;
     glm::vec4 position_map_u{0.0f}, position_map_v{0.0f};

@@ -149,6 +149,14 @@ enum class TextureWrap : std::uint32_t {
     Mirror = WRAP_MIRROR,
 };
 
+// Blender's Image Texture interpolation: Linear filters between the four nearest texel
+// centres, Closest reads the one texel the point falls in (Cycles' interp_closest). Cubic and
+// Smart (Cycles' cubic B-spline) are rendered as Linear by the add-on, with a warning.
+enum class TextureInterpolation : std::uint32_t {
+    Linear = INTERPOLATION_LINEAR,
+    Closest = INTERPOLATION_CLOSEST,
+};
+
 // An RGBA image. Texel (x, y) covers uv ([x, x+1] / width, [y, y+1] / height): row 0 is the
 // bottom row (v = 0), as in Blender's pixel arrays. Exactly one of `srgb8` (8-bit, sRGB
 // encoded, decoded to linear by the renderer) and `linear` (float, linear) holds
@@ -160,6 +168,7 @@ struct Texture {
     std::vector<std::uint8_t> srgb8;
     std::vector<float> linear;
     TextureWrap wrap = TextureWrap::Repeat;
+    TextureInterpolation interpolation = TextureInterpolation::Linear;
     // Where the image is looked up for a surface point of mesh uv (u, v): at
     // (dot(uv_map_u, (u, v, 1)), dot(uv_map_v, (u, v, 1))), a 2-D affine map (Blender's
     // Mapping and Vector Math nodes between the UV output and the Image Texture's Vector;

@@ -164,6 +164,7 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
         h.value(t.width);
         h.value(t.height);
         h.value(t.wrap);
+        h.value(t.interpolation);
         h.value(t.uv_map_u);
         h.value(t.uv_map_v);
         h.value(static_cast<std::uint32_t>(t.from_position));

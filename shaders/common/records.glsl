@@ -75,6 +75,13 @@
 #define WRAP_CLIP 1
 #define WRAP_EXTEND 2
 #define WRAP_MIRROR 3
+// TextureInterpolation (native/scene/scene.h): the Image Texture's interpolation. GpuTexture's
+// info.z holds the wrap in its low bits and the interpolation from this shift, so that a
+// Linear texture's word is its wrap as before.
+#define INTERPOLATION_LINEAR 0
+#define INTERPOLATION_CLOSEST 1
+#define TEXTURE_WRAP_MASK 255
+#define TEXTURE_INTERPOLATION_SHIFT 8
 // Where a texture is looked up from: the mesh's uv, or the world position.
 #define TEXTURE_FROM_UV 0
 #define TEXTURE_FROM_POSITION 1

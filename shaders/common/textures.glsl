@@ -1,10 +1,10 @@
 // Image textures: every image sits in its own rectangle of one of two array textures (8-bit
-// sRGB bytes, read as UNORM; float), laid out by native/render/texture_atlas.h. Bilinear
-// filtering is done here with texelFetch so that every extension wraps inside the image's
-// rectangle and never bleeds into a neighbour. 8-bit sRGB images are filtered as bytes and
-// the result decoded to linear, as Cycles does (NODE_IMAGE_COMPRESS_AS_SRGB in
-// kernel/svm/image.h): a GL sRGB format would decode each texel before filtering, which
-// reads brighter across colour edges (the decode is convex).
+// sRGB bytes, read as UNORM; float), laid out by native/render/texture_atlas.h. Filtering
+// (bilinear, or Closest's one texel) is done here with texelFetch so that every extension
+// wraps inside the image's rectangle and never bleeds into a neighbour. 8-bit sRGB images are
+// filtered as bytes and the result decoded to linear, as Cycles does
+// (NODE_IMAGE_COMPRESS_AS_SRGB in kernel/svm/image.h): a GL sRGB format would decode each
+// texel before filtering, which reads brighter across colour edges (the decode is convex).
 #ifndef TEXTURES_GLSL
 #define TEXTURES_GLSL
 #include "common/bindings.glsl"
@@ -90,24 +90,37 @@ vec4 srgb_to_linear(vec4 c) {
     return vec4(mix(high, low, lessThanEqual(c.rgb, vec3(0.04045))), c.a);
 }
 
-// Bilinear at the image's own uv st (texel (x, y) covers [x, x+1] / width), between the four
-// nearest texel centres, each wrapped by the extension (Cycles' interp_linear).
+// Closest: the one texel st falls in, floor(st size), wrapped as Linear's (Cycles'
+// interp_closest, whose texel centres are those of interp_linear).
+vec4 closest_texel(ivec4 rect, ivec4 info, int wrap, vec2 st) {
+    return fetch_texel(rect, info, wrap_texel(ivec2(floor(st * vec2(rect.zw))), rect.zw, wrap));
+}
+
+// Texture k at the image's own uv st (texel (x, y) covers [x, x+1] / width). Linear: bilinear
+// between the four nearest texel centres, each wrapped by the extension (Cycles'
+// interp_linear); Closest: closest_texel. Bytes are filtered, then decoded.
 vec4 sample_texture_st(int k, vec2 st) {
     ivec4 rect = texture_records[k].rect;
     ivec4 info = texture_records[k].info;
+    int wrap = info.z & TEXTURE_WRAP_MASK;
     // Reduced to one period (Repeat 1, Mirror 2), which keeps the texel arithmetic small;
     // Clip and Extend read the same texels anywhere past the edges.
-    if (info.z == WRAP_REPEAT) st -= floor(st);
-    else if (info.z == WRAP_MIRROR) st -= 2.0 * floor(0.5 * st);
+    if (wrap == WRAP_REPEAT) st -= floor(st);
+    else if (wrap == WRAP_MIRROR) st -= 2.0 * floor(0.5 * st);
     else st = clamp(st, vec2(-1.0), vec2(2.0));
-    vec2 xy = st * vec2(rect.zw) - 0.5;
-    vec2 base = floor(xy);
-    vec2 f = xy - base;
-    ivec2 p0 = ivec2(base), p1 = p0 + 1;
-    ivec2 q0 = wrap_texel(p0, rect.zw, info.z), q1 = wrap_texel(p1, rect.zw, info.z);
-    vec4 a = mix(fetch_texel(rect, info, q0), fetch_texel(rect, info, ivec2(q1.x, q0.y)), f.x);
-    vec4 b = mix(fetch_texel(rect, info, ivec2(q0.x, q1.y)), fetch_texel(rect, info, q1), f.x);
-    vec4 filtered = mix(a, b, f.y);
+    vec4 filtered;
+    if ((info.z >> TEXTURE_INTERPOLATION_SHIFT) == INTERPOLATION_CLOSEST) {
+        filtered = closest_texel(rect, info, wrap, st);
+    } else {
+        vec2 xy = st * vec2(rect.zw) - 0.5;
+        vec2 base = floor(xy);
+        vec2 f = xy - base;
+        ivec2 p0 = ivec2(base), p1 = p0 + 1;
+        ivec2 q0 = wrap_texel(p0, rect.zw, wrap), q1 = wrap_texel(p1, rect.zw, wrap);
+        vec4 a = mix(fetch_texel(rect, info, q0), fetch_texel(rect, info, ivec2(q1.x, q0.y)), f.x);
+        vec4 b = mix(fetch_texel(rect, info, ivec2(q0.x, q1.y)), fetch_texel(rect, info, q1), f.x);
+        filtered = mix(a, b, f.y);
+    }
     return info.y == 0 ? srgb_to_linear(filtered) : filtered;
 }
 

@@ -561,6 +561,34 @@ def test_image_texture_becomes_a_texture():
     assert data.textures[0].wrap == "clip"
 
 
+def test_image_texture_interpolation_crosses_to_the_texture():
+    """The Image Texture's interpolation: Linear and Closest cross as they are, unwarned;
+    Cubic and Smart render as Linear with one warning naming the image, however many nodes
+    read it (two cubes of one Cubic material, and a second Cubic material)."""
+    pixels = np.full((2, 2, 4), 0.5, dtype=np.float32)
+    png = save_image("Texels", pixels, False, 'PNG', "png")
+    for interpolation, want in (('Linear', "linear"), ('Closest', "closest")):
+        material = image_material(f"Filter {interpolation}", png)
+        material.node_tree.nodes["Image Texture"].interpolation = interpolation
+        data = _single(material)
+        assert [t.interpolation for t in data.textures] == [want], data.textures
+        assert not any("interpolation" in w for w in data.warnings), data.warnings
+    for interpolation in ('Cubic', 'Smart'):
+        for obj in list(bpy.data.objects):
+            bpy.data.objects.remove(obj)
+        _camera()
+        for k in range(2):
+            material = image_material(f"Filter {interpolation} {k}", png)
+            material.node_tree.nodes["Image Texture"].interpolation = interpolation
+            add_cube(f"Cube {k}", location=(3 * k, 0, 0), material=material)
+            add_cube(f"Twin {k}", location=(3 * k, 3, 0), material=material)
+        data = export()
+        assert [t.interpolation for t in data.textures] == ["linear"], data.textures
+        warned = [w for w in data.warnings if "interpolation" in w]
+        assert len(warned) == 1 and f"image '{png.name}': {interpolation} interpolation " \
+            "is rendered as Linear" in warned[0], data.warnings
+
+
 def test_image_texture_colour_spaces_and_fallbacks():
     pixels = np.full((2, 2, 4), 0.5, dtype=np.float32)
     pixels[..., 3] = 1.0

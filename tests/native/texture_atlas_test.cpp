@@ -45,6 +45,23 @@ TEST(TextureAtlas, SamePixelsShareOneRectangleWithTheirOwnWrapAndUvMap) {
     EXPECT_EQ(records[1].uv_map_v, glm::vec4(0.0f, 3.0f, -0.5f, 0.0f));
 }
 
+TEST(TextureAtlas, InterpolationSitsAboveTheWrapAndSharesThePixels) {
+    Texture a = checker(8, 0.5f);
+    a.wrap = TextureWrap::Extend;
+    Texture b = a;  // the same image read Closest
+    b.interpolation = TextureInterpolation::Closest;
+    const TextureAtlas atlas = pack_textures({a, b}, {true, true}, 4096, 16);
+    EXPECT_EQ(std::tie(atlas.placements[0].x, atlas.placements[0].y),
+              std::tie(atlas.placements[1].x, atlas.placements[1].y));
+    const std::vector<GpuTexture> records = atlas.records();
+    ASSERT_EQ(records.size(), 2u);
+    // Linear: the wrap alone, as before interpolation was carried.
+    EXPECT_EQ(records[0].info.z, WRAP_EXTEND);
+    EXPECT_EQ(records[1].info.z,
+              WRAP_EXTEND | INTERPOLATION_CLOSEST << TEXTURE_INTERPOLATION_SHIFT);
+    EXPECT_EQ(records[1].info.z & TEXTURE_WRAP_MASK, WRAP_EXTEND);
+}
+
 TEST(TextureAtlas, UvMapThatIsNotFiniteIsAnErrorNamingTheTexture) {
     Texture a = checker(4, 1.0f);
     a.uv_map_v.z = std::numeric_limits<float>::quiet_NaN();

@@ -517,7 +517,7 @@ def test_gltf_embedded_texture_with_flipped_uvs_and_clamp_sampler(glslppm, tmp_p
                        [[0, 0, 255, 255], [255, 255, 255, 255]]], np.uint8)
     g.doc["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png_bytes(pixels))
                         .decode()}]
-    g.doc["samplers"] = [{"wrapS": 33071, "wrapT": 33071}]
+    g.doc["samplers"] = [{"wrapS": 33071, "wrapT": 33071, "magFilter": 9728}]
     g.doc["textures"] = [{"source": 0, "sampler": 0}]
     g.doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
                                                     "metallicFactor": 0}}]
@@ -526,6 +526,7 @@ def test_gltf_embedded_texture_with_flipped_uvs_and_clamp_sampler(glslppm, tmp_p
     assert len(c["textures"]) == 1
     t = c["textures"][0]
     assert (t["width"], t["height"], t["wrap"], t["encoding"]) == (2, 2, "extend", "srgb8")  # CLAMP_TO_EDGE
+    assert t["interpolation"] == "closest"  # magFilter NEAREST, as Blender's importer
     # Rows are stored bottom-first: row 0 is the image's bottom row (blue, white).
     np.testing.assert_array_equal(t["pixels"], pixels[::-1])
     assert c["materials"][0]["color_texture"] == 0
@@ -558,6 +559,7 @@ def test_gltf_external_image_uri_is_percent_decoded(glslppm, tmp_path):
     assert c["materials"][0]["color_texture"] == 0, warnings
     assert (c["textures"][0]["width"], c["textures"][0]["height"]) == (3, 2)
     assert c["textures"][0]["wrap"] == "repeat"  # no sampler: glTF's default
+    assert c["textures"][0]["interpolation"] == "linear"
 
 
 def test_gltf_environment_map_up_is_the_files_up(glslppm, tmp_path):

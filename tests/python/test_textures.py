@@ -1,4 +1,4 @@
-"""Base-colour textures: sRGB decoding (of the filtered bytes, as Cycles), bilinear
+"""Base-colour textures: sRGB decoding (of the filtered bytes, as Cycles), bilinear and Closest
 filtering, wrapping, downscaling, and a variant that leaves texture lookups (and uvs) out
 when nothing is textured.
 
@@ -247,6 +247,69 @@ def test_srgb_bytes_are_filtered_then_decoded_across_an_edge(glslppm):
         srgb_decode(EDGE_BYTES[1] / 255.0), film[2:-2, 36:-2].shape), rtol=1e-5)
 
 
+# ---- Closest interpolation: the one texel a point falls in (Cycles' interp_closest)
+
+CHECKER_BYTES = np.random.default_rng(30).integers(0, 256, size=(4, 4, 3)).astype(np.uint8)
+
+
+def checker_radiance(g, interpolation, passes=8):
+    """An unlit quad emitting 1 through the 4x4 sRGB byte image CHECKER_BYTES (16 distinct
+    colours, extend wrap) filling an orthographic 48x48 view, nothing else in the scene: each
+    pixel's radiance is the looked-up texel, and every pixel lies inside one texel (12x12
+    pixels a texel)."""
+    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
+    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
+    to_world = np.eye(4, dtype=np.float32)
+    to_world[2, 3] = 2.0
+    pixels = np.full((4, 4, 4), 255, dtype=np.uint8)
+    pixels[..., :3] = CHECKER_BYTES
+    material = g.Material("diffuse", color=(0, 0, 0), emission=(1, 1, 1), emission_texture=0)
+    texture = g.Texture(pixels, wrap="extend", name="checker", interpolation=interpolation)
+    assert texture.interpolation == interpolation
+    scene = g.Scene(p, t, uvs=uv, materials=[material],
+                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
+                    textures=[texture])
+    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=5))
+    r.run(passes)
+    return r.film()[..., :3].astype(np.float64)
+
+
+def checker_texels():
+    """Each pixel's texel, decoded (the film's row 0 is the top, the image's row 0 v = 0)."""
+    cell = SIZE // 4
+    texels = np.repeat(np.repeat(srgb_decode(CHECKER_BYTES / 255.0), cell, 0), cell, 1)
+    return texels[::-1]
+
+
+def test_closest_reads_each_pixel_as_its_texel(glslppm):
+    """Closest: every pixel is its texel's decoded value, whatever the jittered samples hit
+    inside it, to float rounding (measured on llvmpipe: largest relative difference 5.5e-7
+    over the 44x44 inner pixels; bound 1e-5, so a 1% bias fails). Linear on the same image
+    blends neighbours within half a texel of each texel edge and filters the bytes before
+    decoding: measured 0.63 off in the worst pixel and the mean 12.5% darker (these random
+    colours jump far; the bounds ask 0.05 and 0.5%)."""
+    g = glslppm
+    inner = (slice(2, -2), slice(2, -2))  # away from the quad's edges, which see the void
+    want = checker_texels()[inner]
+    closest = checker_radiance(g, "closest")[inner]
+    worst = float(np.abs(closest / want - 1.0).max())
+    linear = checker_radiance(g, "linear")[inner]
+    linear_off = float(np.abs(linear - want).max())
+    linear_mean = float(linear.mean() / want.mean() - 1.0)
+    print(f"  closest: largest relative difference {worst:.2e}; linear: largest "
+          f"difference {linear_off:.3f}, mean {linear_mean:+.4f}")
+    assert worst < 1e-5, worst
+    assert linear_off > 0.05 and linear_mean < -0.005, (linear_off, linear_mean)
+
+
+def test_unknown_interpolation_is_rejected_with_the_texture_name(glslppm):
+    pixels = np.zeros((2, 2, 4), dtype=np.uint8)
+    with pytest.raises(ValueError, match=r"Texture 'sky\.png' interpolation: 'cubic' is not "
+                                         r"one of linear, closest"):
+        glslppm.Texture(pixels, name="sky.png", interpolation="cubic")
+
+
 # ---- uv maps (Blender's Mapping node on the UVs) and the four extensions, against a numpy
 # copy of Cycles' bilinear lookup (kernel/device/cpu/image.h, interp_linear).
 
@@ -279,13 +342,23 @@ def cycles_linear(image, s, t, wrap):
     return (1 - fy) * a + fy * b
 
 
+def cycles_closest(image, s, t, wrap):
+    """Closest lookup of image (H, W) at image uv (s, t), as Cycles' interp_closest: texel
+    floor(s W), floor(t H) under the extension (Clip: black outside the image)."""
+    h, w = image.shape
+    ix, iy = np.floor(s * w).astype(np.int64), np.floor(t * h).astype(np.int64)
+    qx, qy = _wrap_index(ix, w, wrap), _wrap_index(iy, h, wrap)
+    inside = (qx >= 0) & (qy >= 0)
+    return np.where(inside, image[np.maximum(qy, 0), np.maximum(qx, 0)], 0.0)
+
+
 def mapping_point(scale, rotation_z, location):
     """Blender's Mapping node (Point): R (v S) + L, as the add-on's uv map rows."""
     c, s = math.cos(rotation_z), math.sin(rotation_z)
     return ((c * scale[0], -s * scale[1], location[0]), (s * scale[0], c * scale[1], location[1]))
 
 
-def albedo_of_mapped_quad(g, image, wrap, uv_map, passes=128):
+def albedo_of_mapped_quad(g, image, wrap, uv_map, passes=128, interpolation="linear"):
     """Denoising Albedo of the unit-uv quad filling an orthographic view (texel x 1: exact,
     no light noise), and the reference: Cycles' lookup averaged over 8 x 8 points a pixel."""
     p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
@@ -299,7 +372,8 @@ def albedo_of_mapped_quad(g, image, wrap, uv_map, passes=128):
                                                   ortho_scale=2.0),
                     materials=[g.Material("diffuse", color=(1, 1, 1), color_texture=0)],
                     environment=(1.0, 1.0, 1.0),
-                    textures=[g.Texture(pixels, wrap=wrap, uv_map=uv_map)])
+                    textures=[g.Texture(pixels, wrap=wrap, uv_map=uv_map,
+                                        interpolation=interpolation)])
     r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=4,
                                      passes=["denoising_albedo"]))
     r.run(passes)
@@ -309,7 +383,8 @@ def albedo_of_mapped_quad(g, image, wrap, uv_map, passes=128):
     v = 1.0 - ((np.arange(SIZE)[:, None] + sub[None, :]) / SIZE).ravel()  # rows, top first
     uu, vv = np.meshgrid(u, v)
     (a, b, c), (d, e, f) = uv_map
-    want = cycles_linear(image, a * uu + b * vv + c, d * uu + e * vv + f, wrap)
+    lookup = cycles_closest if interpolation == "closest" else cycles_linear
+    want = lookup(image, a * uu + b * vv + c, d * uu + e * vv + f, wrap)
     want = want.reshape(SIZE, 8, SIZE, 8).mean(axis=(1, 3))
     return got, want
 
@@ -346,3 +421,23 @@ def test_uv_map_off_by_one_percent_is_caught(glslppm):
     print(f"  1% larger uv map: rms {rms:.5f}")
     assert rms > 3e-3, rms
 
+
+
+@pytest.mark.parametrize("wrap", ["repeat", "extend", "clip", "mirror"])
+def test_closest_under_uv_map_and_extension_matches_cycles_lookup(glslppm, wrap):
+    """The same mapped 4x5 image under Closest against Cycles' interp_closest averaged over
+    each pixel: it differs only where a texel edge crosses a pixel and the 128 jittered
+    samples split it otherwise than the 8 x 8 reference points (measured on llvmpipe: rms
+    5.0-8.3e-3, mean at most 1.1e-4). Bounds: rms 1.5e-2 and mean 1e-3; the same image
+    under Linear is 0.069-0.111 rms off (the bound asks 3e-2)."""
+    g = glslppm
+    uv_map = mapping_point((1.7, 2.3), math.radians(30.0), (-0.4, -0.6))
+    got, want = albedo_of_mapped_quad(g, SMOOTH, wrap, uv_map,
+                                      interpolation="closest")
+    rms = float(np.sqrt(np.mean((got - want) ** 2)))
+    mean = float(np.mean(got - want))
+    linear, _ = albedo_of_mapped_quad(g, SMOOTH, wrap, uv_map, passes=1)
+    rms_linear = float(np.sqrt(np.mean((linear - want) ** 2)))
+    print(f"  closest {wrap}: rms {rms:.5f} mean {mean:+.6f}; linear rms {rms_linear:.4f}")
+    assert rms < 1.5e-2 and abs(mean) < 1e-3, (rms, mean)
+    assert rms_linear > 3e-2, rms_linear
