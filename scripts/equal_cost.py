@@ -54,6 +54,9 @@ SCENES = {
     "pool": {"regions": {"floor through water": (0.20, 0.25, 0.80, 0.70)}, "mnee": True},
     "point_ball": {"regions": {"caustic": (0.48, 0.51, 0.72, 0.65)}, "mnee": True},
     "cornell": {"regions": {"glass sphere caustic": (0.57, 0.76, 0.76, 0.88)}, "mnee": False},
+    "showcase": {"regions": {"tea caustic": (0.31, 0.545, 0.45, 0.61),
+                             "ring cardioid": (0.57, 0.565, 0.75, 0.645),
+                             "blue ball caustic": (0.65, 0.445, 0.80, 0.525)}, "mnee": True},
 }
 CYCLES_METHODS = ("cycles", "cycles-mnee")
 CALIBRATION = {"glslppm": (2, 10), "cycles": (16, 256)}  # (small, larger) counts
@@ -335,6 +338,24 @@ def markdown(result):
         lines += ["", "| budget | glslppm best, region | Cycles best, region | ratio | "
                   "glslppm best, whole | Cycles best, whole | ratio |",
                   "|---|---|---|---|---|---|---|"] + ratios
+    if len(result["regions"]) > 1:
+        lines += ["", region_table(result)]
+    return "\n".join(lines)
+
+
+def region_table(result):
+    """Every region's relative RMSE (corrected) and bias per run, for scenes with several
+    regions (the table above shows the first); the reference's own noise in the header."""
+    names = list(result["regions"]) + ["whole"]
+    noise = result["reference_rel_noise"]
+    lines = ["| budget | method | CPU-s | " + " | ".join(
+                 f"{n} (ref. noise {noise[n]:.3f})" for n in names) + " |",
+             "|---|---|---|" + "---|" * len(names)]
+    for r in sorted(result["runs"], key=lambda r: (r["budget"], r["method"])):
+        s = r["scores"]
+        lines.append(f"| {r['budget']:g} | {r['method']} | {r['render_cpu_s']:.1f} | " +
+                     " | ".join(f"{s[n]['rel_rmse']:.3f} ({s[n]['rel_rmse_corrected']:.3f}), "
+                                f"bias {s[n]['bias']:+.3f}" for n in names) + " |")
     return "\n".join(lines)
 
 

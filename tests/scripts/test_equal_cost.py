@@ -85,3 +85,18 @@ def test_methods_carry_their_settings():
     assert equal_cost.parse_methods("sppm,pppm:radius_scale=0.5,photons_per_pass=16384,cycles") \
         == ["sppm", "pppm:radius_scale=0.5,photons_per_pass=16384", "cycles"]
     assert equal_cost.parse_methods("sppm:radius_scale=0.5;vcm") == ["sppm:radius_scale=0.5", "vcm"]
+
+
+def test_region_table_lists_every_region():
+    """A scene with several regions (the showcase) gets one column per region and the
+    whole image, each with the reference's own noise in the header."""
+    score = {"rel_rmse": 0.5, "rel_rmse_corrected": 0.4, "bias": 0.01}
+    result = {"regions": {"a": (0, 0, 1, 1), "b": (0, 0, 1, 1)},
+              "reference_rel_noise": {"a": 0.1, "b": 0.2, "whole": 0.05},
+              "runs": [{"budget": 60.0, "method": "cycles", "render_cpu_s": 59.0,
+                        "scores": {"a": score, "b": score, "whole": score}}]}
+    lines = equal_cost.region_table(result).split("\n")
+    assert lines[0] == ("| budget | method | CPU-s | a (ref. noise 0.100) | b (ref. noise 0.200) "
+                        "| whole (ref. noise 0.050) |")
+    assert lines[2] == ("| 60 | cycles | 59.0 | 0.500 (0.400), bias +0.010 | "
+                        "0.500 (0.400), bias +0.010 | 0.500 (0.400), bias +0.010 |")
