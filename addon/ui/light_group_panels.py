@@ -46,28 +46,27 @@ def draw_light_group_field(layout, owner, view_layer):
     sub.operator("scene.view_layer_add_lightgroup", icon='ADD', text="").name = owner.lightgroup
 
 
-class OBJECT_PT_glslppm_light_group(GlslppmLightGroupPanel, bpy.types.Panel):
+class GlslppmLightGroupField(GlslppmLightGroupPanel):
+    """The Light Group field of the context's `owner` (an object, the World)."""
+    bl_label = "Light Group"
+    owner = ""
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and getattr(context, cls.owner, None) is not None
+
+    def draw(self, context):
+        draw_light_group_field(self.layout, getattr(context, self.owner), context.view_layer)
+
+
+class OBJECT_PT_glslppm_light_group(GlslppmLightGroupField, bpy.types.Panel):
     bl_context = "object"
-    bl_label = "Light Group"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.object is not None
-
-    def draw(self, context):
-        draw_light_group_field(self.layout, context.object, context.view_layer)
+    owner = "object"
 
 
-class WORLD_PT_glslppm_light_group(GlslppmLightGroupPanel, bpy.types.Panel):
+class WORLD_PT_glslppm_light_group(GlslppmLightGroupField, bpy.types.Panel):
     bl_context = "world"
-    bl_label = "Light Group"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.world is not None
-
-    def draw(self, context):
-        draw_light_group_field(self.layout, context.world, context.view_layer)
+    owner = "world"
 
 
 classes = (VIEWLAYER_PT_glslppm_light_groups, OBJECT_PT_glslppm_light_group,

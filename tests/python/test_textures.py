@@ -189,18 +189,24 @@ def edge_radiance(g, passes=128):
     filling an orthographic view, nothing else in the scene: each pixel's radiance is the
     filtered texel. Between the texel centres (u = 0.25 and 0.75, 24 pixel columns) bilinear
     filtering blends the two colours."""
+    pixels = np.full((1, 2, 4), 255, dtype=np.uint8)
+    pixels[0, :, :3] = EDGE_BYTES
+    return unlit_textured_quad(g, g.Texture(pixels, wrap="extend", name="edge"), passes, seed=3)
+
+
+def unlit_textured_quad(g, texture, passes, seed):
+    """A black diffuse quad emitting 1 through `texture`, filling an orthographic SIZE x SIZE
+    view, nothing else in the scene: the film is the looked-up texels."""
     p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
     t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
     uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
     to_world = np.eye(4, dtype=np.float32)
     to_world[2, 3] = 2.0
-    pixels = np.full((1, 2, 4), 255, dtype=np.uint8)
-    pixels[0, :, :3] = EDGE_BYTES
     material = g.Material("diffuse", color=(0, 0, 0), emission=(1, 1, 1), emission_texture=0)
     scene = g.Scene(p, t, uvs=uv, materials=[material],
                     camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
-                    textures=[g.Texture(pixels, wrap="extend", name="edge")])
-    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=3))
+                    textures=[texture])
+    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=seed))
     r.run(passes)
     return r.film()[..., :3].astype(np.float64)
 
@@ -257,22 +263,11 @@ def checker_radiance(g, interpolation, passes=8):
     colours, extend wrap) filling an orthographic 48x48 view, nothing else in the scene: each
     pixel's radiance is the looked-up texel, and every pixel lies inside one texel (12x12
     pixels a texel)."""
-    p = np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], dtype=np.float32)
-    t = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
-    uv = np.array([(0, 0), (1, 0), (1, 1), (0, 1)], dtype=np.float32)
-    to_world = np.eye(4, dtype=np.float32)
-    to_world[2, 3] = 2.0
     pixels = np.full((4, 4, 4), 255, dtype=np.uint8)
     pixels[..., :3] = CHECKER_BYTES
-    material = g.Material("diffuse", color=(0, 0, 0), emission=(1, 1, 1), emission_texture=0)
     texture = g.Texture(pixels, wrap="extend", name="checker", interpolation=interpolation)
     assert texture.interpolation == interpolation
-    scene = g.Scene(p, t, uvs=uv, materials=[material],
-                    camera=g.Camera(to_world, projection="orthographic", ortho_scale=2.0),
-                    textures=[texture])
-    r = g.Renderer(scene, g.Settings(width=SIZE, height=SIZE, photons_per_pass=1024, seed=5))
-    r.run(passes)
-    return r.film()[..., :3].astype(np.float64)
+    return unlit_textured_quad(g, texture, passes, seed=5)
 
 
 def checker_texels():
