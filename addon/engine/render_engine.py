@@ -91,6 +91,10 @@ class GlslppmEngineMixin:
         # Previews show Combined alone.
         self.view_layer = None if self.is_preview else depsgraph.view_layer
         passes = render_passes.requested(self.view_layer) if self.view_layer else set()
+        missing = render_passes.not_rendered(self.view_layer) if self.view_layer else []
+        if missing:
+            self.report_to_user('WARNING', "passes GLSLPPM does not render are left out of "
+                                "the result: " + ", ".join(missing) + " (docs/passes.md)")
         if passes and settings.estimator == 'VCM':
             # VCM renders Combined alone so far (docs/vcm.md): the passes stay empty, said once.
             self.report_to_user('WARNING', "the VCM estimator (in progress) renders Combined "

@@ -27,6 +27,32 @@ def requested(view_layer):
     return wanted
 
 
+# Blender's view-layer passes that GLSLPPM does not render (Cycles' and EEVEE's), by the
+# property that asks for each: a user who comes with them on is told, not left to find them
+# missing in the compositor. getattr: each Blender has its own set.
+_NOT_RENDERED = (
+    ("use_pass_vector", "Vector"), ("use_pass_mist", "Mist"),
+    ("use_pass_position", "Position"), ("use_pass_uv", "UV"),
+    ("use_pass_object_index", "Object Index"), ("use_pass_material_index", "Material Index"),
+    ("use_pass_diffuse_direct", "Diffuse Direct"),
+    ("use_pass_diffuse_indirect", "Diffuse Indirect"),
+    ("use_pass_diffuse_color", "Diffuse Color"), ("use_pass_glossy_direct", "Glossy Direct"),
+    ("use_pass_glossy_indirect", "Glossy Indirect"), ("use_pass_glossy_color", "Glossy Color"),
+    ("use_pass_transmission_direct", "Transmission Direct"),
+    ("use_pass_transmission_indirect", "Transmission Indirect"),
+    ("use_pass_transmission_color", "Transmission Color"),
+    ("use_pass_ambient_occlusion", "Ambient Occlusion"), ("use_pass_shadow", "Shadow"),
+    ("use_pass_cryptomatte_object", "Cryptomatte Object"),
+    ("use_pass_cryptomatte_material", "Cryptomatte Material"),
+    ("use_pass_cryptomatte_asset", "Cryptomatte Asset"),
+)
+
+
+def not_rendered(view_layer):
+    """Blender's names of the passes the view layer enables that GLSLPPM does not render."""
+    return [name for prop, name in _NOT_RENDERED if getattr(view_layer, prop, False)]
+
+
 def catalog(native, view_layer):
     """(module name, Blender's name, channels, channel letters) of each requested pass."""
     wanted = requested(view_layer)

@@ -39,6 +39,27 @@ def plane_scene(every_pass=True):
     return scene
 
 
+def test_passes_it_does_not_render_are_named_in_a_warning():
+    """Vector and Mist on (as a Cycles user's view layer may have them): the render still
+    writes Combined and the passes it renders, and one warning names the two it leaves out,
+    so that the compositor's missing inputs are not a surprise. Without them, no such
+    warning."""
+    plane_scene(every_pass=False)
+    layer = bpy.context.scene.view_layers[0]
+    layer.use_pass_vector = layer.use_pass_mist = True
+    layer.use_pass_z = True
+    image, error, engine = helpers.render_recorded("passes_not_rendered")
+    assert error is None, error
+    assert image is not None and float(image[..., :3].mean()) > 0.01
+    named = [w for w in helpers.warnings_of(engine) if "does not render" in w]
+    assert len(named) == 1 and "Vector" in named[0] and "Mist" in named[0], named
+    assert "Depth" not in named[0] and "Z" not in named[0].split(": ")[1], named
+    layer.use_pass_vector = layer.use_pass_mist = False
+    _, error, engine = helpers.render_recorded("passes_all_rendered")
+    assert error is None, error
+    assert not [w for w in helpers.warnings_of(engine) if "does not render" in w]
+
+
 def assert_everywhere(array, value, tolerance, what):
     helpers.assert_close(array, np.full(np.shape(array), value), tolerance, what)
 
