@@ -89,8 +89,11 @@ def test_light_group_panels_show_for_the_engine():
     cycles = [getattr(bpy.types, name, None) for name in (
         "CYCLES_OBJECT_PT_lightgroup", "CYCLES_WORLD_PT_settings_light_group")]
     assert all(panel is None or not panel.poll(context('GLSLPPM')) for panel in cycles)
-    before = len(layer.lightgroups)
+    # A name the layer lacks: the scene is reset between tests, its groups are not (and
+    # the operator adds no second group of a name).
+    names = {group.name for group in layer.lightgroups}
+    name = next(f"made_in_panel_{k}" for k in range(len(names) + 1)
+                if f"made_in_panel_{k}" not in names)
     with bpy.context.temp_override(scene=scene, view_layer=layer):
-        bpy.ops.scene.view_layer_add_lightgroup(name="key")
-    assert len(layer.lightgroups) == before + 1
-    assert layer.lightgroups[-1].name.startswith("key")
+        bpy.ops.scene.view_layer_add_lightgroup(name=name)
+    assert {group.name for group in layer.lightgroups} == names | {name}
