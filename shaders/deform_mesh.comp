@@ -3,7 +3,7 @@
 // tree's boxes at the pass's time, where the host used to write them and upload them every
 // pass. The steps' positions and normals and the tables below are uploaded once.
 // PHASE_VERTICES, one thread per packed triangle of one mesh: its corners (and normals)
-//   interpolated between the two motion steps around the time, as DeformMotion::at does.
+//   interpolated between the two motion steps around the time (DeformMotion::segment).
 // PHASE_REFIT, one thread per node of one depth (the deepest first, over every deforming
 //   mesh): a leaf's box holds its triangles, padded as the build pads it (bvh/aabb.h,
 //   pad_box); an inner node's is the union of its children's. The topology built at the

@@ -73,21 +73,6 @@ void DeformMotion::segment(double t, std::size_t& a, std::size_t& b, float& u) c
                : static_cast<float>(std::clamp((t - times[a]) / (times[b] - times[a]), 0.0, 1.0));
 }
 
-void DeformMotion::at(double t, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n) const {
-    std::size_t a = 0, b = 0;
-    float u = 0.0f;
-    segment(t, a, b, u);
-    p.resize(positions[a].size());
-    for (std::size_t v = 0; v < p.size(); ++v)
-        p[v] = positions[a][v] + u * (positions[b][v] - positions[a][v]);
-    n.resize(normals.empty() ? 0 : normals[a].size());
-    for (std::size_t v = 0; v < n.size(); ++v) {
-        const glm::vec3 m = normals[a][v] + u * (normals[b][v] - normals[a][v]);
-        const float len = glm::length(m);
-        n[v] = len > 0.0f ? m / len : normals[a][v];
-    }
-}
-
 void DeformMotion::box(glm::vec3& lo, glm::vec3& hi) const {
     for (const auto& step : positions)
         for (const glm::vec3& p : step) {

@@ -52,8 +52,8 @@ struct DeformMotion {
     std::vector<double> times;
     std::vector<std::vector<glm::vec3>> positions, normals;
     std::vector<glm::uvec3> triangles;
-    void at(double t, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n) const;
-    // The two steps around time t and how far between them (at() blends a + u (b - a)).
+    // The two steps around time t and how far between them: deform_mesh.comp blends each
+    // vertex a + u (b - a), its normal likewise and renormalized.
     void segment(double t, std::size_t& a, std::size_t& b, float& u) const;
     // The mesh's box over every step (a vertex between steps stays within their box).
     void box(glm::vec3& lo, glm::vec3& hi) const;

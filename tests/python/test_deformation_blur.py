@@ -83,7 +83,7 @@ BENDS = (0.0, 1.2, 2.0)  # the bar's bend at the steps -1, 0, +1
 
 
 def at_time(steps, t):
-    """DeformMotion::at: linear between the bracketing steps (u in double, then float32),
+    """deform_mesh.comp at DeformMotion::segment's steps: linear between the bracketing steps (u in double, then float32),
     normals renormalized in float32, held at the ends."""
     positions = [bar(b)[0] for b in BENDS]
     normals = [bar(b)[2] for b in BENDS]
