@@ -53,7 +53,9 @@ def test_bsdf_samples_pass_a_blocker_excluded_from_an_emissive_mesh(glslppm):
     0.5%. The renders draw the same numbers (common random numbers: the emitters are the
     same), so the bound is rounding and the few paths the blocker turns, and a 1% bias fails
     it. Emitter MIS at the floor takes its BSDF sample every pass (q = 1) so that this
-    share is large."""
+    share is large. Measured on llvmpipe (seed 5): +0.20% in the key's shadow, 0.0% in the
+    fill's; before the BSDF rays passed excluded blockers, -2.36% in the key's shadow (the
+    bar takes 34% and 32% of the light in the two regions)."""
     g = glslppm
     options = dict(seed=5, photons_per_pass=16384, emitter_mis_fraction=1.0)
     linked, variant = film(g, blocker_between_glowing_squares(g), 32, **options)
