@@ -46,6 +46,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #ifdef SPHERE_LIGHT_RECORDS
 #include "common/sphere_lights.glsl"
 #endif
+#ifdef GLOSSY_LIGHT_SAMPLES
+#include "common/glossy_light_samples.glsl"
+#endif
 #include "common/compensated_sum.glsl"
 #ifdef HAS_ABSORPTION
 #include "common/absorption.glsl"
@@ -102,8 +105,38 @@ layout(local_size_x = LOCAL_SIZE) in;
 #define SEE_EMISSION(m, radiance)               \
     if (EYE_LINK_REACHES(material_link_set(m))) \
         SEE_LIGHT(emitted, material_group_code(m), radiance)
-#define SEE_WORLD(dir) \
-    if (EYE_LINK_REACHES(0u)) SEE_LIGHT(world, WORLD_GROUP_CODE, environment_radiance(dir))
+#define SEE_WORLD(dir)                                                                   \
+    if (EYE_LINK_REACHES(0u))                                                            \
+        SEE_LIGHT(world, WORLD_GROUP_CODE,                                               \
+                  environment_radiance(dir) * GLOSSY_WEIGHT(world_emitter(), dir, ray.origin))
+
+// Light samples at followed glossy vertices (common/glossy_light_samples.glsl), their numbers
+// drawn only there; the emission the continuation meets weighs against them (GLOSSY_WEIGHT:
+// emitter record k met along dir at q). Taken only where the continuation goes on.
+#ifdef GLOSSY_LIGHT_SAMPLES
+#define GLOSSY_LIGHT_SAMPLE(also)                                                          \
+    if ((also) && glossy_followed_lobe(sh)) {                                              \
+        LightSampleNumbers n_ = draw_light_sample_numbers(rng);                            \
+        ADD_LIGHT(sampled, LIGHT_GROUP_SAMPLED,                                            \
+                  throughput * glossy_light_sample(s.material, s.position, s.geometric_normal, \
+                                                   sh, wo, p_smooth, n_.pick, n_.u, rays)); \
+    }
+#define GLOSSY_MIS_LEAVE() \
+    glossy_mis_leave(sh, wo, dir, p_smooth, s.position, glossy_followed_lobe(sh))
+#define GLOSSY_WEIGHT(k, dir, q) glossy_emission_weight(k, dir, q)
+#ifdef HAS_EMITTER_MIS
+#define TRIANGLE_EMITTER(t) triangle_emitter(t)
+#else
+#define TRIANGLE_EMITTER(t) -1
+#endif
+#else
+#define GLOSSY_LIGHT_SAMPLE(also)
+#define GLOSSY_MIS_LEAVE()
+#define GLOSSY_WEIGHT(k, dir, q) 1.0
+#endif
+// The weights of the emissive triangle main's ray hit, and of the sphere light it met.
+#define HIT_MIS GLOSSY_WEIGHT(TRIANGLE_EMITTER(hit.triangle), ray.dir, s.position)
+#define SPHERE_MIS GLOSSY_WEIGHT(int(sphere_light_record), ray.dir, ray.origin)
 
 // The numbers of the pixel's light sample, drawn first, so that draws only some variants
 // make (the lens) do not change them: every variant of a scene renders the same image.
@@ -308,6 +341,8 @@ void add_direct_light(uint i, vec4 light) {
 #define EMITTER_MIS_CHOICE(i)
 #endif
 
+// `held`: whether the path holds a visible point; `seen_by_camera`: it has met no specular
+// bounce yet; `last_surface`: it is past a limit.
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;
@@ -319,7 +354,6 @@ void main() {
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
     vec3 throughput = vec3(1.0), direct = vec3(0.0);
     uint rays = 0u, eye_bounces = 0u;
-    // Whether the path holds a visible point, has met a specular bounce, is past a limit.
     bool held = false, seen_by_camera = true, last_surface = false;
 #ifdef PASS_STRIDE
     EyePasses passes = start_eye_passes();
@@ -338,7 +372,7 @@ void main() {
         // After a mirror or glass, a point or spot light's sphere in front of the surface.
         vec3 sphere_radiance;
         if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
-            ADD_LIGHT(emitted, sphere_light_group_code, throughput * sphere_radiance);
+            ADD_LIGHT(emitted, sphere_light_group_code, throughput * sphere_radiance * SPHERE_MIS);
             break;
         }
 #endif
@@ -366,7 +400,7 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             // An area light: seen (unless hidden from the camera), then passed through.
-            if (front && !hidden) SEE_EMISSION(s.material, material_emission(s.material));
+            if (front && !hidden) SEE_EMISSION(s.material, material_emission(s.material) * HIT_MIS);
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -379,8 +413,8 @@ void main() {
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0)
-            SEE_EMISSION(s.material,
-                         material_emission_at(s.material, sh.material, texture_point(s)));
+            SEE_EMISSION(s.material, material_emission_at(s.material, sh.material,
+                                                          texture_point(s)) * HIT_MIS);
 #ifdef DENOISING_FEATURES
         add_feature_surface_at(features, s, sh, wo);
 #endif
@@ -400,10 +434,12 @@ void main() {
 #endif
             break;
         }
+        GLOSSY_LIGHT_SAMPLE(depth < max_bounces);
         vec3 dir, sampled;
         if (!bsdf_sample_smooth(sh, wo, u_dir, dir, sampled)) break;
         throughput *= sampled / p_smooth;
         dir = on_the_lobes_side(dir, sh, s.geometric_normal);
+        GLOSSY_MIS_LEAVE();
         int kind = sh.kind;
         eye_bounces = bounces_add(eye_bounces, smooth_bounce_kind(sh, wo, dir, s.geometric_normal));
         last_surface = !bounces_within(eye_bounces);
@@ -412,8 +448,7 @@ void main() {
                         dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0;
 #endif
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
-        // Through a cut-out (transparent) the camera still sees what lies behind.
-        if (kind == MATERIAL_TRANSPARENT && seen_by_camera) continue;
+        if (kind == MATERIAL_TRANSPARENT && seen_by_camera) continue;  // sees past a cut-out
         SET_EYE_LINK_RECEIVER(s.material);
         seen_by_camera = false;
     }

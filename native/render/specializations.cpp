@@ -121,6 +121,24 @@ bool emitter_mis(const Inputs& in) {
            !in.p.instancing.two_level;
 }
 
+// A lobe the eye path follows and can evaluate: a metal, a glass or a plastic's coat of a
+// roughness above 0 (or a roughness texture), whose vertex takes a light sample weighed
+// against the continuation (common/glossy_light_samples.glsl). Not under VCM, whose eye
+// subpaths are its own (common/vcm_eye_paths.glsl).
+bool glossy_light_samples_apply(const Inputs& in) {
+    return in.settings.direct_light == DirectLight::Sampled &&
+           in.settings.estimator != Estimator::Vcm;
+}
+bool glossy_light_samples(const Inputs& in) {
+    if (!glossy_light_samples_apply(in)) return false;
+    bool any = false;
+    for (const Material& m : in.p.geometry.materials)
+        any |= (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::Dielectric ||
+                m.kind == MaterialKind::Plastic) &&
+               (m.roughness > 0.0f || m.roughness_texture >= 0);
+    return any;
+}
+
 // Where the settings and the camera allow it (light_tracing_allowed); the connection sees
 // through cut-outs as camera rays do (common/light_tracing.glsl, camera_sees).
 bool light_tracing_applies(const Inputs& in) {
@@ -190,6 +208,10 @@ const Specialization kRows[] = {
      "needed wherever it applies: not measured alone (before issue 30, where only glossy "
      "lobes took it: H100 1080p +11.8% / +16.1% / +1.9%, llvmpipe 128^2 +1.9%)",
      G::DirectLight, true, emitter_mis, emitter_mis},
+    {"glossy-light-samples", "GLOSSY_LIGHT_SAMPLES",
+     "light sampling, and a metal, glass or coat of a roughness the eye path follows",
+     "needed wherever it applies (a sun's or a small lamp's highlight): not measured alone",
+     G::DirectLight, true, glossy_light_samples, glossy_light_samples_apply},
     {"instances", "GLSLPPM_INSTANCES", "instances kept on two levels (Settings.instancing)",
      "not in the full variant: the geometry's buffers follow the instancing decision",
      G::DirectLight, false, two_level, two_level},

@@ -18,6 +18,10 @@
 uint sphere_light_group_code = 0u;
 #endif
 
+#if defined(GLOSSY_LIGHT_SAMPLES) && !defined(VCM_MIS)
+// The record hit_sphere_light found last (common/glossy_light_samples.glsl weighs its light).
+uint sphere_light_record = 0u;
+#endif
 
 // The nearest sphere light the ray meets before origin + t_max ray_dir: true, with its
 // radiance. With links, only those whose light reaches the eye path's receiver.
@@ -64,7 +68,7 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
 #ifdef LIGHT_GROUPS
         sphere_light_group_code = uint(floatBitsToInt(a.w)) >> EMITTER_GROUP_SHIFT;
 #endif
-#ifdef VCM_MIS
+#if defined(VCM_MIS) || defined(GLOSSY_LIGHT_SAMPLES)
         sphere_light_record = k;
 #endif
     }
