@@ -110,6 +110,7 @@ struct MotionScratch {
     // The refit table's depths, deepest first: depth d's entries are [levels[d], levels[d+1]).
     std::vector<std::uint32_t> refit_levels;
     double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
+    std::vector<glm::vec4> light_records;  // the moving lights' records, at the pass's time
 };
 
 // GPU time per stage when settings.profile: timestamps at the stages' boundaries.
@@ -173,6 +174,8 @@ struct Renderer::Gpu {
     // meshes: their vertices, normals and bottom trees at time t.
     void move_to_shutter_time(std::uint64_t pass_index);
     void deform_meshes(double t);
+    // Moving lamps: their emitter records at time t (render/light_motion.cpp).
+    void move_lights(double t);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     // PhotonPaths::AcrossPasses: before a film's first pass, photon steps that bring the
