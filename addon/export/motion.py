@@ -1,5 +1,5 @@
 """Motion blur's export (docs/motion_blur.md): Blender's shutter, and the camera's and each
-moving object's and lamp's matrix_world at the motion steps, read by evaluating the render depsgraph at
+moving object's and lamp's matrix_world at the motion steps, read by the render depsgraph at
 subframes as Cycles does (RenderEngine.frame_set), the frame restored afterwards, and the
 shutter curve. Deformation (armatures, shape keys, modifiers): the vertices (and normals) of
 each mesh object that may deform, read at the same steps as its matrix, where its triangles

@@ -4,6 +4,7 @@
 // see (common/sphere_lights.glsl) all read the table, so they all see the light there.
 // Scenes whose lights stand still never come here.
 #include <algorithm>
+#include <chrono>
 
 #include "render/emitters.h"
 #include "render/gpu_layout.h"
@@ -21,6 +22,7 @@ Light MovingLight::at(double t) const {
 }
 
 void Renderer::Gpu::move_lights(double t) {
+    const auto start = std::chrono::steady_clock::now();
     const MotionPlan& plan = *scene.motion;
     const EmitterTable& table = scene.emitters;
     const auto record_of = [&](const MovingLight& l) {
@@ -48,6 +50,8 @@ void Renderer::Gpu::move_lights(double t) {
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffers.emitter_records);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(EMITTER_VEC4 * first) * kVec4,
                     GLsizeiptr(range.size()) * kVec4, range.data());
+    motion.refit_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace glslppm

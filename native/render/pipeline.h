@@ -109,7 +109,7 @@ struct MotionScratch {
     std::vector<std::int32_t> deformed_of_mesh;  // mesh index -> meshes' index, -1 none
     // The refit table's depths, deepest first: depth d's entries are [levels[d], levels[d+1]).
     std::vector<std::uint32_t> refit_levels;
-    double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
+    double refit_seconds = 0.0;  // host time moving instances and lights, refitting, all passes
     std::vector<glm::vec4> light_records;  // the moving lights' records, at the pass's time
 };
 
