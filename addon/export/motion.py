@@ -158,17 +158,10 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
     return samples
 
 
-def light_steps(samples, key, light, name):
-    """Scene.set_motion's (times, (N, 4, 4) matrices) of an exported point, spot or sun
-    light (LightData) that moves in the shutter, None where it stands still; a (warning,) for
-    an area light, whose motion is not done."""
-    steps = object_steps(samples, key)
-    if steps is None:
-        return None
-    if light.kind == "area":
-        return (f"light '{name}': the motion blur of area lights is not done; it renders at "
-                "the frame's time",)
-    return steps
+def light_steps(samples, key):
+    """Scene.set_motion's (times, (N, 4, 4) matrices) of an exported light (point, spot, sun
+    or area: the module moves each) that moves in the shutter, None where it stands still."""
+    return object_steps(samples, key)
 
 
 def picked_steps(samples, key):

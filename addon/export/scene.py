@@ -307,11 +307,8 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                 for light in builder.lights[first:]]
             steps = None
             if motion is not None and len(builder.lights) == first + 1:
-                steps = light_steps(motion, instance_key(instance), builder.lights[first],
-                                    obj.name)
-            if steps is not None and len(steps) == 1:
-                builder.warn(steps[0])
-            elif steps is not None:
+                steps = light_steps(motion, instance_key(instance))
+            if steps is not None:
                 moving_lights.append((first, *steps))
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:

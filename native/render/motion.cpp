@@ -196,10 +196,6 @@ void validate_motion(const Scene& scene) {
         if (!seen.insert(i).second)
             throw SceneError(name + ".light: light " + std::to_string(i) +
                              " is given motion twice");
-        if (scene.lights[i].kind == LightKind::Area && moves(m.lights[k].steps))
-            throw SceneError(name + ": light " + std::to_string(i) +
-                             " is an area light, whose motion is not done (give point, spot "
-                             "or sun lights' motion only)");
         check_steps(m.lights[k].steps, name);
     }
     validate_deformation(scene);
@@ -291,6 +287,7 @@ std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
         if (moves(l.steps))
             plan->lights.push_back(
                 MovingLight{l.light, scene.lights[l.light], TransformMotion(l.steps)});
+    locate_area_lights(scene, plan->lights);
     if (plan->instances.empty() && plan->meshes.empty() && !plan->camera && plan->lights.empty())
         return nullptr;
     return plan;

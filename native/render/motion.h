@@ -87,6 +87,8 @@ struct MovingLight {
     std::uint32_t light = 0;  // index into Scene::lights
     Light frame;
     TransformMotion motion;
+    // An area light's triangles in the geometry mesh (render/area_lights.h): [first, end).
+    std::int64_t first_triangle = -1, end_triangle = -1;
     Light at(double t) const;
 };
 
@@ -115,6 +117,13 @@ struct MotionPlan {
     std::shared_ptr<const MotionPlan> with_still_instances() const;
 };
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
+
+// Moving area lights (render/area_light_motion.cpp): where their triangles lie in the
+// geometry mesh, and the placed-once tree's leaves that hold them (and the nodes above)
+// grown over their whole sweep, so that the tree holds them at every time.
+struct PackedBvh;
+void locate_area_lights(const Scene& scene, std::vector<MovingLight>& lights);
+void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh);
 
 // Grows [lo, hi] over every place a moving instance's mesh takes in the shutter (sampled
 // finely between the steps, padded by the chord error of a slerp) and every place a
