@@ -1,5 +1,5 @@
 """Motion blur's export (docs/motion_blur.md): Blender's shutter, and the camera's and each
-moving object's matrix_world at the motion steps, read by evaluating the render depsgraph at
+moving object's and lamp's matrix_world at the motion steps, read by the render depsgraph at
 subframes as Cycles does (RenderEngine.frame_set), the frame restored afterwards, and the
 shutter curve. Deformation (armatures, shape keys, modifiers): the vertices (and normals) of
 each mesh object that may deform, read at the same steps as its matrix, where its triangles
@@ -116,10 +116,11 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
     if interval is None:
         return None
     shutter_open, length = interval
+    sampled = set(geometry_types) | {'LIGHT'}  # lamps move too (their emitters, per pass)
     most = 1
     for obj in scene.objects:
         use, steps = object_motion_blur(obj)
-        if use and obj.type in geometry_types:
+        if use and obj.type in sampled:
             most = max(most, steps)
     count = step_count(most)
     centre = shutter_open + 0.5 * length
@@ -133,7 +134,7 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
             engine.frame_set(int(whole), target - whole)
             for instance in depsgraph.object_instances:
                 obj = instance.object
-                if obj.type not in geometry_types or not instance.show_self:
+                if obj.type not in sampled or (obj.type != 'LIGHT' and not instance.show_self):
                     continue
                 use, steps = object_motion_blur(obj)
                 if not use:
@@ -142,7 +143,8 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
                 samples.objects.setdefault(key, []).append(
                     np.array(instance.matrix_world, dtype=np.float32))
                 samples.steps[key] = step_count(steps)
-                if not instance.is_instance and may_deform(obj.original):
+                if obj.type != 'LIGHT' and not instance.is_instance and \
+                        may_deform(obj.original):
                     samples.vertices.setdefault(key, []).append(read_vertices(obj))
             if camera_object is not None:
                 evaluated = camera_object.evaluated_get(depsgraph)
@@ -154,6 +156,12 @@ def sample_motion(engine, depsgraph, camera_object, fov_of, geometry_types):
     samples.objects = {k: m for k, m in samples.objects.items() if len(m) == count}
     samples.vertices = {k: v for k, v in samples.vertices.items() if len(v) == count}
     return samples
+
+
+def light_steps(samples, key):
+    """Scene.set_motion's (times, (N, 4, 4) matrices) of an exported light (point, spot, sun
+    or area: the module moves each) that moves in the shutter, None where it stands still."""
+    return object_steps(samples, key)
 
 
 def picked_steps(samples, key):

@@ -23,8 +23,8 @@ from .light_groups import group_indices, group_of
 from .light_linking import LightLinks
 from .material import DEFAULT_MATERIAL, convert_material, volume_only
 from .mesh import face_normals, mesh_geometry, transform_geometry
-from .motion import (instance_key, object_deformation, object_steps, sample_motion,
-                     unsupported_motion_warnings, vertices_move)
+from .motion import (instance_key, light_steps, object_deformation, object_steps,
+                     sample_motion, unsupported_motion_warnings, vertices_move)
 from .scene_data import SceneData
 from .texture_mapping import object_spaces, reads_object_coordinates
 from .visibility import object_visibility
@@ -288,6 +288,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
     builder.light_links = LightLinks(depsgraph.objects, builder.warn)
     moving = []  # (instance table row, times, matrices) of objects that move in the shutter
     deforming = []  # (instance mesh, times, positions, normals) of meshes that deform in it
+    moving_lights = []  # (light table row, times, matrices) of lamps that move in it
     instance_count = 0
     budget = TriangleBudget(getattr(scene.glslppm, "curve_triangle_limit", 4_000_000),
                             builder.warn)
@@ -304,6 +305,11 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
             builder.lights[first:] = [
                 replace(light, light_group=group, light_link_set=link_set)
                 for light in builder.lights[first:]]
+            steps = None
+            if motion is not None and len(builder.lights) == first + 1:
+                steps = light_steps(motion, instance_key(instance))
+            if steps is not None:
+                moving_lights.append((first, *steps))
             continue
         if obj.type in GEOMETRY_TYPES and instance.show_self:
             key = instance_key(instance)
@@ -365,7 +371,7 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
         world_light_group=world_group,
         light_link_receives=builder.light_links.tables()[0],
         shadow_link_blocks=builder.light_links.tables()[1],
-        motion=_motion_arguments(motion, moving, deforming),
+        motion=_motion_arguments(motion, moving, deforming, moving_lights),
         stats={"seconds": time.perf_counter() - start, "instances": instance_count,
                "triangles": len(indices), "meshes": len(geometry_cache),
                "instance_table": 0 if instance_mesh is None else len(instance_mesh),
@@ -373,14 +379,14 @@ def _export(depsgraph, scene, camera_object, width, height, frame, builder, star
                "dropped_triangles": builder.dropped_triangles})
 
 
-def _motion_arguments(motion, moving, deforming=()):
+def _motion_arguments(motion, moving, deforming=(), lights=()):
     """Scene.set_motion's arguments: the moving objects' rows and steps, the deforming
-    meshes' vertices at their steps, and the camera's steps where it moves or zooms; None
-    when nothing moves."""
+    meshes' vertices at their steps, the moving lamps' rows and steps, and the camera's
+    steps where it moves or zooms; None when nothing moves."""
     if motion is None:
         return None
     arguments = {"shutter_open": motion.shutter_open, "shutter_length": motion.shutter_length,
-                 "instances": moving, "meshes": list(deforming)}
+                 "instances": moving, "meshes": list(deforming), "lights": list(lights)}
     cameras = motion.camera
     camera_moves = cameras and (any(not np.array_equal(m, cameras[0]) for m in cameras) or
                                 len(set(motion.camera_fov_x)) > 1)
@@ -389,7 +395,7 @@ def _motion_arguments(motion, moving, deforming=()):
                          camera_to_world=np.ascontiguousarray(
                              [_without_scale(m) for m in cameras], dtype=np.float32),
                          camera_fov_x=motion.camera_fov_x)
-    if not (camera_moves or moving or deforming):
+    if not (camera_moves or moving or deforming or lights):
         return None
     if motion.shutter_curve:
         arguments["shutter_curve"] = motion.shutter_curve

@@ -65,7 +65,8 @@ void set_motion(Scene& scene, float shutter_open, float shutter_length,
                 const std::vector<std::tuple<std::uint32_t, std::vector<float>, Matrices>>& instances,
                 const std::vector<float>& camera_times, const py::object& camera_to_world,
                 const std::vector<float>& camera_fov_x, const std::vector<float>& shutter_curve,
-                const std::vector<MeshSteps>& meshes) {
+                const std::vector<MeshSteps>& meshes,
+                const std::vector<std::tuple<std::uint32_t, std::vector<float>, Matrices>>& lights) {
     SceneMotion m;
     m.shutter_open = shutter_open;
     m.shutter_length = shutter_length;
@@ -87,6 +88,11 @@ void set_motion(Scene& scene, float shutter_open, float shutter_length,
         m.meshes.push_back(MeshDeformation{mesh, times, vertex_steps(positions, name + ".positions"),
                                            vertex_steps(normals, name + ".normals")});
     }
+    for (std::size_t k = 0; k < lights.size(); ++k) {
+        const auto& [index, times, matrices] = lights[k];
+        m.lights.push_back(LightMotion{
+            index, steps_of(times, matrices, "motion.lights[" + std::to_string(k) + "]")});
+    }
     Scene checked = scene;  // validated before it replaces the scene's motion
     checked.motion = m;
     validate_motion(checked);
@@ -106,11 +112,15 @@ void bind_motion(py::module_& m) {
               py::arg("camera_fov_x") = std::vector<float>{},
               py::arg("shutter_curve") = std::vector<float>{},
               py::arg("meshes") = std::vector<MeshSteps>{},
+              py::arg("lights") =
+                  std::vector<std::tuple<std::uint32_t, std::vector<float>, Matrices>>{},
               "Motion blur: the shutter (open time and length in frames, relative to the "
               "frame; shutter_curve: its openness at evenly spaced points from opening to "
               "closing, empty for a box), instances' transforms at steps ([(instance, times, (N, 4, 4) matrices)]) "
               "and the camera's (camera_fov_x: one per step, or empty), and instance meshes' "
-              "deformation ([(mesh, times, (S, V, 3) positions, (S, V, 3) normals or None)]). "
+              "deformation ([(mesh, times, (S, V, 3) positions, (S, V, 3) normals or None)]), "
+              "and point, spot and sun lights' transforms at steps ([(light, times, (N, 4, 4) "
+              "matrices)]: the light at each matrix's origin, shining along its -Z). "
               "Validated here "
               "(ValueError naming the problem). docs/motion_blur.md.")
         .def_property_readonly("has_motion", [](const Scene& s) { return !s.motion.empty(); });

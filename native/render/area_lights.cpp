@@ -48,6 +48,13 @@ bool may_be_transparent(const std::vector<Material>& materials, const Material& 
 
 }  // namespace
 
+std::vector<glm::vec3> area_light_corners(const Light& light) {
+    std::vector<glm::vec3> p;
+    for (const glm::vec2& q : outline(light))
+        p.emplace_back(light.to_world * glm::vec4(q, 0.0f, 1.0f));
+    return p;
+}
+
 SceneGeometry with_area_lights(const Scene& scene) {
     SceneGeometry g;
     g.mesh = scene.mesh;
@@ -80,9 +87,7 @@ SceneGeometry with_area_lights(const Scene& scene) {
         const Light& light = scene.lights[index];
         if (light.kind != LightKind::Area) continue;
         check(light, index);
-        const std::vector<glm::vec2> local = outline(light);
-        std::vector<glm::vec3> p;
-        for (const glm::vec2& q : local) p.emplace_back(light.to_world * glm::vec4(q, 0.0f, 1.0f));
+        const std::vector<glm::vec3> p = area_light_corners(light);
         std::vector<glm::uvec3> t;
         float area = 0.0f;
         for (std::uint32_t k = 1; k + 1 < p.size(); ++k) {

@@ -35,4 +35,8 @@ struct SceneGeometry {
 
 SceneGeometry with_area_lights(const Scene& scene);
 
+// An area light's outline in world space (light.to_world): its triangles are the fan
+// (0, k, k + 1), appended after the scene's own triangles, light by light.
+std::vector<glm::vec3> area_light_corners(const Light& light);
+
 }  // namespace glslppm

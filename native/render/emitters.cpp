@@ -178,7 +178,10 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     }
     const float r = bounds.radius();
     table.first_light = list.size();
-    for (const Light& light : scene.lights) {
+    table.light_records.assign(scene.lights.size(), -1);
+    for (std::size_t index = 0; index < scene.lights.size(); ++index) {
+        const Light& light = scene.lights[index];
+        std::int32_t& record = table.light_records[index];
         const glm::vec3 color = light.color * light.power;
         group = light.light_group;
         link_set = light.light_link_set;
@@ -186,7 +189,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
             case LightKind::Point:
                 // A sphere of the light's radius (0: a point), radiating the power evenly;
                 // b.x 1: light samples take the disc facing the lit point (Light::facing_disc).
-                add(EmitterKind::Point, light.position,
+                record = add(EmitterKind::Point, light.position,
                     glm::vec4(light.facing_disc ? 1.0f : 0.0f, 0.0f, 0.0f, light.radius),
                     glm::vec3(0.0f), color);
                 break;
@@ -198,7 +201,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
                 const float smooth = (1.0f - cos_half) * light.spot_blend;
                 // c.z: 1 for Blender 3.x's cosine falloff, + 2 for the facing disc.
                 const float code = float(light.spot_cosine) + 2.0f * float(light.facing_disc);
-                add(EmitterKind::Spot, light.position,
+                record = add(EmitterKind::Spot, light.position,
                     glm::vec4(glm::normalize(light.direction), cos_half),
                     glm::vec3(smooth, light.radius, code), color * (solid_angle / (4.0f * kPi)));
                 break;
@@ -206,7 +209,7 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
             case LightKind::Sun:
                 // Irradiance E through the bounding disc, from directions within half the
                 // angular diameter of the sun's direction.
-                add(EmitterKind::Sun, glm::vec3(0.0f),
+                record = add(EmitterKind::Sun, glm::vec3(0.0f),
                     glm::vec4(glm::normalize(light.direction), std::cos(0.5f * light.angle)),
                     glm::vec3(0.0f), color * (kPi * r * r));
                 break;
@@ -233,6 +236,13 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
             "world colour)");
     write_pick_table(list, weights, table);
     return table;
+}
+
+void place_light(const Light& light, glm::vec4* record) {
+    if (light.kind == LightKind::Point || light.kind == LightKind::Spot)
+        record[0] = glm::vec4(light.position, record[0].w);
+    if (light.kind == LightKind::Spot || light.kind == LightKind::Sun)
+        record[1] = glm::vec4(glm::normalize(light.direction), record[1].w);
 }
 
 void append_triangle_map(EmitterTable& table) {

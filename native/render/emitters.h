@@ -49,6 +49,8 @@ struct EmitterTable {
     std::vector<std::int32_t> triangle_records;
     // The point, spot and sun lights' records: [first_light, first_light + light_count).
     std::size_t first_light = 0, light_count = 0;
+    // Per scene light, the index of its record, or -1 (an area light, or dark).
+    std::vector<std::int32_t> light_records;
 };
 
 // Bounding sphere of the scene (distant emitters, the sun and the world, shine through its
@@ -66,6 +68,11 @@ SceneBounds scene_bounds(const PackedBvh& bvh);
 EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& materials,
                             const PackedBvh& bvh, const SceneBounds& bounds,
                             const EnvironmentMap* environment);
+
+// A point, spot or sun light's record (EMITTER_VEC4 vec4s from `record`) moved to where
+// `light` stands and shines (motion blur: render/light_motion.cpp); its power, radius and
+// cone stay.
+void place_light(const Light& light, glm::vec4* record);
 
 // Appends triangle_records to the records (as int bits, four per vec4, -1 padding), the
 // GPU's map from a hit triangle to its emitter (emitters.glsl, triangle_emitter).

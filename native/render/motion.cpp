@@ -186,6 +186,18 @@ void validate_motion(const Scene& scene) {
                 throw SceneError("motion.camera_fov_x: " + number(fov) +
                                  " is not an angle of view in (0, pi)");
     }
+    seen.clear();
+    for (std::size_t k = 0; k < m.lights.size(); ++k) {
+        const std::string name = "motion.lights[" + std::to_string(k) + "]";
+        const std::uint32_t i = m.lights[k].light;
+        if (i >= scene.lights.size())
+            throw SceneError(name + ".light: " + std::to_string(i) + " is out of range (" +
+                             std::to_string(scene.lights.size()) + " lights)");
+        if (!seen.insert(i).second)
+            throw SceneError(name + ".light: light " + std::to_string(i) +
+                             " is given motion twice");
+        check_steps(m.lights[k].steps, name);
+    }
     validate_deformation(scene);
 }
 
@@ -206,7 +218,7 @@ Camera MotionPlan::camera_at(double t) const {
 }
 
 std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
-    if (instances.empty() && meshes.empty()) return nullptr;
+    if (instances.empty() && meshes.empty() && lights.empty()) return nullptr;
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
@@ -214,17 +226,19 @@ std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
     plan->instances = instances;
     plan->instance_motion = instance_motion;
     plan->meshes = meshes;
+    plan->lights = lights;
     plan->frame_camera = frame_camera;
     return plan;
 }
 
 std::shared_ptr<const MotionPlan> MotionPlan::with_still_instances() const {
-    if (!camera) return nullptr;
+    if (!camera && lights.empty()) return nullptr;
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
     plan->shutter_curve = shutter_curve;
-    plan->camera = std::make_unique<TransformMotion>(*camera);
+    plan->lights = lights;
+    if (camera) plan->camera = std::make_unique<TransformMotion>(*camera);
     plan->camera_fov_x = camera_fov_x;
     plan->frame_camera = frame_camera;
     return plan;
@@ -269,7 +283,13 @@ std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene) {
             validate_camera(c);
         }
     }
-    if (plan->instances.empty() && plan->meshes.empty() && !plan->camera) return nullptr;
+    for (const LightMotion& l : m.lights)
+        if (moves(l.steps))
+            plan->lights.push_back(
+                MovingLight{l.light, scene.lights[l.light], TransformMotion(l.steps)});
+    locate_area_lights(scene, plan->lights);
+    if (plan->instances.empty() && plan->meshes.empty() && !plan->camera && plan->lights.empty())
+        return nullptr;
     return plan;
 }
 

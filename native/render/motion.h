@@ -80,6 +80,18 @@ struct ShutterCurve {
     double position(double u) const;
 };
 
+// A moving point, spot or sun light: the scene's light (its other fields) and its steps.
+// `at(t)`: the light at time t, its position the transform's origin and its direction the
+// transform's -Z (render/light_motion.cpp).
+struct MovingLight {
+    std::uint32_t light = 0;  // index into Scene::lights
+    Light frame;
+    TransformMotion motion;
+    // An area light's triangles in the geometry mesh (render/area_lights.h): [first, end).
+    std::int64_t first_triangle = -1, end_triangle = -1;
+    Light at(double t) const;
+};
+
 // What moves, once validated; null from plan_motion when nothing does (every step the same
 // matrix), and then nothing of this runs.
 struct MotionPlan {
@@ -87,6 +99,7 @@ struct MotionPlan {
     std::vector<std::uint32_t> instances;  // the scene's indices of the moving instances
     std::vector<TransformMotion> instance_motion;
     std::vector<DeformMotion> meshes;  // the instance meshes that deform
+    std::vector<MovingLight> lights;   // the lamps that move (their emitter records move)
     std::unique_ptr<TransformMotion> camera;  // null: the camera stands still
     std::vector<double> camera_fov_x;         // empty: the camera's own
     Camera frame_camera;                      // the scene's camera (its other fields)
@@ -96,14 +109,21 @@ struct MotionPlan {
         return shutter_open + shutter_length * (shutter_curve ? shutter_curve->position(u) : u);
     }
     Camera camera_at(double t) const;
-    // The same instances' motion and deformation under a camera that stands still; null if
-    // nothing else moves.
+    // The same instances', meshes' and lights' motion under a camera that stands still; null
+    // if nothing else moves.
     std::shared_ptr<const MotionPlan> with_still_camera() const;
-    // The same camera motion with every instance and mesh still; null if the camera stands
-    // still.
+    // The same camera and light motion with every instance and mesh still; null if neither
+    // moves.
     std::shared_ptr<const MotionPlan> with_still_instances() const;
 };
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
+
+// Moving area lights (render/area_light_motion.cpp): where their triangles lie in the
+// geometry mesh, and the placed-once tree's leaves that hold them (and the nodes above)
+// grown over their whole sweep, so that the tree holds them at every time.
+struct PackedBvh;
+void locate_area_lights(const Scene& scene, std::vector<MovingLight>& lights);
+void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh);
 
 // Grows [lo, hi] over every place a moving instance's mesh takes in the shutter (sampled
 // finely between the steps, padded by the chord error of a slerp) and every place a

@@ -167,6 +167,10 @@ void Renderer::Gpu::move_to_shutter_time(std::uint64_t pass_index) {
     const MotionPlan& plan = *scene.motion;
     const double t = plan.time(settings.seed, pass_index);
     if (plan.camera) camera_frame(plan.camera_at(t), settings, scene.frame);
+    if (!plan.lights.empty()) {
+        move_lights(t);
+        move_area_lights(t);
+    }
     if ((plan.instances.empty() && plan.meshes.empty()) || !two_level) return;
     const auto start = std::chrono::steady_clock::now();
     const TwoLevelBvh& tree = *two_level;

@@ -97,6 +97,12 @@ struct DeformScratch {
     glm::vec3 root_lo{0.0f}, root_hi{0.0f};
 };
 
+// A moving area light's packed triangle: its MotionPlan::lights index, its index in the
+// traced triangles (mesh 0's come first) and its place k in the light's fan (0, k+1, k+2).
+struct AreaLightTriangle {
+    std::size_t light = 0, packed = 0, local = 0;
+};
+
 // Motion blur's per-pass copies (motion_pass.cpp): the two-level tree's top nodes and the
 // instance records, rewritten at each pass's time and uploaded, the moving instances'
 // record range and top leaves.
@@ -109,7 +115,10 @@ struct MotionScratch {
     std::vector<std::int32_t> deformed_of_mesh;  // mesh index -> meshes' index, -1 none
     // The refit table's depths, deepest first: depth d's entries are [levels[d], levels[d+1]).
     std::vector<std::uint32_t> refit_levels;
-    double refit_seconds = 0.0;  // host time moving instances and refitting, all passes
+    double refit_seconds = 0.0;  // host time moving instances and lights, refitting, all passes
+    std::vector<glm::vec4> light_records;  // the moving lights' records, at the pass's time
+    bool area_lights_traced = false;  // area_triangles found (render/area_light_motion.cpp)
+    std::vector<AreaLightTriangle> area_triangles;
 };
 
 // GPU time per stage when settings.profile: timestamps at the stages' boundaries.
@@ -173,6 +182,9 @@ struct Renderer::Gpu {
     // meshes: their vertices, normals and bottom trees at time t.
     void move_to_shutter_time(std::uint64_t pass_index);
     void deform_meshes(double t);
+    // Moving lamps: their emitter records at time t (render/light_motion.cpp).
+    void move_lights(double t);
+    void move_area_lights(double t);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     // PhotonPaths::AcrossPasses: before a film's first pass, photon steps that bring the

@@ -155,6 +155,7 @@ const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
     options.leaf_size = settings.leaf_size;
     options.cancel = cancel;
     if (!built) p.bvh = build_packed_bvh(mesh, options, 6);
+    if (!built && p.motion) grow_over_area_light_motion(*p.motion, p.bvh);
     const PackedBvh& bvh = built ? *built : p.bvh;
     if (two_level) {
         // Mesh 0: the placed-once triangles, under the identity; instance meshes after it.

@@ -224,6 +224,7 @@ RenderStats Renderer::stats() {
         std::string parts = m->camera ? "camera" : "";
         if (!m->instances.empty()) parts += parts.empty() ? "instances" : ",instances";
         if (!m->meshes.empty()) parts += parts.empty() ? "deformation" : ",deformation";
+        if (!m->lights.empty()) parts += parts.empty() ? "lights" : ",lights";
         s.motion = parts;
         s.moving_instances = m->instances.size();
         for (const auto& w : gpus_) s.motion_refit_seconds += w->motion.refit_seconds;

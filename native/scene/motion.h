@@ -24,6 +24,14 @@ struct InstanceMotion {
     TransformSteps steps;
 };
 
+// One light's steps (Light::position, direction and to_world stay the frame's): a point or
+// spot light sits at each step's origin, a spot or sun light shines along its -Z, as
+// Blender's lamps do. Area lights do not move yet (validate_motion says so).
+struct LightMotion {
+    std::uint32_t light = 0;  // index into Scene::lights
+    TransformSteps steps;
+};
+
 // One instance mesh's vertex positions at several times (Blender's deformation motion:
 // armatures, shape keys, modifiers), the times strictly increasing; each step holds every
 // vertex of Scene::instance_meshes[mesh], in its order and in the mesh's own space. normals:
@@ -47,8 +55,11 @@ struct SceneMotion {
     TransformSteps camera;
     std::vector<float> camera_fov_x;
     std::vector<MeshDeformation> meshes;
+    std::vector<LightMotion> lights;
 
-    bool empty() const { return instances.empty() && camera.times.empty() && meshes.empty(); }
+    bool empty() const {
+        return instances.empty() && camera.times.empty() && meshes.empty() && lights.empty();
+    }
 };
 
 }  // namespace glslppm

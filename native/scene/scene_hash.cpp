@@ -104,6 +104,10 @@ std::uint64_t scene_hash_without_camera(const Scene& s, const CancelFlag* cancel
             for (const auto& p : d.positions) h.array(std::span<const glm::vec3>(p));
             for (const auto& n : d.normals) h.array(std::span<const glm::vec3>(n));
         }
+        for (const LightMotion& l : s.motion.lights) {
+            h.value(l.light);
+            steps(l.steps);
+        }
     }
     h.value(static_cast<std::uint64_t>(s.materials.size()));
     for (const Material& m : s.materials) {

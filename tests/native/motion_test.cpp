@@ -2,6 +2,7 @@
 // scene's box grown over the motion holds every vertex at every time of the shutter, a
 // turning mesh included (the hash grid and ray offsets assume it does).
 #include "render/motion.h"
+#include "render/emitters.h"
 
 #include <gtest/gtest.h>
 
@@ -83,6 +84,38 @@ TEST(Motion, StepsThatDoNotMovePlanNothing) {
     EXPECT_FALSE(plan_motion(scene));
     scene.motion.instances[0].steps.to_world[1][3].x = 1e-6f;
     EXPECT_TRUE(plan_motion(scene));
+}
+
+// A moving spot light: at the matrix's origin, shining along its -Z (Blender's lamps), the
+// rotation slerped; place_light moves its record and keeps the rest of it.
+TEST(Motion, MovingLightStandsAtItsInterpolatedTransform) {
+    const auto turned = [](float angle, glm::vec3 move) {  // about x
+        glm::mat4 m(1.0f);
+        m[1] = glm::vec4(0, std::cos(angle), std::sin(angle), 0);
+        m[2] = glm::vec4(0, -std::sin(angle), std::cos(angle), 0);
+        m[3] = glm::vec4(move, 1);
+        return m;
+    };
+    TransformSteps s;
+    s.times = {0.0f, 1.0f};
+    s.to_world = {turned(0.0f, {0, 0, 0}), turned(1.5707963f, {2, 0, 4})};
+    Light spot;
+    spot.kind = LightKind::Spot;
+    spot.power = 7.0f;
+    const MovingLight moving{0, spot, TransformMotion(s)};
+    const Light at = moving.at(0.5);
+    EXPECT_NEAR(glm::length(at.position - glm::vec3(1, 0, 2)), 0.0f, 1e-6f);
+    // A quarter turn about x halfway: -Z turned by pi/4 is (0, sin, -cos) pi/4.
+    const float h = std::sqrt(0.5f);
+    EXPECT_NEAR(glm::length(at.direction - glm::vec3(0, h, -h)), 0.0f, 1e-6f);
+    EXPECT_EQ(at.power, 7.0f);
+    glm::vec4 record[4] = {glm::vec4(9, 9, 9, 1.5f), glm::vec4(0, 0, -1, 0.8f),
+                           glm::vec4(0.1f, 0.2f, 0.3f, 0.4f), glm::vec4(5, 5, 5, 0.5f)};
+    place_light(at, record);
+    EXPECT_EQ(record[0], glm::vec4(at.position, 1.5f));
+    EXPECT_EQ(record[1], glm::vec4(glm::normalize(at.direction), 0.8f));
+    EXPECT_EQ(record[2], glm::vec4(0.1f, 0.2f, 0.3f, 0.4f));
+    EXPECT_EQ(record[3], glm::vec4(5, 5, 5, 0.5f));
 }
 
 }  // namespace
