@@ -222,13 +222,9 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
     // pi r^2 * (integral of L over the sphere); a constant L gives 4 pi * pi r^2 * L.
     group = scene.world_light_group;
     link_set = 0;
-    if (environment) {
-        add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
-            environment->integral * (kPi * r * r));
-    } else {
-        add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f),
-            scene.environment * (4.0f * kPi * kPi * r * r));
-    }
+    const glm::vec3 world_power = environment ? environment->integral * (kPi * r * r)
+                                              : scene.environment * (4.0f * kPi * kPi * r * r);
+    add(EmitterKind::Environment, glm::vec3(0.0f), glm::vec4(0.0f), glm::vec3(0.0f), world_power);
 
     if (list.empty())
         throw SceneError(

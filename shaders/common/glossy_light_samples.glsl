@@ -13,10 +13,11 @@
 // the continuation cannot meet (suns, points of radius 0, triangles of instanced meshes,
 // which the emitter table does not number) keep the light sample's whole weight. The shading
 // normal's cosine is used on both sides, as the continuation's weight (bsdf_sample) has it.
+//
+// common/light_sampling.glsl includes this file just before direct_light_sampled_lobes, which
+// takes the light sample (its `followed` mode) with what is defined here.
 #ifndef GLOSSY_LIGHT_SAMPLES_GLSL
 #define GLOSSY_LIGHT_SAMPLES_GLSL
-
-#include "common/light_sampling.glsl"
 
 // The continuation's state, from the last vertex that drew its direction: the density it
 // drew it with (0 after a delta lobe, and at the camera: the emission met counts whole), the
@@ -106,48 +107,25 @@ bool glossy_continuation_meets(uint k) {
     return false;
 }
 
-// The light sample at a followed glossy vertex (weighted as above), over the probability
-// p_smooth of having followed the lobe here. Also sets the continuation's state for wi's
-// side. Triangles that the continuation meets without a number in the emitter table (two
-// levels: no HAS_EMITTER_MIS) are left to the continuation alone.
-vec3 glossy_light_sample(int material, vec3 p, vec3 ng, Shading sh, vec3 wo, float p_smooth,
-                         float pick, vec4 u, inout uint rays) {
-    vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
-    bool transmits = sh.kind == MATERIAL_DIELECTRIC;
+// Where direct_light_sampled_lobes takes a followed vertex's light sample: the side and
+// transmission the world's density is read with there, kept for the continuation's weight.
+void glossy_mis_at(vec3 ng_wo, bool transmits) {
     glossy_mis_side = ng_wo;
     glossy_mis_transmits = transmits;
-    vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
-    LightSample ls = sample_light(p, side, pick, u);
-    uint picked = pick_emitter(pick);
+}
+
+// The weight of a followed vertex's unshadowed light sample ls from emitter `picked` at p,
+// against the continuation's density p_followed of the same direction. Triangles the
+// continuation meets without a number in the emitter table (two levels: no HAS_EMITTER_MIS)
+// are left to the continuation alone (0 here, 1 there).
+float glossy_light_weight(uint picked, vec3 p, LightSample ls, float p_followed) {
     int kind = emitter_kind(picked);
 #ifndef HAS_EMITTER_MIS
-    if (kind == EMITTER_TRIANGLE) return vec3(0.0);
+    if (kind == EMITTER_TRIANGLE) return 0.0;
 #endif
-    LINK_LIGHT_SAMPLE(material, picked, ls);
-#if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
-    if (transmits && kind == EMITTER_ENVIRONMENT) ls.radiance_over_pdf *= 2.0;
-#endif
-    vec3 f;
-    float p_bsdf = glossy_followed_f_pdf(sh, wo, ls.wi, p_smooth, f);
-    float cos_theta = abs(dot(sh.n, ls.wi));
-    if (!(ls.distance > 0.0) || !any(greaterThan(ls.radiance_over_pdf, vec3(0.0))) ||
-        !any(greaterThan(f, vec3(0.0))))
-        return vec3(0.0);
-    Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
-    if (ls.distance < DISTANT_LIGHT) shadow.tmax = ls.distance * (1.0 - 1e-4);
-    ++rays;
-#ifdef BVH_ANY_HIT_FILTER
-    shadow_ray_seed = floatBitsToUint(u.x) ^ (floatBitsToUint(u.y) * 0x85EBCA6Bu);
-#endif
-    if (any_hit(shadow)) return vec3(0.0);
-    float weight = 1.0;
-    if (glossy_continuation_meets(picked)) {
-        float p_light = glossy_light_pdf(picked, p, ls.wi, ls.distance);
-        weight = p_light > 0.0 ? p_light / (p_light + p_bsdf) : 0.0;
-    }
-    vec3 part = f * ls.radiance_over_pdf * (cos_theta * weight / p_smooth);
-    LIGHT_GROUP_PART(emitter_group_code(picked), part);
-    return part;
+    if (!glossy_continuation_meets(picked)) return 1.0;
+    float p_light = glossy_light_pdf(picked, p, ls.wi, ls.distance);
+    return p_light > 0.0 ? p_light / (p_light + p_followed) : 0.0;
 }
 
 // After the eye path drew its next direction wi at a followed vertex: the density the

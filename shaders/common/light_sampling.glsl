@@ -447,6 +447,64 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 }
 #endif
 
+#ifdef GLOSSY_LIGHT_SAMPLES
+// The followed glossy vertices' side of it (their f, densities and MIS state).
+#include "common/glossy_light_samples.glsl"
+#endif
+
+// The BSDF sample of direct_light_sampled_lobes (below): one ray for the world and the
+// emissive triangles, followed to what it meets (light_along_bsdf_sample).
+vec3 direct_light_bsdf_sample(vec3 p, vec3 ng, Shading sh, vec3 wo, bool rough_only,
+                              vec3 u_bsdf, bool triangle_mis, float bsdf_fraction,
+                              bool transmits, inout uint rays) {
+    vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
+    vec3 wi, sampled;
+#ifdef HAS_EMITTER_MIS
+    bool world_too = false;
+#ifdef HAS_ENVIRONMENT
+    world_too = true;
+#endif
+    if (!(triangle_mis || world_too) || !bsdf_sample(sh, wo, u_bsdf, false, wi, sampled))
+        return vec3(0.0);
+    float p_bsdf = bsdf_pdf(sh, wo, wi);
+    vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
+#ifdef HAS_NORMAL_MAP
+    f_rough *= shading_cosine_ratio(wi, sh.n, ng);
+#endif
+    if (!(p_bsdf > 0.0) || !any(greaterThan(f_rough, vec3(0.0)))) return vec3(0.0);
+    uint seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+#ifdef LIGHT_GROUPS
+    light_group_bsdf_weight = f_rough * abs(dot(ng, wi));
+#endif
+    return f_rough * abs(dot(ng, wi)) *
+           light_along_bsdf_sample(p, ng, wi, bsdf_fraction * p_bsdf, triangle_mis, ng_wo,
+                                   transmits, seed, rays);
+#elif defined(HAS_ENVIRONMENT)
+    if (!bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) return vec3(0.0);
+    float p_bsdf = bsdf_pdf(sh, wo, wi);
+    float p_light = environment_light_pdf(wi, ng_wo, transmits);
+    vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
+    if (!(p_bsdf > 0.0 && p_light > 0.0 && any(greaterThan(f_rough, vec3(0.0))) &&
+          LINK_REACHES(0u)))
+        return vec3(0.0);
+    Ray escape = make_ray(offset_origin(p, ng, wi), wi);
+    LINK_SHADOW_RAY(0u);  // the world's
+    ++rays;
+#ifdef BVH_ANY_HIT_FILTER
+    shadow_ray_seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
+#endif
+#ifdef HAS_NORMAL_MAP
+    f_rough *= shading_cosine_ratio(wi, sh.n, ng);
+#endif
+    if (any_hit(escape)) return vec3(0.0);
+    vec3 part = f_rough * environment_radiance(wi) * (abs(dot(ng, wi)) / (p_bsdf + p_light));
+    LIGHT_GROUP_PART(WORLD_GROUP_CODE, part);
+    return part;
+#else
+    return vec3(0.0);
+#endif
+}
+
 // The same for a material of common/lobes.glsl, whose lobes may transmit: the light may be on
 // either side. `rough_only`: the smooth lobes, followed by the eye path, are left out.
 // Glossy lobes see the world better through their own samples than through the world's:
@@ -456,15 +514,19 @@ vec3 light_along_bsdf_sample(vec3 p, vec3 ng, vec3 wi, float p_bsdf, bool triang
 // Lambertian and glossy lobes, weighed against light samples of them alike. Other emitters (point, spot
 // and sun lights: delta lights no BSDF sample can hit) come from their light samples alone.
 // `material`: the point's own (a Mix's root), whose light link row counts.
+// `followed` > 0: a glossy vertex the eye path follows with that probability
+// (common/glossy_light_samples.glsl): the followed lobe's light sample alone, weighed
+// against the continuation. One function for both, so that the eye stage's loop holds one
+// copy of the light sample and its shadow ray (two made the glossy Cornell box's passes
+// 1.9x slower on an H100).
 vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 wo,
                                 bool rough_only, float pick, vec4 u, vec3 u_bsdf,
-                                inout uint rays) {
+                                float followed, inout uint rays) {
     vec3 ng_wo = dot(ng, wo) >= 0.0 ? ng : -ng;
     bool transmits = sh.kind == MATERIAL_TRANSLUCENT || sh.kind == MATERIAL_DIELECTRIC;
     // A transmitting lobe sees the constant world from below as well: the cosine-sampled
     // half is chosen by u.w (which that sampler does not read), at half the density.
     vec3 side = transmits && u.w < 0.5 ? -ng_wo : ng_wo;
-    vec3 result = vec3(0.0);
     LightSample ls = sample_light(p, side, pick, u);
     uint picked = pick_emitter(pick);  // the emitter sample_light drew from
     LINK_LIGHT_SAMPLE(material, picked, ls);
@@ -485,6 +547,7 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
     float bsdf_fraction = lambertian ? lambertian_emitter_mis_fraction : 1.0;
     bool bsdf_taken = !lambertian || lambertian_emitter_mis_taken;
 #else
+    bool triangle_mis = false, bsdf_taken = true;
     float bsdf_fraction = 1.0;  // the world's BSDF sample below is taken every pass
 #endif
 #if defined(HAS_ENVIRONMENT) && !defined(HAS_ENVIRONMENT_MAP)
@@ -497,6 +560,15 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
     // scaled to match: photon_trace.comp); elsewhere the true surface's, as the photons have it.
     f *= shading_cosine_ratio(ls.wi, sh.n, ng);
 #endif
+#ifdef GLOSSY_LIGHT_SAMPLES
+    float p_followed = 0.0;
+    if (followed > 0.0) {
+        p_followed = glossy_followed_f_pdf(sh, wo, ls.wi, followed, f);
+        cos_theta = abs(dot(sh.n, ls.wi)) / followed;
+        glossy_mis_at(ng_wo, transmits);
+    }
+#endif
+    vec3 result = vec3(0.0);
     if (cos_theta > 0.0 && ls.distance > 0.0 && any(greaterThan(ls.radiance_over_pdf, vec3(0.0))) &&
         any(greaterThan(f, vec3(0.0)))) {
         Ray shadow = make_ray(offset_origin(p, ng, ls.wi), ls.wi);
@@ -520,62 +592,18 @@ vec3 direct_light_sampled_lobes(int material, vec3 p, vec3 ng, Shading sh, vec3 
                 weight = p_light / (p_light + bsdf_fraction * bsdf_pdf(sh, wo, ls.wi));
             }
 #endif
-            vec3 part = f * ls.radiance_over_pdf * (cos_theta * weight);
-            result += part;
-            LIGHT_GROUP_PART(emitter_group_code(picked), part);
+#ifdef GLOSSY_LIGHT_SAMPLES
+            if (followed > 0.0) weight = glossy_light_weight(picked, p, ls, p_followed);
+#endif
+            result = f * ls.radiance_over_pdf * (cos_theta * weight);
+            LIGHT_GROUP_PART(emitter_group_code(picked), result);
         }
     }
-#ifdef HAS_EMITTER_MIS
-    // One BSDF sample for the world and the emissive triangles: it follows the ray to what it
-    // meets (light_along_bsdf_sample).
-    bool world_too = false;
-#ifdef HAS_ENVIRONMENT
-    world_too = true;
+#ifdef GLOSSY_LIGHT_SAMPLES
+    if (followed > 0.0) return result;
 #endif
-    vec3 wi, sampled;
-    if ((triangle_mis || world_too) && bsdf_taken &&
-        bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
-        float p_bsdf = bsdf_pdf(sh, wo, wi);
-        vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
-#ifdef HAS_NORMAL_MAP
-        f_rough *= shading_cosine_ratio(wi, sh.n, ng);
-#endif
-        if (p_bsdf > 0.0 && any(greaterThan(f_rough, vec3(0.0)))) {
-            uint seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
-#ifdef LIGHT_GROUPS
-            light_group_bsdf_weight = f_rough * abs(dot(ng, wi));
-#endif
-            result += f_rough * abs(dot(ng, wi)) *
-                      light_along_bsdf_sample(p, ng, wi, bsdf_fraction * p_bsdf, triangle_mis,
-                                              ng_wo, transmits, seed, rays);
-        }
-    }
-#elif defined(HAS_ENVIRONMENT)
-    vec3 wi, sampled;
-    if (bsdf_sample(sh, wo, u_bsdf, false, wi, sampled)) {
-        float p_bsdf = bsdf_pdf(sh, wo, wi);
-        float p_light = environment_light_pdf(wi, ng_wo, transmits);
-        vec3 f_rough = bsdf_f(sh, wo, wi, rough_only, false);
-        if (p_bsdf > 0.0 && p_light > 0.0 && any(greaterThan(f_rough, vec3(0.0))) &&
-            LINK_REACHES(0u)) {
-            Ray escape = make_ray(offset_origin(p, ng, wi), wi);
-            LINK_SHADOW_RAY(0u);  // the world's
-            ++rays;
-#ifdef BVH_ANY_HIT_FILTER
-            shadow_ray_seed = floatBitsToUint(u_bsdf.x) ^ (floatBitsToUint(u_bsdf.y) * 0x85EBCA6Bu);
-#endif
-#ifdef HAS_NORMAL_MAP
-            f_rough *= shading_cosine_ratio(wi, sh.n, ng);
-#endif
-            if (!any_hit(escape)) {
-                vec3 part = f_rough * environment_radiance(wi) *
-                            (abs(dot(ng, wi)) / (p_bsdf + p_light));
-                result += part;
-                LIGHT_GROUP_PART(WORLD_GROUP_CODE, part);
-            }
-        }
-    }
-#endif
-    return result;
+    if (!bsdf_taken) return result;
+    return result + direct_light_bsdf_sample(p, ng, sh, wo, rough_only, u_bsdf, triangle_mis,
+                                             bsdf_fraction, transmits, rays);
 }
 #endif

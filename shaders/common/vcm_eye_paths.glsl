@@ -148,7 +148,7 @@ void main() {
             light += throughput * direct_light_sampled_lobes(s.material, s.position,
                                                              s.geometric_normal, sh, wo,
                                                              rough_only, n.pick, n.u, u_mis,
-                                                             rays);
+                                                             0.0, rays);
             if (!vcm_rough_sample(sh, wo, rough_only, u_dir, dir, weight)) break;
             throughput *= weight;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
