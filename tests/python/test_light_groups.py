@@ -15,6 +15,7 @@ Two kinds of check:
   measured over seeds 1-3 (see each test) and are tight enough that a 1% bias of a group's
   mean fails them.
 """
+import json
 import math
 import os
 import subprocess
@@ -402,3 +403,33 @@ def test_cli_writes_the_group_layers(glslppm, tmp_path):
     assert result.returncode == 0, result.stderr
     assert_layers_equal(layers_of(glslppm, tmp_path / "merged.exr"), whole)
 
+
+def test_cli_tiled_frame_writes_the_group_layers(glslppm, tmp_path):
+    """glslppm-render --light-groups 2 --passes-out on a frame split in bands of rows
+    (--max-block-bytes, as test_tiles): each band's group passes are placed as its Combined
+    is, so every layer equals the untiled render's within test_tiles' bound (2e-5 of the
+    pixel, 1e-2 floor; measured 3.1e-6 in Combined and Combined_group0, 7 bands of 48 x 6-7
+    rows: the groups' splats, 144 B a pixel, are the largest block), and the tiled groups
+    sum to the tiled Combined. The built-in box's mirror and glass sphere are light traced
+    into group0 (the ceiling light's) in each band; group1 (the black world) is zero."""
+    def render(name, *extra):
+        path = tmp_path / name
+        result = subprocess.run(
+            [RENDER, "--width", "48", "--height", "48", "--photons", "4096", "--passes", "8",
+             "--light-groups", "2", "--passes-out", "combined", "--out", str(path), "--json",
+             *extra], capture_output=True, text=True, timeout=300, cwd="/")
+        assert result.returncode == 0, result.stderr
+        return layers_of(glslppm, path), json.loads(result.stdout)
+    whole, whole_stats = render("whole.exr")
+    tiled, tiled_stats = render("tiled.exr", "--max-block-bytes", str(48 * 16 * 4 * 16))
+    assert whole_stats["tiles"] == 1 and tiled_stats["tiles"] > 1, tiled_stats["tiles"]
+    assert "light-tracing" in whole_stats["variant"].split(",")
+    assert set(tiled) == {"Combined", "Combined_group0", "Combined_group1"}
+    combined = tiled["Combined"][..., :3]
+    assert combined.mean() > 0.01
+    assert np.all(np.abs(tiled["Combined_group0"] - combined) <= sum_bound(combined))
+    assert np.all(tiled["Combined_group1"] == 0.0)
+    for name, image in whole.items():
+        difference = np.abs(tiled[name] - image)
+        assert (difference <= 2e-5 * np.maximum(np.abs(image), 1e-2)).all(), \
+            (name, difference.max())
