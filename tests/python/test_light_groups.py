@@ -264,6 +264,27 @@ def test_light_traced_caustic_goes_to_its_group(glslppm):
         alone.close()
         assert_matches(groups[name], reference, 0.02 if name == "key" else 0.04, None)
 
+
+@pytest.mark.parametrize("estimator", ["sppm", "pppm"])
+def test_groups_leave_the_light_traced_combined_bit_identical(glslppm, estimator):
+    """With light tracing on, the groups only add splats beside Combined's (and the stored
+    photon's word carries the group in its float's exponent, from which the gather still
+    reads the light-traced class): the ball caustic's Combined is the same bits with and
+    without groups, for both estimators (32^2, 8 passes of 16384, seed 3). With (a) of
+    test_light_traced_caustic_goes_to_its_group, the groups split this very Combined."""
+    g = glslppm
+    settings = g.Settings(width=32, height=32, photons_per_pass=16384, seed=3,
+                          estimator=estimator)
+    films = []
+    for groups in (True, False):
+        r = g.Renderer(ball_caustic(g, groups=groups), settings)
+        r.run(8)
+        assert "light-tracing" in r.stats()["variant"].split(",")
+        films.append(r.film())
+        r.close()
+    assert films[0][..., :3].mean() > 0.01
+    assert np.array_equal(films[0], films[1])
+
 def world_and_glowing_panel(g, world=True, panel=True, lamp=True, groups=True):
     """A floor under a grey world ("sky"), an emissive panel seen by the camera ("panel",
     two-sided mesh emission) and a point light in no group."""
