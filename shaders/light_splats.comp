@@ -29,4 +29,24 @@ void main() {
         light_splats[k + LIGHT_SPLAT_COMPENSATION + w] = floatBitsToUint(compensation[w]);
     }
     for (uint w = 0u; w < 6u; ++w) light_splats[k + w] = 0u;
+#ifdef LIGHT_GROUPS
+    // Each group's splats (common/light_splats.glsl) folded the same way.
+    for (uint g = 0u; g < uint(LIGHT_GROUPS); ++g) {
+        uint kg = light_splat_group_word(i, g);
+        vec4 group_sum = vec4(light_splat_word3(kg + LIGHT_SPLAT_SUM), 0.0);
+        vec4 group_compensation = vec4(light_splat_word3(kg + LIGHT_SPLAT_COMPENSATION), 0.0);
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
+        kahan_add(group_sum, group_compensation,
+                  vec4(light_splat_pass_at(kg) / float(photon_threads), 0.0));
+#else
+        kahan_add(group_sum, group_compensation, vec4(light_splat_pass_at(kg), 0.0));
+#endif
+        for (uint w = 0u; w < 3u; ++w) {
+            light_splats[kg + LIGHT_SPLAT_SUM + w] = floatBitsToUint(group_sum[w]);
+            light_splats[kg + LIGHT_SPLAT_COMPENSATION + w] =
+                floatBitsToUint(group_compensation[w]);
+        }
+        for (uint w = 0u; w < 6u; ++w) light_splats[kg + w] = 0u;
+    }
+#endif
 }

@@ -268,11 +268,6 @@ int main(int argc, char** argv) {
         RenderStats s;
         std::vector<float> film;
         if (plan.tiles.size() > 1) {
-            if (o.multilayer && !scene.light_groups.empty())
-                throw std::invalid_argument(
-                    "--light-groups with --passes-out: a frame of " +
-                    std::to_string(plan.tiles.size()) +
-                    " tiles does not write its light groups' layers yet (docs/light_groups.md)");
             if (o.passes <= 0)
                 throw std::invalid_argument("a " + std::to_string(o.settings.width) + "x" +
                                             std::to_string(o.settings.height) + " frame renders in " +
@@ -287,7 +282,9 @@ int main(int argc, char** argv) {
                 });
             s = image.stats;
             film = std::move(image.rgba);
-            if (o.multilayer) layers = render_pass_layers(film, o.settings.passes, image.passes);
+            if (o.multilayer)
+                layers = render_pass_layers(film, o.settings.passes, image.passes,
+                                            scene.light_groups, image.light_groups);
         } else {
             Renderer renderer(scene, o.settings);
             const auto start = std::chrono::steady_clock::now();

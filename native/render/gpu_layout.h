@@ -180,6 +180,8 @@ inline constexpr unsigned kRadiusStatsThreads = 256;
 // no more than the smallest visible point (3 vec4), which image tiles are planned by.
 inline constexpr std::size_t kLightSplatBytes = LIGHT_SPLAT_WORDS * 4;
 static_assert(kLightSplatBytes <= 3 * 16);
+// The word of a pixel's splats where the float sum (rgb) starts (LIGHT_SPLAT_SUM there).
+inline constexpr std::size_t kLightSplatSumWord = 6;
 
 // `buffer Materials` (shaders/common/scene_buffers.glsl), read through the accessors of
 // shaders/common/bsdf.glsl and lobes.glsl: MATERIAL_VEC4 per material, then the albedo tables

@@ -23,7 +23,9 @@ PassStateBytes pass_state_bytes(const PassStateShape& s) {
     b.direct_light = px * 2 * 16;
     b.film = px * 16;
     b.pass_films = px * s.pass_stride * 16;
-    b.light_splats = s.light_tracing ? px * kLightSplatBytes : 0;
+    const std::size_t splat_bytes =
+        s.light_tracing ? kLightSplatBytes * (1 + s.light_splat_groups) : 0;
+    b.light_splats = px * splat_bytes;
     // Photon paths (3 vec4) and stored photons (3 vec4 each).
     const std::size_t stored = s.photon_slot * s.steps_per_gather;
     b.photon_paths = ph * kPhotonPathBytes;
@@ -35,9 +37,9 @@ PassStateBytes pass_state_bytes(const PassStateShape& s) {
     b.rng_states = s.paper_rng ? (px + ph) * 16 : 0;
     b.radius_stats = std::size_t(kRadiusStatsThreads) * 8;
 
-    b.bytes_per_pixel = (kVisiblePointVec4 + 2 + 2 + 1) * 16 + s.pass_stride * 16 +
-                        (s.light_tracing ? kLightSplatBytes : 0);
-    b.block_bytes_per_pixel = std::max(kVisiblePointVec4 * 16, s.pass_stride * 16);
+    b.bytes_per_pixel = (kVisiblePointVec4 + 2 + 2 + 1) * 16 + s.pass_stride * 16 + splat_bytes;
+    b.block_bytes_per_pixel =
+        std::max({kVisiblePointVec4 * 16, s.pass_stride * 16, splat_bytes});
     b.bytes_per_photon =
         double(b.photon_paths + b.photons + b.hash_cells + (s.exact_hash ? b.sorted_photons : 0) +
                (s.paper_rng ? ph * 16 : 0)) /
@@ -70,6 +72,8 @@ PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* sce
     // VCM: its own light tracing technique splats, never the photons' (scene_features.cpp).
     if (settings.estimator == Estimator::Vcm)
         s.light_tracing = settings.vcm_techniques != VcmTechniques::PathTracing;
+    // Light groups with light tracing: each group's splats too, 48 bytes a group and pixel.
+    if (s.light_tracing) s.light_splat_groups = static_cast<std::size_t>(layout.light_groups);
     s.exact_hash = settings.hash == HashMode::Exact;
     s.paper_rng = settings.rng == RngKind::Paper;
     const DensityEstimator& estimator = density_estimator(settings.estimator);

@@ -19,6 +19,8 @@ struct PassStateShape {
     std::size_t pixels = 0, photon_threads = 0, hash_cells = 0;
     std::size_t pass_stride = 0;  // vec4s a pixel of the render passes' films (PassLayout)
     bool light_tracing = false;   // light tracing's splats (kLightSplatBytes a pixel)
+    // With light groups, a block of splats per group after the frame's (light_splats.glsl).
+    std::size_t light_splat_groups = 0;
     bool exact_hash = false;      // the exact hash's sorted photon indices
     bool paper_rng = false;       // a generator state per pixel and per photon thread
     // The stored photons: photon_slot each step, steps_per_gather steps (the estimator's:

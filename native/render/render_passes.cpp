@@ -1,6 +1,9 @@
 #include "render/render_passes.h"
 
+#include "render/gpu_layout.h"
+
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 
 namespace glslppm {
@@ -170,6 +173,16 @@ std::vector<float> resolve_light_group(const PassLayout& layout, int group,
                                     std::to_string(layout.light_groups));
     const int at = layout.light_group_offset(group);
     return resolve_pass_pairs(layout, at, at + 2, pass_films, pixel_stats, pixels, resolve);
+}
+
+void add_light_group_splats(std::vector<float>& image, const std::vector<std::uint32_t>& words,
+                            float scale, float pixel_area) {
+    const float factor = scale / pixel_area;
+    const std::size_t pixels = image.size() / 4, stride = kLightSplatBytes / 4;
+    for (std::size_t i = 0; i < pixels; ++i)
+        for (std::size_t c = 0; c < 3; ++c)
+            image[4 * i + c] +=
+                std::bit_cast<float>(words[i * stride + kLightSplatSumWord + c]) * factor;
 }
 
 std::string light_group_pass_name(const std::string& group) { return "Combined_" + group; }

@@ -102,6 +102,13 @@ std::vector<float> resolve_light_group(const PassLayout& layout, int group,
                                        const std::vector<glm::vec4>& pixel_stats,
                                        std::size_t pixels, const PassResolve& resolve);
 
+// Light tracing's splats of one light group (its block of the splat buffer, pixels x
+// kLightSplatBytes / 4 words: common/light_splats.glsl) added to the group's image, as
+// resolve_film.comp adds Combined's: the float sum times `scale` (1 / N_emitted, or PPPM's
+// 1 / passes) over the film's pixel area `pixel_area`.
+void add_light_group_splats(std::vector<float>& image, const std::vector<std::uint32_t>& words,
+                            float scale, float pixel_area);
+
 // Cycles' name of a light group's pass: "Combined_<group>".
 std::string light_group_pass_name(const std::string& group);
 

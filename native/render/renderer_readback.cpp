@@ -9,6 +9,7 @@
 #include <epoxy/gl.h>
 
 #include "render/film_merge.h"
+#include "render/gpu_layout.h"
 
 namespace glslppm {
 
@@ -52,6 +53,22 @@ std::vector<std::vector<float>> Renderer::Gpu::resolve_passes(const std::vector<
         images.push_back(resolve_render_pass(layout, pass, films, stats, pixels, r));
     for (int group = 0; groups && group < layout.light_groups; ++group)
         images.push_back(resolve_light_group(layout, group, films, stats, pixels, r));
+    if (groups && buffers.light_splats) {
+        // Light tracing's splats of each group: its block after the frame's
+        // (common/light_splats.glsl), as resolve_film.comp adds Combined's.
+        const std::size_t block = std::size_t(pixels) * kLightSplatBytes;
+        std::vector<std::uint32_t> words(block / 4);
+        const FrameBlock& f = scene.frame;
+        const float pixel_area = 4.0f * f.film_half_extent.x * f.film_half_extent.y /
+                                 (float(f.image_width) * float(f.image_height));
+        const float scale = r.mean_of_passes ? r.inv_passes : r.inv_photons_emitted;
+        const std::size_t first = images.size() - std::size_t(layout.light_groups);
+        for (int group = 0; group < layout.light_groups; ++group) {
+            buffers.reader.read(buffers.light_splats, (std::size_t(group) + 1) * block, block,
+                                words.data());
+            add_light_group_splats(images[first + std::size_t(group)], words, scale, pixel_area);
+        }
+    }
     return images;
 }
 

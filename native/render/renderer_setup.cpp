@@ -134,6 +134,8 @@ PassStateShape worker_pass_state_shape(const Renderer::Gpu& g) {
     shape.hash_cells = g.scene.hash_cells;
     shape.pass_stride = static_cast<std::size_t>(g.scene.pass_layout.stride);
     shape.light_tracing = g.scene.light_tracing;
+    if (shape.light_tracing)
+        shape.light_splat_groups = static_cast<std::size_t>(g.scene.pass_layout.light_groups);
     shape.exact_hash = settings.hash == HashMode::Exact;
     shape.paper_rng = settings.rng == RngKind::Paper;
     const DensityEstimator& estimator = density_estimator(settings.estimator);
@@ -189,7 +191,8 @@ void allocate_pass_state(Renderer::Gpu& g) {
     b.radius_stats =
         g.make_buffer(BINDING_RADIUS_STATS, sizes.radius_stats, nullptr, "radius statistics");
     if (sizes.light_splats > 0) {
-        // kLightSplatBytes a pixel (common/light_splats.glsl); zeroed by restart_film().
+        // kLightSplatBytes a pixel, and as much per light group (common/light_splats.glsl);
+        // zeroed by restart_film().
         g.require_fits(sizes.light_splats, "light tracing's splats", true);
         b.light_splats =
             g.make_buffer(BINDING_LIGHT_SPLATS, sizes.light_splats, nullptr, "light splats");

@@ -251,9 +251,10 @@ bool rigid_frame(const glm::mat4& m) {
 
 std::span<const Specialization> specializations() { return kRows; }
 
-// The light split's passes (its Caustics pass would miss the splats), light groups (the
-// splats carry no group yet), a camera frame with scale or shear, and the full variant (a
-// material edit must not switch the film's buffers) rule light tracing out. A thin lens
+// The light split's passes (its Caustics pass would miss the splats), a camera frame with
+// scale or shear, and the full variant (a material edit must not switch the film's buffers)
+// rule light tracing out. With light groups each splat goes into its emitter's group's
+// splats as well (common/light_splats.glsl). A thin lens
 // connects through a point of its disc. With light links a photon splats only where it is
 // stored, which its link decides (photon_trace.comp's stores_photon), as the gather's.
 bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
@@ -261,7 +262,7 @@ bool light_tracing_allowed(const Scene& scene, const RenderSettings& settings) {
     const bool photon_split =
         pass_layout(settings.passes, settings.direct_light == DirectLight::Photons).photon_split;
     return settings.light_tracing && rigid_frame(camera.to_world) && !photon_split &&
-           !settings.full_variant && scene.light_groups.empty();
+           !settings.full_variant;
 }
 
 bool light_tracing_expected(const Scene& scene, const RenderSettings& settings) {

@@ -165,6 +165,7 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
     out.plan = plan;
     out.rgba.assign(std::size_t(settings.width) * settings.height * 4, 0.0f);
     out.passes.assign(settings.passes.size(), out.rgba);
+    out.light_groups.assign(scene.light_groups.size(), out.rgba);
     // A tile's rows of a height x width x 4 image into the frame's.
     auto place = [&](std::vector<float>& frame, const std::vector<float>& image, const Tile& tile) {
         for (int row = 0; row < tile.height; ++row)
@@ -189,6 +190,8 @@ TiledImage render_tiled(const Scene& scene, const RenderSettings& settings, int 
             const std::vector<std::vector<float>> images = renderer.render_passes(settings.passes);
             for (std::size_t k = 0; k < images.size(); ++k) place(out.passes[k], images[k], tile);
         }
+        const std::vector<std::vector<float>> groups = renderer.light_group_passes();
+        for (std::size_t g = 0; g < groups.size(); ++g) place(out.light_groups[g], groups[g], tile);
         add_tile_stats(out.stats, s, t, tile, settings);
         if (on_tile && !on_tile(t, tile, film) && t + 1 < job.count) throw Cancelled();
         return true;

@@ -78,6 +78,9 @@ struct TiledImage {
     std::vector<float> rgba;  // height x width x 4, row 0 at the top
     // settings.passes in their order, each as Renderer::render_pass gives it for the frame.
     std::vector<std::vector<float>> passes;
+    // Every light group's pass (Scene::light_groups), as Renderer::light_group_passes gives
+    // them for the frame.
+    std::vector<std::vector<float>> light_groups;
     RenderStats stats;        // summed over the tiles (passes: each tile's)
     TilePlan plan;
 };

@@ -77,6 +77,38 @@ vec3 light_splat_sum(uint i) {
     return light_splat_word3(i * LIGHT_SPLAT_WORDS + LIGHT_SPLAT_SUM);
 }
 
+#ifdef LIGHT_GROUPS
+// Light groups (common/light_groups.glsl): after the frame's pixels, one more block of
+// LIGHT_SPLAT_WORDS a pixel per group, where each splat goes as well, by the group of the
+// photon's emitter. Each group's integers are the sum of its own splats, exactly, so the
+// groups and the splats of no group add up to Combined's integers; the host reads the
+// groups' float sums back (render_passes.cpp, add_light_group_splats).
+uint light_splat_group_word(uint i, uint group) {
+    return ((group + 1u) * image_width * image_height + i) * LIGHT_SPLAT_WORDS;
+}
+
+// light_splat_add's splat into the group of this code (0: none), the same units.
+void light_splat_group_add(uint i, uint code, vec3 value) {
+    if (code == 0u) return;
+    uint k = light_splat_group_word(i, code - 1u);
+    vec3 units = value / light_splat_unit;
+    for (int c = 0; c < 3; ++c) {
+        float u = units[c];
+        if (!(u > 0.0) || isinf(u) || isnan(u)) continue;
+        add_fixed_point(k + 2u * uint(c), min(u, LIGHT_SPLAT_MAX_UNITS));
+    }
+}
+
+// light_splat_pass of the words from k.
+vec3 light_splat_pass_at(uint k) {
+    vec3 v;
+    for (int c = 0; c < 3; ++c)
+        v[c] = float(light_splats[k + 2u * uint(c) + 1u]) * TWO_POW_32 +
+               float(light_splats[k + 2u * uint(c)]);
+    return v * light_splat_unit;
+}
+#endif
+
 // The film's pixel area: on the z = -1 plane (perspective) or in world units (orthographic),
 // as the camera's importance is normalised (common/light_tracing.glsl).
 float light_splat_pixel_area() {

@@ -85,9 +85,14 @@ TEST(MemoryEstimate, LightTracingAsSceneFeaturesDecidesIt) {
     blurred.camera.aperture_radius = 0.1f;
     blurred.camera.focus_distance = 3.0f;
     EXPECT_TRUE(pass_state_shape(settings, &blurred, 0).light_tracing);  // through the lens
+    // Light groups: each group's splats too, 48 bytes a group and pixel after the frame's.
     Scene grouped = box;
-    grouped.light_groups = {"key"};
-    EXPECT_FALSE(pass_state_shape(settings, &grouped, 0).light_tracing);  // light groups
+    grouped.light_groups = {"key", "fill"};
+    const PassStateShape shape = pass_state_shape(settings, &grouped, 0);
+    EXPECT_TRUE(shape.light_tracing);
+    EXPECT_EQ(shape.light_splat_groups, 2u);
+    EXPECT_EQ(pass_state_bytes(shape).light_splats, shape.pixels * 3 * 48);
+    EXPECT_EQ(pass_state_shape(settings, &box, 0).light_splat_groups, 0u);
     EXPECT_TRUE(pass_state_shape(settings, nullptr, 0).light_tracing);    // no scene: at most
 }
 
