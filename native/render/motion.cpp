@@ -58,6 +58,25 @@ void check_steps(const TransformSteps& s, const std::string& name) {
     }
 }
 
+// The moving instances' or lights' entries (`kind` "instance" or "light", `member` their
+// index field): each index within the scene's `count`, given once, its steps valid.
+template <typename Moving>
+void check_moving(const std::vector<Moving>& moving, std::uint32_t Moving::*member,
+                  std::size_t count, const std::string& kind) {
+    std::set<std::uint32_t> seen;
+    for (std::size_t k = 0; k < moving.size(); ++k) {
+        const std::string name = "motion." + kind + "s[" + std::to_string(k) + "]";
+        const std::uint32_t i = moving[k].*member;
+        if (i >= count)
+            throw SceneError(name + "." + kind + ": " + std::to_string(i) +
+                             " is out of range (" + std::to_string(count) + " " + kind + "s)");
+        if (!seen.insert(i).second)
+            throw SceneError(name + "." + kind + ": " + kind + " " + std::to_string(i) +
+                             " is given motion twice");
+        check_steps(moving[k].steps, name);
+    }
+}
+
 bool moves(const TransformSteps& s) {
     return std::any_of(s.to_world.begin(), s.to_world.end(),
                        [&](const glm::mat4& m) { return m != s.to_world[0]; });
@@ -163,18 +182,7 @@ void validate_motion(const Scene& scene) {
         if (*std::max_element(m.shutter_curve.begin(), m.shutter_curve.end()) <= 0.0f)
             throw SceneError("motion.shutter_curve is 0 everywhere: the shutter never opens");
     }
-    std::set<std::uint32_t> seen;
-    for (std::size_t k = 0; k < m.instances.size(); ++k) {
-        const std::string name = "motion.instances[" + std::to_string(k) + "]";
-        const std::uint32_t i = m.instances[k].instance;
-        if (i >= scene.instances.size())
-            throw SceneError(name + ".instance: " + std::to_string(i) + " is out of range (" +
-                             std::to_string(scene.instances.size()) + " instances)");
-        if (!seen.insert(i).second)
-            throw SceneError(name + ".instance: instance " + std::to_string(i) +
-                             " is given motion twice");
-        check_steps(m.instances[k].steps, name);
-    }
+    check_moving(m.instances, &InstanceMotion::instance, scene.instances.size(), "instance");
     if (!m.camera.times.empty()) check_steps(m.camera, "motion.camera");
     if (!m.camera_fov_x.empty()) {
         if (m.camera_fov_x.size() != m.camera.times.size())
@@ -186,18 +194,7 @@ void validate_motion(const Scene& scene) {
                 throw SceneError("motion.camera_fov_x: " + number(fov) +
                                  " is not an angle of view in (0, pi)");
     }
-    seen.clear();
-    for (std::size_t k = 0; k < m.lights.size(); ++k) {
-        const std::string name = "motion.lights[" + std::to_string(k) + "]";
-        const std::uint32_t i = m.lights[k].light;
-        if (i >= scene.lights.size())
-            throw SceneError(name + ".light: " + std::to_string(i) + " is out of range (" +
-                             std::to_string(scene.lights.size()) + " lights)");
-        if (!seen.insert(i).second)
-            throw SceneError(name + ".light: light " + std::to_string(i) +
-                             " is given motion twice");
-        check_steps(m.lights[k].steps, name);
-    }
+    check_moving(m.lights, &LightMotion::light, scene.lights.size(), "light");
     validate_deformation(scene);
 }
 

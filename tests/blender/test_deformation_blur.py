@@ -16,7 +16,7 @@ import numpy as np
 import helpers
 from helpers import add_camera, add_light, add_quad, diffuse_material
 from test_motion_blur import (ALBEDO, HALF, HEIGHT, SHUTTER, SPEED, SUN, WIDTH, analytic_columns,
-                              linear_keys as _linear_keys, spread)
+                              linear_keys as _linear_keys, spread, use_motion_blur)
 
 
 def _shape_key_strip_scene():
@@ -39,10 +39,7 @@ def _shape_key_strip_scene():
         move.keyframe_insert("value", frame=frame)
     _linear_keys(strip.data.shape_keys)
     scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = SHUTTER
-    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
-    owner.motion_blur_position = 'CENTER'
+    use_motion_blur(scene, SHUTTER)
     scene.glslppm.passes = 64
     scene.glslppm.photons_per_pass = 1024
     return scene, strip
@@ -94,10 +91,7 @@ def _bending_bar_scene(size=64):
         bar.keyframe_insert('modifiers["Bend"].angle', frame=frame)
     _linear_keys(bar)
     scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = 1.0
-    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
-    owner.motion_blur_position = 'CENTER'
+    use_motion_blur(scene, 1.0)
     bar.cycles.use_motion_blur = True
     bar.cycles.use_deform_motion = True
     bar.cycles.motion_steps = 2  # 5 steps: the bend's arc is followed closely
@@ -179,10 +173,7 @@ def _spinning_disk_scene(size=64):
         disk.keyframe_insert("rotation_euler", frame=frame)
     _linear_keys(disk)
     scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = 0.5
-    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
-    owner.motion_blur_position = 'CENTER'
+    use_motion_blur(scene, 0.5)
     return scene, disk
 
 

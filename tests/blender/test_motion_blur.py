@@ -17,6 +17,15 @@ STRIP, SPEED, SHUTTER = 0.5, 3.0, 0.5       # units, units per frame, frames
 ALBEDO, SUN = 0.8, 2.0
 
 
+def use_motion_blur(scene, shutter, position='CENTER'):
+    """Render Properties > Motion Blur on, with this shutter (in frames) and position (its
+    property moved from Cycles' settings to the scene's render settings in 4.x)."""
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_shutter = shutter
+    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
+    owner.motion_blur_position = position
+
+
 def ramp_mean(a, b, c, d):
     """The mean over x in [a, b] of clip((x - c) / d, 0, 1)."""
     def antiderivative(u):
@@ -71,10 +80,7 @@ def _moving_strip_scene(position):
         strip.location = (-0.25 + SPEED * (frame - 1), 0, 0)
         _linear_keyframe(strip, frame)
     scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = SHUTTER
-    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
-    owner.motion_blur_position = position
+    use_motion_blur(scene, SHUTTER, position)
     scene.glslppm.passes = 64
     scene.glslppm.photons_per_pass = 1024
     return scene, strip
@@ -268,10 +274,7 @@ def test_keyframed_sun_tilts_over_the_shutter():
     linear_keys(sun)
     linear_keys(area)
     scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = SHUTTER
-    owner = scene.render if hasattr(scene.render, "motion_blur_position") else scene.cycles
-    owner.motion_blur_position = 'CENTER'
+    use_motion_blur(scene, SHUTTER)
     scene.glslppm.passes = 256
     scene.glslppm.photons_per_pass = 1024
     image, error, engine = helpers.render_recorded("motion_blur_sun")
