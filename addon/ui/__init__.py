@@ -2,10 +2,11 @@
 
 import bpy
 
-from . import blender_panels, light_group_panels, light_panel, render_panels, view_layer_panel
+from . import (blender_panels, light_group_panels, light_linking_panel, light_panel, render_panels,
+               view_layer_panel)
 
 _classes = (render_panels.classes + light_panel.classes + view_layer_panel.classes +
-            light_group_panels.classes)
+            light_group_panels.classes + light_linking_panel.classes)
 
 
 def register():

@@ -68,3 +68,23 @@ def test_light_linked_scene_matches_cycles():
     if linked:
         left, right = b[:, 0].mean(), b[:, 2].mean()
         assert left < 0.8 * right, (left, right)
+
+
+def test_blender_before_4_says_light_linking_needs_4():
+    """Blender 3.4 has no light linking (its files' links are dropped): for GLSLPPM the Object
+    tab has a Light Linking panel saying that it needs Blender 4.0, and no other engine shows
+    it. From 4.0 the panel is not registered: Blender's own Light Linking and Shadow Linking
+    panels draw the links, which GLSLPPM renders (test_light_linked_scene_matches_cycles)."""
+    from types import SimpleNamespace
+    panel = getattr(bpy.types, "OBJECT_PT_glslppm_light_linking", None)
+    if BLENDER_4:
+        assert panel is None
+        return
+    assert panel is not None
+    scene, _ = linked_scene()
+    obj = scene.objects["Left"]
+    assert panel.poll(SimpleNamespace(engine='GLSLPPM', object=obj))
+    assert not panel.poll(SimpleNamespace(engine='CYCLES', object=obj))
+    assert not panel.poll(SimpleNamespace(engine='GLSLPPM', object=None))
+    module = __import__(panel.__module__, fromlist=["MESSAGE"])
+    assert "Blender 4.0" in module.MESSAGE
