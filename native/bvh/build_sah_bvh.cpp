@@ -100,7 +100,9 @@ class Builder {
         const auto offset = static_cast<std::int32_t>(out.size());
         out[index].left = static_cast<std::int32_t>(index + 1);
         out[index].right = offset;
-        for (BvhNode node : right_nodes) {
+        for (std::size_t k = 0; k < right_nodes.size(); ++k) {
+            if ((k & 0xFFFFu) == 0) throw_if_cancelled(options_.cancel);
+            BvhNode node = right_nodes[k];
             if (!node.is_leaf()) {
                 node.left += offset;
                 node.right += offset;
@@ -288,7 +290,8 @@ template <class BoxOf>
 Bvh build_over(std::uint32_t n, BoxOf box_of, const BvhBuildOptions& options) {
     Bvh bvh;
     if (n == 0) return bvh;
-    std::vector<PrimRef> refs(n);
+    std::vector<PrimRef> refs;
+    resize_polling(refs, n, options.cancel);
     auto fill = [&](std::uint32_t begin, std::uint32_t end) {
         Range r;
         r.begin = begin;
@@ -320,8 +323,9 @@ Bvh build_over(std::uint32_t n, BoxOf box_of, const BvhBuildOptions& options) {
     Builder builder(refs, options);
     bvh.nodes.reserve(2 * static_cast<std::size_t>(n));
     bvh.max_depth = builder.build(root, bvh.nodes);
-    bvh.triangles.resize(n);
+    resize_polling(bvh.triangles, n, options.cancel);
     for (std::uint32_t i = 0; i < n; ++i) bvh.triangles[i] = refs[i].id;
+    throw_if_cancelled(options.cancel);
     for (const BvhNode& node : bvh.nodes) bvh.leaf_count += node.is_leaf() ? 1 : 0;
     return bvh;
 }

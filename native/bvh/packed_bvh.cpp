@@ -31,7 +31,8 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
 
     // Leaves get padded boxes; inner boxes are the unions of their children's, computed in
     // reverse preorder (children come after their parent), so containment stays exact.
-    std::vector<Aabb> boxes(bvh.nodes.size());
+    std::vector<Aabb> boxes;
+    resize_polling(boxes, bvh.nodes.size(), cancel);
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
         if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];
@@ -42,7 +43,7 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
             boxes[i].grow(boxes[node.right]);
         }
     }
-    packed.nodes.resize(2 * bvh.nodes.size());
+    resize_polling(packed.nodes, 2 * bvh.nodes.size(), cancel);
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
         if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];
@@ -54,13 +55,13 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded, 
 
     const MeshView& view = mesh.view;
     const std::size_t n = packed.triangle_count;
-    packed.triangles.resize(3 * n);
+    resize_polling(packed.triangles, 3 * n, cancel);
     // Tangents ride in the normals' w (scene/tangent_space.h); a mesh with tangents but no
     // normals packs its faces' normals.
     const bool tangents = !view.tangents.empty();
-    if (!view.normals.empty() || tangents) packed.normals.resize(3 * n);
-    if (!view.uvs.empty()) packed.uvs.resize(2 * n);
-    if (!view.colors.empty()) packed.colors.resize(3 * n);
+    if (!view.normals.empty() || tangents) resize_polling(packed.normals, 3 * n, cancel);
+    if (!view.uvs.empty()) resize_polling(packed.uvs, 2 * n, cancel);
+    if (!view.colors.empty()) resize_polling(packed.colors, 3 * n, cancel);
     auto fill = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
@@ -120,6 +121,7 @@ PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options
     auto start = std::chrono::steady_clock::now();
     const Bvh bvh = build_sah_bvh(mesh, options);
     const double build_seconds = seconds_since(start);
+    throw_if_cancelled(options.cancel);
     start = std::chrono::steady_clock::now();
     ThreadedBvh threaded = thread_bvh(bvh, order_count, options.parallel, options.cancel);
     const double thread_seconds = seconds_since(start);

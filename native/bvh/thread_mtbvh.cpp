@@ -56,9 +56,11 @@ ThreadedBvh thread_bvh(const Bvh& bvh, int order_count, bool parallel,
     ThreadedBvh threaded;
     threaded.order_count = order_count;
     threaded.node_count = static_cast<std::uint32_t>(bvh.nodes.size());
-    threaded.links.resize(static_cast<std::size_t>(order_count) * threaded.node_count);
+    resize_polling(threaded.links, static_cast<std::size_t>(order_count) * threaded.node_count,
+                   cancel);
     if (threaded.node_count == 0) return threaded;
-    std::vector<Branch> branches(bvh.nodes.size());
+    std::vector<Branch> branches;
+    resize_polling(branches, bvh.nodes.size(), cancel);
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
         if ((i & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const BvhNode& node = bvh.nodes[i];

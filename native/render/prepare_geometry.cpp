@@ -134,12 +134,13 @@ const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
                            const CancelFlag* cancel, const PackedBvh* built, PreparedScene& p) {
     const bool two_level = p.instancing.two_level;
     const auto material_count = static_cast<std::uint32_t>(p.geometry.materials.size());
-    const ValidMesh mesh = validate_mesh(p.geometry.mesh, material_count);
+    const ValidMesh mesh = validate_mesh(p.geometry.mesh, material_count, cancel);
     std::vector<ValidMesh> valid_instance_meshes;
     std::size_t kept = mesh.kept.size(), dropped = mesh.stats.degenerate_dropped;
     for (std::size_t m = 0; m < p.instance_meshes.size(); ++m) {
         try {
-            valid_instance_meshes.push_back(validate_mesh(p.instance_meshes[m], material_count));
+            valid_instance_meshes.push_back(
+                validate_mesh(p.instance_meshes[m], material_count, cancel));
         } catch (const SceneError& e) {
             throw SceneError("instance_meshes[" + std::to_string(m) + "]: " + e.what());
         }

@@ -4,7 +4,9 @@
 // scene's size.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <stdexcept>
 
 namespace glslppm {
@@ -21,6 +23,19 @@ inline bool cancel_requested(const CancelFlag* flag) {
 
 inline void throw_if_cancelled(const CancelFlag* flag) {
     if (cancel_requested(flag)) throw Cancelled();
+}
+
+// v.resize(n), 8 MiB at a time with a poll between: first touching a few hundred MiB of new
+// pages takes most of a second on a loaded virtual machine.
+template <class Vector>
+void resize_polling(Vector& v, std::size_t n, const CancelFlag* flag) {
+    constexpr std::size_t kStep =
+        std::max<std::size_t>(1, (std::size_t(8) << 20) / sizeof(typename Vector::value_type));
+    v.reserve(n);
+    while (v.size() < n) {
+        throw_if_cancelled(flag);
+        v.resize(std::min(n, v.size() + kStep));
+    }
 }
 
 }  // namespace glslppm

@@ -25,7 +25,8 @@ bool is_degenerate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
     return !(area2 > 1e-9 * scale) || scale == 0.0;
 }
 
-ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
+ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count,
+                        const CancelFlag* cancel) {
     const std::size_t vertex_count = mesh.positions.size();
     if (!mesh.normals.empty() && mesh.normals.size() != vertex_count)
         throw SceneError("normals: has " + std::to_string(mesh.normals.size()) +
@@ -70,6 +71,7 @@ ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count) {
     valid.stats.input_triangles = mesh.triangles.size();
     valid.kept.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        if ((t & 0xFFFFu) == 0) throw_if_cancelled(cancel);
         const glm::uvec3 tri = mesh.triangles[t];
         for (int k = 0; k < 3; ++k)
             if (tri[k] >= vertex_count)

@@ -12,6 +12,8 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/cancel.h"
+
 namespace glslppm {
 
 // A bad input array: names the array and the first bad element, so that a user can find it.
@@ -58,8 +60,10 @@ struct Instance {
 
 // Throws SceneError naming the array and the first bad index: index out of range, NaN or
 // Inf coordinates or normals or uvs, negative or non-finite colours, material id >= material_count, arrays whose lengths
-// disagree. Zero-area triangles are dropped and counted.
-ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count);
+// disagree. Zero-area triangles are dropped and counted. Polls `cancel` (Cancelled) every
+// 65,536 triangles.
+ValidMesh validate_mesh(const MeshView& mesh, std::uint32_t material_count,
+                        const CancelFlag* cancel = nullptr);
 
 // True when the triangle spans no area relative to its own edges (collinear or coincident
 // vertices); such a triangle can never be hit robustly and is dropped.

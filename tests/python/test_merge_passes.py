@@ -80,7 +80,9 @@ def test_glass_ball_halves_merge_into_one_process_rendering_every_pass(glslppm, 
 
     whole = g.Renderer(scene, g.Settings(devices=[0, 0], **settings))
     whole.run_passes(list(range(6)))
-    assert [d["passes"] for d in whole.stats()["devices"]] == [3, 3]
+    # The workers take passes by their own speed (a loaded core may deal 2 and 4).
+    dealt = [d["passes"] for d in whole.stats()["devices"]]
+    assert len(dealt) == 2 and sum(dealt) == 6, dealt
     names = [p["name"] for p in g.render_passes()]
     images = whole.render_passes(names)
     expected = {"Combined": whole.film().astype(np.float64)}
