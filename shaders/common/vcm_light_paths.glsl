@@ -101,8 +101,8 @@ void main() {
     // The eye path cannot tell which triangle emitter it meets: path tracing keeps their light.
     if (emitter_kind(k) == EMITTER_TRIANGLE) p_direction = 0.0;
 #endif
-    if (p_direction > 0.0) {
-        float dvc = 0.0;
+    if (p_direction > 0.0 || vcm_unmet_emitter(k)) {
+        float dvc = 0.0;  // stays 0 for a point light, a sun, a spot of radius 0
 #ifdef HAS_TRIANGLE_EMITTERS
         if (emitter_kind(k) == EMITTER_TRIANGLE) {
             vec3 n = triangle_normal(emitter_record(k, EMITTER_A).xyz,

@@ -5,8 +5,8 @@
 //
 // Which paths are shared: light that leaves its emitter through a smooth vertex. Light tracing
 // takes a caustic seen directly, L S+ D E, and the light it sends on, L S+ (D|S)* D E: its
-// light subpath leaves a triangle emitter or a point light (of radius 0 or a sphere light),
-// crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
+// light subpath leaves a triangle emitter, a point light (of radius 0 or a sphere light), a
+// sun or a spot of radius 0 (which no eye path meets: their splats weigh 1), crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
 // then rough and smooth ones, every rough vertex of a material of one leaf that only reflects,
 // with no smooth lobe (vcm_connectable), and connects to the camera at each rough one. From
 // the eye the same paths are sampled by the emission that the BSDF-sampled continuation meets
@@ -53,7 +53,7 @@ float vcm_camera_area_pdf(vec3 from_camera, float distance, float cos_surface) {
 // from the emitter's point `from`), for the emitters whose paths light tracing takes: a
 // triangle's cosine about its emitting face (either face, picked evenly, for a two-sided
 // one), a point light's uniform sphere, a sphere light's cosine about its normal at `from`.
-// 0 for every other emitter (spots, sun, world).
+// 0 for every other emitter (spots, sun, world; see vcm_unmet_emitter).
 float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
     int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
@@ -72,6 +72,20 @@ float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     }
 #endif
     return 0.0;
+}
+
+// Whether no eye path can meet emitter k: a sun (the eye's rays escape to the world alone)
+// or a spot of radius 0. Path tracing cannot sample their caustics (its light sample does not
+// cross glass or mirrors), so light tracing takes them whole: dVC = 0, the splat's weight 1.
+bool vcm_unmet_emitter(uint k) {
+    int kind = emitter_kind(k);
+#ifdef HAS_SUN_LIGHTS
+    if (kind == EMITTER_SUN) return true;
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    if (kind == EMITTER_SPOT) return !(emitter_record(k, EMITTER_C).y > 0.0);
+#endif
+    return false;
 }
 
 #ifdef HAS_POINT_LIGHTS
