@@ -89,7 +89,11 @@ void main() {
         }
 #endif
         if (hit.triangle < 0) {
-            if (!after_rough) light += throughput * environment_radiance(ray.dir);
+            vec3 world = environment_radiance(ray.dir);
+#if defined(VCM_MIS) && defined(HAS_ENVIRONMENT)
+            world *= vcm_world_emission_weight(ray.dir, lt);
+#endif
+            if (!after_rough) light += throughput * world;
             break;
         }
         Surface s = surface_at(ray, hit);

@@ -117,6 +117,11 @@ void main() {
         if (emitter_kind(k) == EMITTER_POINT && emitter_record(k, EMITTER_B).w > 0.0)
             dvc = PI / vcm_sphere_area_pdf(k);
 #endif
+#ifdef HAS_ENVIRONMENT
+        // The world: 1 over p_A p_dir (the disc the path leaves faces it).
+        if (emitter_kind(k) == EMITTER_ENVIRONMENT)
+            dvc = 1.0 / (vcm_world_area_pdf(k) * p_direction);
+#endif
         uint path_bounces = 0u, smooth_vertices = 0u;
         for (uint surfaces = 0u; surfaces <= max_bounces; ++surfaces) {
             ++rays;

@@ -6,7 +6,8 @@
 // Which paths are shared: light that leaves its emitter through a smooth vertex. Light tracing
 // takes a caustic seen directly, L S+ D E, and the light it sends on, L S+ (D|S)* D E: its
 // light subpath leaves a triangle emitter, a point light (of radius 0 or a sphere light), a
-// sun or a spot of radius 0 (which no eye path meets: their splats weigh 1), crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
+// sun or a spot of radius 0 (which no eye path meets: their splats weigh 1), or the world,
+// crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
 // then rough and smooth ones, every rough vertex of a material of one leaf that only reflects,
 // with no smooth lobe (vcm_connectable), and connects to the camera at each rough one. From
 // the eye the same paths are sampled by the emission that the BSDF-sampled continuation meets
@@ -49,11 +50,40 @@ float vcm_camera_area_pdf(vec3 from_camera, float distance, float cos_surface) {
     return cos_surface * importance / light_splat_pixel_area();
 }
 
+#ifdef HAS_ENVIRONMENT
+// The world's light paths (emit_photon) draw the direction `from` they come from by the map's
+// importance (uniformly over the sphere without a map) and their origin uniformly on the
+// scene's bounding disc facing them: these are the densities, per solid angle and per unit
+// area of the disc (times the world's pick probability). The disc faces the path, so the
+// emitter's cosine is 1 on both sides.
+float vcm_world_direction_pdf(vec3 from) {
+#ifdef HAS_ENVIRONMENT_MAP
+    return environment_pdf(from);
+#else
+    return 1.0 / (4.0 * PI);
+#endif
+}
+
+float vcm_world_area_pdf(uint k) {
+    return emitter_record(k, EMITTER_POWER).w / (PI * scene_radius * scene_radius);
+}
+
+// The weight of the world's radiance met by the eye path along `from` (lt its quantity
+// before leaving the scene): 1 / (1 + p_A p_dir lt).
+float vcm_world_emission_weight(vec3 from, float lt) {
+    uint k = emitter_count - 1u;  // the world is the last emitter
+    if (!(lt > 0.0) || emitter_count == 0u || emitter_kind(k) != EMITTER_ENVIRONMENT)
+        return 1.0;
+    return 1.0 / (1.0 + vcm_world_area_pdf(k) * vcm_world_direction_pdf(from) * lt);
+}
+#endif
+
 // The density per solid angle with which emitter k's light paths leave along `travel` (unit,
 // from the emitter's point `from`), for the emitters whose paths light tracing takes: a
 // triangle's cosine about its emitting face (either face, picked evenly, for a two-sided
-// one), a point light's uniform sphere, a sphere light's cosine about its normal at `from`.
-// 0 for every other emitter (spots, sun, world; see vcm_unmet_emitter).
+// one), a point light's uniform sphere, a sphere light's cosine about its normal at `from`,
+// the world's vcm_world_direction_pdf. 0 for every other emitter (spots of a radius; suns and
+// spots of radius 0 in vcm_unmet_emitter).
 float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
     int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
@@ -70,6 +100,9 @@ float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
         if (b.w <= 0.0) return 1.0 / (4.0 * PI);
         return max(dot(normalize(from - a.xyz), travel), 0.0) / PI;
     }
+#endif
+#ifdef HAS_ENVIRONMENT
+    if (kind == EMITTER_ENVIRONMENT) return vcm_world_direction_pdf(-travel);
 #endif
     return 0.0;
 }

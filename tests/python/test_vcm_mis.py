@@ -93,12 +93,13 @@ def fresnel(cos_i, eta):
 SLAB_BOTTOM, SLAB_TOP, LIGHT_HEIGHT, LIGHT_HALF, VIEW = 0.45, 0.55, 1.0, 1.5, 1.0
 
 
-def slab_scene(g, le, albedo, sphere_light=None, lights=None):
+def slab_scene(g, le, albedo, sphere_light=None, lights=None, **world):
     """A white floor (z = 0) under a clear glass slab (IOR 1.5, z 0.45-0.55, 8 x 8) under an
     emissive square (side 3, z = 1), or a sphere light (`sphere_light`: its power, radius 0.4,
     centre z = 1) or the given `lights` in its place, nothing else; an orthographic camera
     between floor and slab looks straight down at the floor's middle (1 x 1). The floor is
-    lit only through the slab: L S+ D E, both techniques' paths."""
+    lit only through the slab: L S+ D E, both techniques' paths. `world`: the Scene's world
+    arguments."""
     floor = quad((-4, -4, 0), (4, -4, 0), (4, 4, 0), (-4, 4, 0))
     top = quad((-4, -4, SLAB_TOP), (4, -4, SLAB_TOP), (4, 4, SLAB_TOP), (-4, 4, SLAB_TOP))
     bottom = quad((-4, -4, SLAB_BOTTOM), (-4, 4, SLAB_BOTTOM), (4, 4, SLAB_BOTTOM),
@@ -106,7 +107,7 @@ def slab_scene(g, le, albedo, sphere_light=None, lights=None):
     h = LIGHT_HALF
     light = quad((-h, -h, LIGHT_HEIGHT), (-h, h, LIGHT_HEIGHT), (h, h, LIGHT_HEIGHT),
                  (h, -h, LIGHT_HEIGHT))
-    own_lights = sphere_light or lights
+    own_lights = sphere_light or lights is not None  # the square's place taken
     parts = [(*floor, 0), (*top, 1), (*bottom, 1)] + ([] if own_lights else [(*light, 2)])
     positions, indices, ids = merge(*parts)
     if sphere_light:
@@ -118,7 +119,7 @@ def slab_scene(g, le, albedo, sphere_light=None, lights=None):
     camera = g.Camera(look_at((0, 0, 0.25), (0, 0, 0)), projection="orthographic",
                       ortho_scale=VIEW)
     return g.Scene(positions, indices, material_ids=ids, materials=materials,
-                   lights=lights or [], camera=camera)
+                   lights=lights or [], camera=camera, **world)
 
 
 def slab_irradiance(le, points, sphere_radius=None, n=400):
@@ -234,6 +235,8 @@ def slab_transmittance(cos_i):
     return [(1.0 - f) ** 2 * f ** (2 * k) for k in range(4)], cos_t
 
 
+@pytest.mark.slow("25 million light paths, of which 1% land in the view, so that 4 "
+                  "standard errors of the image mean are below 1%")
 def test_vcm_mis_sun_through_a_glass_slab_is_light_traced(glslppm):
     """slab_scene under a sun straight down (strength S, angular diameter 40 degrees:
     radiance S / Omega over its cone, as common/light_sampling.glsl has it) in place of the
@@ -308,3 +311,44 @@ def test_vcm_mis_spot_of_radius_0_through_a_glass_slab_is_light_traced(glslppm):
           f"{expected:.5f}, error {error:+.5f}, bound {bound:.5f}")
     assert bound < 0.01, bound
     assert abs(error) < bound, (mean, expected, bound)
+
+
+@pytest.mark.slow("25 million light paths, of which 1% land in the view, so that 4 "
+                  "standard errors of the image mean are below 1%")
+def test_vcm_mis_world_through_a_glass_slab_matches_the_fresnel_integral(glslppm):
+    """slab_scene under the world alone: an equirectangular map (8 x 32 texels) bright within
+    20 degrees of the zenith, black elsewhere (the bilinear filter ramps between the texel
+    rows' centres). The world's light paths leave the scene's bounding disc by the map's
+    importance and reach the floor through the slab; the eye's paths meet the map past the
+    slab. The floor's radiance is albedo / pi times pi times the integral of L(theta) T(theta)
+    over sin^2(theta) (L as the filter interpolates it), uniform over the view; the image mean
+    within 4 standard errors (asserted below 1%). The light side's share is asserted above
+    0.2, so that weights summing 5% off move the mean by 1%."""
+    g = glslppm
+    albedo, radiance, width, height = 0.8, 20.0, 8, 32
+    elevation = ((np.arange(height) + 0.5) / height - 0.5) * 180.0  # row centres, degrees
+    rows = np.where(elevation > 70.0, radiance, 0.0)
+    pixels = np.zeros((height, width, 4), dtype=np.float32)
+    pixels[..., :3] = rows[:, None, None]
+    pixels[..., 3] = 1.0
+    scene = slab_scene(g, 0.0, albedo, lights=[], environment=(1.0, 1.0, 1.0),
+                       textures=[g.Texture(pixels)], environment_texture=0)
+    s2 = (np.arange(20000) + 0.5) / 20000
+    theta = np.degrees(np.arcsin(np.sqrt(s2)))
+    parts, _ = slab_transmittance(np.sqrt(1.0 - s2))
+    seen = np.interp(90.0 - theta, elevation, rows)
+    expected = albedo / np.pi * np.pi * np.mean(seen * sum(parts))
+    # 1% of the world's paths land in the view, as of the sun's.
+    image = vcm_render(g, scene, 64, 96, vcm_techniques="pt+lt", photons_per_pass=262144,
+                       max_diffuse_bounces=1)
+    mean, bound = mean_and_bound(image.mean(axis=2))
+    error = mean / expected - 1.0
+    print(f"  vcm pt+lt world through a slab: L {mean:.5f}, Fresnel integral {expected:.5f}, "
+          f"error {error:+.5f}, bound {bound:.5f}")
+    assert bound < 0.01, bound
+    assert abs(error) < bound, (mean, expected, bound)
+    light = vcm_render(g, scene, 32, 8, vcm_techniques="pt+lt:light", photons_per_pass=262144,
+                       max_diffuse_bounces=1)
+    share = light.mean() / expected
+    print(f"  light side's share {share:.3f}")
+    assert share > 0.2, share
