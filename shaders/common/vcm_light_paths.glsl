@@ -117,6 +117,12 @@ void main() {
         if (emitter_kind(k) == EMITTER_POINT && emitter_record(k, EMITTER_B).w > 0.0)
             dvc = PI / vcm_sphere_area_pdf(k);
 #endif
+#ifdef HAS_SPOT_LIGHTS
+        if (emitter_kind(k) == EMITTER_SPOT && emitter_record(k, EMITTER_C).y > 0.0) {
+            origin = vcm_spot_sphere_origin(k, origin, dir);
+            dvc = vcm_spot_start(k, p_direction);
+        }
+#endif
 #ifdef HAS_ENVIRONMENT
         // The world: 1 over p_A p_dir (the disc the path leaves faces it).
         if (emitter_kind(k) == EMITTER_ENVIRONMENT)

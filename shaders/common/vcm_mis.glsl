@@ -5,8 +5,8 @@
 //
 // Which paths are shared: light that leaves its emitter through a smooth vertex. Light tracing
 // takes a caustic seen directly, L S+ D E, and the light it sends on, L S+ (D|S)* D E: its
-// light subpath leaves a triangle emitter, a point light (of radius 0 or a sphere light), a
-// sun or a spot of radius 0 (which no eye path meets: their splats weigh 1), or the world,
+// light subpath leaves a triangle emitter, a point or spot light (of radius 0, or a sphere),
+// a sun (no eye path meets suns and lights of radius 0: their splats weigh 1) or the world,
 // crosses one or more smooth vertices (every lobe of the picked leaf smooth: glass, mirrors),
 // then rough and smooth ones, every rough vertex of a material of one leaf that only reflects,
 // with no smooth lobe (vcm_connectable), and connects to the camera at each rough one. From
@@ -82,8 +82,8 @@ float vcm_world_emission_weight(vec3 from, float lt) {
 // from the emitter's point `from`), for the emitters whose paths light tracing takes: a
 // triangle's cosine about its emitting face (either face, picked evenly, for a two-sided
 // one), a point light's uniform sphere, a sphere light's cosine about its normal at `from`,
-// the world's vcm_world_direction_pdf. 0 for every other emitter (spots of a radius; suns and
-// spots of radius 0 in vcm_unmet_emitter).
+// a spot's uniform cone, the world's vcm_world_direction_pdf. 0 for every other emitter (suns
+// and spots of radius 0: vcm_unmet_emitter).
 float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     vec4 a = emitter_record(k, EMITTER_A), b = emitter_record(k, EMITTER_B);
     int kind = floatBitsToInt(a.w) & EMITTER_KIND_MASK;
@@ -99,6 +99,15 @@ float vcm_emission_direction_pdf(uint k, vec3 from, vec3 travel) {
     if (kind == EMITTER_POINT) {
         if (b.w <= 0.0) return 1.0 / (4.0 * PI);
         return max(dot(normalize(from - a.xyz), travel), 0.0) / PI;
+    }
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    // A spot of a radius: uniform in its cone (the smooth edge weighs the flux, not the
+    // density), from the sphere the eye paths meet (vcm_spot_sphere_origin).
+    if (kind == EMITTER_SPOT) {
+        vec4 c = emitter_record(k, EMITTER_C);
+        if (!(c.y > 0.0) || dot(b.xyz, travel) < b.w) return 0.0;
+        return 1.0 / (2.0 * PI * (1.0 - b.w));
     }
 #endif
 #ifdef HAS_ENVIRONMENT
@@ -120,6 +129,31 @@ bool vcm_unmet_emitter(uint k) {
 #endif
     return false;
 }
+
+#ifdef HAS_SPOT_LIGHTS
+// A spot of radius r is a sphere to the eye paths (common/sphere_lights.glsl: radiance I(w) /
+// pi r^2 towards w, whatever point of it is seen), while emit_photon sends the photons from a
+// disc facing the spot's axis. So that both sides of VCM sample the same light, its light
+// paths here leave the sphere: `origin` (emit_photon's point of the axis' disc) is moved to
+// the same place on the disc facing `travel`, then out to the sphere's surface, uniform over
+// the sphere's outline as seen along travel.
+vec3 vcm_spot_sphere_origin(uint k, vec3 origin, vec3 travel) {
+    vec3 centre = emitter_record(k, EMITTER_A).xyz, axis = emitter_record(k, EMITTER_B).xyz;
+    float r = emitter_record(k, EMITTER_C).y;
+    vec3 t, bt, t2, bt2;
+    orthonormal_basis(axis, t, bt);
+    orthonormal_basis(travel, t2, bt2);
+    vec2 q = vec2(dot(origin - centre, t), dot(origin - centre, bt));
+    return centre + q.x * t2 + q.y * bt2 + travel * sqrt(max(0.0, r * r - dot(q, q)));
+}
+
+// dVC at the start of such a path: the cosine at the sphere over its emission density, per
+// unit area of the sphere and solid angle, p_pick (cos / pi r^2) p_dir: pi r^2 / (p_pick p_dir).
+float vcm_spot_start(uint k, float p_direction) {
+    float r = emitter_record(k, EMITTER_C).y;
+    return PI * r * r / (emitter_record(k, EMITTER_POWER).w * p_direction);
+}
+#endif
 
 #ifdef HAS_POINT_LIGHTS
 // A sphere light's density of its light paths' origins per unit area, p_pick / (4 pi r^2).
@@ -162,12 +196,20 @@ uint sphere_light_record = 0u;
 
 // The same for the sphere light the eye path met last (hit_sphere_light): with lt the eye
 // path's quantity before the hit, p_A p_dir lt / cos_l = p_pick lt / (4 pi^2 r^2) (the
-// cosine at the sphere cancels). Spot lights of a radius are left to path tracing (their
-// light paths leave a disc, their hits are on a sphere).
+// cosine at the sphere cancels); a spot's p_pick lt / (pi r^2 Omega) (vcm_spot_start).
 float vcm_sphere_emission_weight(float lt) {
     uint k = sphere_light_record;
-    if (!(lt > 0.0) || emitter_kind(k) != EMITTER_POINT) return 1.0;
-    return 1.0 / (1.0 + vcm_sphere_area_pdf(k) * lt / PI);
+    if (!(lt > 0.0)) return 1.0;
+#ifdef HAS_SPOT_LIGHTS
+    if (emitter_kind(k) == EMITTER_SPOT) {
+        float cos_half = emitter_record(k, EMITTER_B).w;
+        return 1.0 / (1.0 + lt / vcm_spot_start(k, 1.0 / (2.0 * PI * (1.0 - cos_half))));
+    }
+#endif
+#ifdef HAS_POINT_LIGHTS
+    if (emitter_kind(k) == EMITTER_POINT) return 1.0 / (1.0 + vcm_sphere_area_pdf(k) * lt / PI);
+#endif
+    return 1.0;
 }
 #endif
 
