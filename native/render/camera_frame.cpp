@@ -178,6 +178,9 @@ void fill_frame(const Scene& scene, const RenderSettings& settings, const Packed
     f.sppm_alpha = settings.alpha;
     f.radius_floor = 1e-5f * diagonal;
     f.light_splat_unit = light_splat_unit(scene.camera, p.emitters.total_power, f.scene_radius);
+    const LightSplit split = light_split(p.emitters, f.scene_radius);
+    f.light_split_centre = split.centre;
+    f.light_split_power = split.power;
 }
 
 }  // namespace glslppm

@@ -251,4 +251,42 @@ void append_triangle_map(EmitterTable& table) {
     }
 }
 
+LightSplit light_split(const EmitterTable& table, float scene_radius) {
+    LightSplit split;
+    const auto luminance = [](glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; };
+    const float disc = kPi * scene_radius * scene_radius;
+    double local = 0.0;
+    glm::dvec3 moment1(0.0), moment2(0.0);
+    for (std::size_t k = 0; k < table.count; ++k) {
+        const glm::vec4* r = &table.records[k * EMITTER_VEC4];
+        const int kind = std::bit_cast<std::int32_t>(r[EMITTER_A].w) & EMITTER_KIND_MASK;
+        float power = luminance(glm::vec3(r[EMITTER_POWER]));
+        // A spot's record holds its cone's power: as a point light's, 4 pi / Omega times it.
+        if (kind == EMITTER_SPOT && r[EMITTER_B].w < 1.0f)
+            power *= 2.0f / (1.0f - r[EMITTER_B].w);
+        if (kind == EMITTER_ENVIRONMENT) {
+            // power = pi R^2 times the integral of L over the sphere: pi mean(L) = power / 4 pi R^2.
+            split.power.z += disc > 0.0f ? power / (4.0f * disc) : 0.0f;
+            split.power.w += r[EMITTER_POWER].w;
+        } else if (kind == EMITTER_SUN) {
+            split.power.y += disc > 0.0f ? power / disc : 0.0f;  // power = E pi R^2
+        } else {
+            const glm::dvec3 at = kind == EMITTER_TRIANGLE
+                ? (glm::dvec3(r[EMITTER_A]) + glm::dvec3(r[EMITTER_B]) + glm::dvec3(r[EMITTER_C])) / 3.0
+                : glm::dvec3(r[EMITTER_A]);
+            local += power;
+            moment1 += double(power) * at;
+            moment2 += double(power) * at * at;
+        }
+    }
+    if (local > 0.0) {
+        const glm::dvec3 centre = moment1 / local;
+        const glm::dvec3 spread = moment2 / local - centre * centre;
+        split.centre = glm::vec4(glm::vec3(centre),
+                                 static_cast<float>(std::max(0.0, spread.x + spread.y + spread.z)));
+        split.power.x = static_cast<float>(local);
+    }
+    return split;
+}
+
 }  // namespace glslppm

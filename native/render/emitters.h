@@ -74,6 +74,18 @@ EmitterTable build_emitters(const Scene& scene, const std::vector<Material>& mat
 // cone stay.
 void place_light(const Light& light, glm::vec4* record);
 
+// How a light sample's pick is split between the world and the other emitters at a shading
+// point (common/light_sampling.glsl, light_world_share): the other emitters' power-weighted
+// centre (xyz) and spread (w, the mean squared distance from it), and (x) their luminance
+// power but the suns', (y) the suns' luminance irradiance, (z) the world's (pi times its mean
+// radiance), (w) the world's share of the power-based pick (0: no world, 1: the world alone).
+struct LightSplit {
+    glm::vec4 centre{0.0f};
+    glm::vec4 power{0.0f};
+};
+
+LightSplit light_split(const EmitterTable& table, float scene_radius);
+
 // Appends triangle_records to the records (as int bits, four per vec4, -1 padding), the
 // GPU's map from a hit triangle to its emitter (emitters.glsl, triangle_emitter).
 void append_triangle_map(EmitterTable& table);

@@ -73,8 +73,11 @@ struct FrameBlock {
     // from which each pass and work group draws whether it takes the sample.
     float emitter_mis_fraction = 1.0f;
     std::uint32_t render_seed = 0;
-    // std140 rounds the block's size up to 16 bytes: the buffer holds that much.
-    std::uint32_t end_padding[2] = {0, 0};
+    std::uint32_t padding[2] = {0, 0};  // std140: the vec4s below start on 16 bytes
+    // The light sample's split between the world and the other emitters (render/emitters.h,
+    // LightSplit; common/light_sampling.glsl, light_world_share).
+    glm::vec4 light_split_centre{0.0f};
+    glm::vec4 light_split_power{0.0f};
 };
 // std140: mat4 and vec3 start on 16 bytes, vec2 on 8; a scalar may fill a vec3's fourth word.
 static_assert(offsetof(FrameBlock, environment_from_world) == 64);
@@ -116,7 +119,9 @@ static_assert(offsetof(FrameBlock, max_transmission_bounces) == 296);
 static_assert(offsetof(FrameBlock, light_splat_unit) == 300);
 static_assert(offsetof(FrameBlock, emitter_mis_fraction) == 304);
 static_assert(offsetof(FrameBlock, render_seed) == 308);
-static_assert(sizeof(FrameBlock) == 320);
+static_assert(offsetof(FrameBlock, light_split_centre) == 320);
+static_assert(offsetof(FrameBlock, light_split_power) == 336);
+static_assert(sizeof(FrameBlock) == 352);
 
 // `buffer Counters` (shaders/common/sppm_buffers.glsl, std430): one pass's counts and the
 // running 64-bit totals as (lo, hi) words, carried by end_pass.comp.

@@ -49,6 +49,11 @@ layout(std140, binding = BINDING_FRAME) uniform Frame {
     float light_splat_unit;       // light tracing's fixed-point unit (common/light_splats.glsl)
     float emitter_mis_fraction;   // q of a Lambertian point's BSDF sample (common/light_sampling.glsl)
     uint render_seed;             // the render's seed folded to 32 bits
+    // The light sample's split between the world and the other emitters (light_world_share
+    // in common/light_sampling.glsl): centre xyz and spread^2 of the others; their power, the
+    // suns' irradiance, the world's irradiance, the world's power-based pick.
+    vec4 light_split_centre;
+    vec4 light_split_power;
 };
 
 const float PI = 3.14159265358979;

@@ -62,7 +62,7 @@ float sphere_light_pdf(uint k, vec3 p, vec3 wi) {
     vec3 to = a.xyz - p;
     float d2 = dot(to, to);
     if (!(r > 0.0) || !(d2 > r * r)) return 0.0;
-    float pick = emitter_record(k, EMITTER_POWER).w;
+    float pick = light_sample_pick(k);
     if (!disc) {
         float cos_max = sqrt(max(0.0, 1.0 - r * r / d2));
         return dot(wi, to) >= cos_max * sqrt(d2) ? pick / (2.0 * PI * (1.0 - cos_max)) : 0.0;
@@ -153,6 +153,7 @@ int world_emitter() {
 // vertex. 1 where that vertex took none, or where the emitter has no record (k < 0).
 float glossy_emission_weight(int k, vec3 dir, vec3 q) {
     if (!(glossy_mis_pdf > 0.0) || k < 0) return 1.0;
+    light_pick_at(glossy_mis_origin);  // the light sample's pick there
     float p_light =
         glossy_light_pdf(uint(k), glossy_mis_origin, dir, length(q - glossy_mis_origin));
     return glossy_mis_pdf / (glossy_mis_pdf + p_light);

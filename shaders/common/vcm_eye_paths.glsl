@@ -58,6 +58,16 @@ float vcm_lt_past_rough(Surface s, Shading sh, vec3 wo, vec3 dir, bool first, ve
 }
 #endif
 
+// The world's radiance the eye path meets along dir as it leaves the scene; with VCM_MIS
+// weighed against light tracing's paths by lt, the path's quantity there.
+vec3 vcm_world_met(vec3 dir, float lt) {
+    vec3 world = environment_radiance(dir);
+#if defined(VCM_MIS) && defined(HAS_ENVIRONMENT)
+    world *= vcm_world_emission_weight(dir, lt);
+#endif
+    return world;
+}
+
 // One eye path. seen_by_camera: no scatter yet; last_surface: past a limit, the next
 // surface's emission ends the path; after_rough: the last scatter was rough, whose direct
 // light holds the emission met next. With VCM_MIS, lt: light tracing's partial quantity past
@@ -71,9 +81,9 @@ void main() {
     vec3 throughput = vec3(1.0), light = vec3(0.0);
     uint rays = 0u, eye_bounces = 0u, scatters = 0u;
     bool seen_by_camera = true, last_surface = false, after_rough = false;
+    float lt = 0.0;  // VCM_MIS
 #ifdef VCM_MIS
     vec3 lens_point = ray.origin;
-    float lt = 0.0;
 #endif
     for (uint depth = 0u; depth <= max_bounces; ++depth) {  // surfaces, as eye_trace's
         ++rays;
@@ -89,11 +99,7 @@ void main() {
         }
 #endif
         if (hit.triangle < 0) {
-            vec3 world = environment_radiance(ray.dir);
-#if defined(VCM_MIS) && defined(HAS_ENVIRONMENT)
-            world *= vcm_world_emission_weight(ray.dir, lt);
-#endif
-            if (!after_rough) light += throughput * world;
+            if (!after_rough) light += throughput * vcm_world_met(ray.dir, lt);
             break;
         }
         Surface s = surface_at(ray, hit);

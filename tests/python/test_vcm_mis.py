@@ -246,6 +246,19 @@ def slab_transmittance(cos_i):
     return [(1.0 - f) ** 2 * f ** (2 * k) for k in range(4)], cos_t
 
 
+def assert_floor_matches(g, scene, expected, label, passes, photons):
+    """pt+lt's image of a slab_scene (64², max_diffuse_bounces 1) against the closed form's
+    floor radiance `expected`: the image mean within 4 standard errors, asserted below 1%."""
+    image = vcm_render(g, scene, 64, passes, vcm_techniques="pt+lt", photons_per_pass=photons,
+                       max_diffuse_bounces=1)
+    mean, bound = mean_and_bound(image.mean(axis=2))
+    error = mean / expected - 1.0
+    print(f"  vcm pt+lt {label} through a slab: L {mean:.5f}, closed form {expected:.5f}, "
+          f"error {error:+.5f}, bound {bound:.5f}")
+    assert bound < 0.01, bound
+    assert abs(error) < bound, (mean, expected, bound)
+
+
 @pytest.mark.slow("25 million light paths, of which 1% land in the view, so that 4 "
                   "standard errors of the image mean are below 1%")
 def test_vcm_mis_sun_through_a_glass_slab_is_light_traced(glslppm):
@@ -271,14 +284,7 @@ def test_vcm_mis_sun_through_a_glass_slab_is_light_traced(glslppm):
     path_traced = vcm_render(g, scene, 16, 4, vcm_techniques="pt", max_diffuse_bounces=1)
     assert path_traced.mean() < 0.01 * expected, path_traced.mean()
     # The sun's paths cross the scene's whole bounding disc: 1% of them land in the view.
-    image = vcm_render(g, scene, 64, 96, vcm_techniques="pt+lt", photons_per_pass=262144,
-                       max_diffuse_bounces=1)
-    mean, bound = mean_and_bound(image.mean(axis=2))
-    error = mean / expected - 1.0
-    print(f"  vcm pt+lt sun through a slab: L {mean:.5f}, Fresnel integral {expected:.5f}, "
-          f"error {error:+.5f}, bound {bound:.5f}")
-    assert bound < 0.01, bound
-    assert abs(error) < bound, (mean, expected, bound)
+    assert_floor_matches(g, scene, expected, "sun", 96, 262144)
 
 
 def spot_slab_irradiance(intensity, distances, n=20000):
@@ -314,14 +320,7 @@ def test_vcm_mis_spot_of_radius_0_through_a_glass_slab_is_light_traced(glslppm):
     grid = ((np.arange(9) + 0.5) / 9 - 0.5) * VIEW
     distances = np.array([np.hypot(x, y) for x in grid for y in grid])
     expected = albedo / np.pi * spot_slab_irradiance(power / (4.0 * np.pi), distances).mean()
-    image = vcm_render(g, scene, 64, 96, vcm_techniques="pt+lt", photons_per_pass=32768,
-                       max_diffuse_bounces=1)
-    mean, bound = mean_and_bound(image.mean(axis=2))
-    error = mean / expected - 1.0
-    print(f"  vcm pt+lt spot of radius 0 through a slab: L {mean:.5f}, closed form "
-          f"{expected:.5f}, error {error:+.5f}, bound {bound:.5f}")
-    assert bound < 0.01, bound
-    assert abs(error) < bound, (mean, expected, bound)
+    assert_floor_matches(g, scene, expected, "spot of radius 0", 96, 32768)
 
 
 @pytest.mark.slow("25 million light paths, of which 1% land in the view, so that 4 "
@@ -350,14 +349,7 @@ def test_vcm_mis_world_through_a_glass_slab_matches_the_fresnel_integral(glslppm
     seen = np.interp(90.0 - theta, elevation, rows)
     expected = albedo / np.pi * np.pi * np.mean(seen * sum(parts))
     # 1% of the world's paths land in the view, as of the sun's.
-    image = vcm_render(g, scene, 64, 96, vcm_techniques="pt+lt", photons_per_pass=262144,
-                       max_diffuse_bounces=1)
-    mean, bound = mean_and_bound(image.mean(axis=2))
-    error = mean / expected - 1.0
-    print(f"  vcm pt+lt world through a slab: L {mean:.5f}, Fresnel integral {expected:.5f}, "
-          f"error {error:+.5f}, bound {bound:.5f}")
-    assert bound < 0.01, bound
-    assert abs(error) < bound, (mean, expected, bound)
+    assert_floor_matches(g, scene, expected, "world", 96, 262144)
     light = vcm_render(g, scene, 32, 8, vcm_techniques="pt+lt:light", photons_per_pass=262144,
                        max_diffuse_bounces=1)
     share = light.mean() / expected
