@@ -267,10 +267,10 @@ def test_vcm_mis_sun_through_a_glass_slab_is_light_traced(glslppm):
     square. No eye path meets a sun, and path tracing's light sample does not cross glass, so
     light tracing takes the whole caustic with weight 1 (vcm_unmet_emitter): path tracing
     alone leaves the floor nearly black (below 1% of the closed form: its one light is a
-    bounce off the floor beyond the slab, L D S* D E, path tracing's alone). The floor's radiance is albedo / pi times (S / Omega) times
-    the integral of T cos over the cone, T the slab's transmittance summed over its crossings
-    (the displaced paths land on the same uniform floor); bound 4 standard errors of the
-    image mean, asserted below 1%."""
+    bounce off the floor beyond the slab, L D S* D E, path tracing's alone). The floor's
+    radiance is albedo / pi times (S / Omega) times the integral of T cos over the cone, T
+    the slab's transmittance summed over its crossings (the displaced paths land on the same
+    uniform floor); bound 4 standard errors of the image mean, asserted below 1%."""
     g = glslppm
     strength, half, albedo = 3.0, np.radians(20.0), 0.8
     sun = g.Light("sun", power=strength, direction=(0.0, 0.0, -1.0), angle=2.0 * half)
