@@ -233,7 +233,10 @@ def an_edit_shows_in_the_next_f12():
     light.data.energy *= 3.0
     STATE["edited"] = reference("edited-reference")
     ratio = float(STATE["edited"][..., :3].mean() / STATE["reference"][..., :3].mean())
-    assert ratio > 1.5, f"tripling the light changed the image by only {ratio:.3f}x"
+    # A stale image reads exactly 1.0. The lamp lights about a quarter of this image on 5.2
+    # (its world the rest): tripling it read 1.504 there in session 17's CI and 1.4999 after
+    # session 18's light pick split, so the bound sits halfway between stale and expected.
+    assert ratio > 1.25, f"tripling the light changed the image by only {ratio:.3f}x"
     yield from f12_and_wait("f12-edited", "edited")
 
 
