@@ -298,6 +298,92 @@ bool sphere_light_before_hit(Ray ray, Hit hit, out vec3 radiance) {
 }
 #endif
 
+#ifdef LIGHT_LINKING
+// Shadow linking of the emission an eye path meets past a mirror or glass, as Cycles does it
+// (its dedicated light: intersect_dedicated_light.h): where the surface `s` the path is about
+// to scatter at does not shadow every link set, the emitters behind it whose sets nothing on
+// the way shadows still light the path. The ray goes on past `s` and the surfaces after it,
+// keeping the sets each shadows (the row's mask; area lights and surfaces hidden from
+// reflections are passed, as the eye path passes them), until every set is shadowed; of the
+// emitters it meets whose light reaches the path's receiver and whose set is not shadowed one
+// is picked, uniformly, and its radiance (with its MIS weight, as main's) returned times
+// their count, with its group code. An ordinary surface shadows every set: nothing is traced.
+const int EYE_LINK_CROSSINGS = 8;
+#ifdef LIGHT_GROUPS
+#define EYE_LINK_GROUP(code) code
+#else
+#define EYE_LINK_GROUP(code) 0u
+#endif
+
+vec3 eye_light_past_blockers(Ray path_ray, Surface past, inout RNG_STATE rng, inout uint rays,
+                             out uint group) {
+    group = 0u;
+    vec3 picked = vec3(0.0);
+    float count = 0.0;
+    uint shadowed = shadow_link_blocks[material_link_row(past.material)];
+    Ray ray = make_ray(offset_origin(past.position, past.geometric_normal, path_ray.dir),
+                       path_ray.dir);
+    for (int crossing = 0; crossing < EYE_LINK_CROSSINGS && shadowed != 0xFFFFFFFFu;
+         ++crossing) {
+        ++rays;
+        Hit hit = closest_hit(ray);
+        vec3 radiance = vec3(0.0);
+        uint code = 0u, set = 0u, shadowed_before = shadowed;
+        bool last = true;
+#ifdef SPHERE_LIGHT_RECORDS
+        if (sphere_light_before_hit(ray, hit, radiance)) {  // reaches the receiver (its check)
+            set = emitter_link_set(sphere_light_record);
+            code = EYE_LINK_GROUP(emitter_group_code(sphere_light_record));
+            radiance *= SPHERE_MIS;
+        } else
+#endif
+        if (hit.triangle < 0) {
+            if (EYE_LINK_REACHES(0u)) radiance = environment_radiance(ray.dir) * WORLD_MIS(ray.dir);
+            code = EYE_LINK_GROUP(WORLD_GROUP_CODE);
+        } else {
+            Surface s = surface_at(ray, hit);
+            int flags = material_flags(s.material);
+            bool front = dot(ray.dir, s.geometric_normal) < 0.0;
+            set = material_link_set(s.material);
+            code = EYE_LINK_GROUP(material_group_code(s.material));
+            last = false;
+            if ((flags & MATERIAL_HIDDEN_FROM_REFLECTIONS) != 0) {
+            } else if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
+                if (front) radiance = material_emission(s.material) * HIT_MIS;
+            } else {
+                if (front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) {
+                    Shading sh = shading_at(s.material, s.normal, s.geometric_normal,
+                                            texture_point(s), s.vertex_color, -ray.dir,
+                                            rng_next(rng));
+                    radiance = material_emission_at(s.material, sh.material, texture_point(s)) *
+                               HIT_MIS;
+                }
+                shadowed |= shadow_link_blocks[material_link_row(s.material)];
+            }
+            if (!EYE_LINK_REACHES(set)) radiance = vec3(0.0);
+            ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
+        }
+        if (any(greaterThan(radiance, vec3(0.0))) && ((shadowed_before >> set) & 1u) == 0u) {
+            count += 1.0;
+            if (rng_next(rng) * count < 1.0) {
+                picked = radiance;
+                group = code;
+            }
+        }
+        if (last) break;
+    }
+    return picked * count;
+}
+#define EYE_LIGHT_PAST_BLOCKERS(s)                                                 \
+    if (!seen_by_camera) {                                                         \
+        uint group_;                                                               \
+        vec3 past_ = eye_light_past_blockers(ray, s, rng, rays, group_);           \
+        if (any(greaterThan(past_, vec3(0.0)))) SEE_LIGHT(emitted, group_, past_); \
+    }
+#else
+#define EYE_LIGHT_PAST_BLOCKERS(s)
+#endif
+
 // The bounce word's kind of a smooth lobe's sample: a cut-out's is no scatter.
 uint smooth_bounce_kind(Shading sh, vec3 wo, vec3 wi, vec3 ng) {
     return sh.kind == MATERIAL_TRANSPARENT ? BOUNCE_NONE : bounce_kind(wo, wi, ng, false);
@@ -410,6 +496,7 @@ void main() {
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
+        EYE_LIGHT_PAST_BLOCKERS(s);
 #ifdef PASS_STRIDE
         note_first_surface(passes, s, front);
 #endif

@@ -18,8 +18,9 @@
 uint sphere_light_group_code = 0u;
 #endif
 
-#if defined(GLOSSY_LIGHT_SAMPLES) && !defined(VCM_MIS)
-// The record hit_sphere_light found last (common/glossy_light_samples.glsl weighs its light).
+#if (defined(GLOSSY_LIGHT_SAMPLES) || defined(LIGHT_LINKING)) && !defined(VCM_MIS)
+// The record hit_sphere_light found last (common/glossy_light_samples.glsl weighs its light;
+// the eye path's shadow linking reads its set).
 uint sphere_light_record = 0u;
 #endif
 
@@ -66,9 +67,9 @@ bool hit_sphere_light(vec3 origin, vec3 ray_dir, float t_max, out vec3 radiance)
         radiance = l;
         found = true;
 #ifdef LIGHT_GROUPS
-        sphere_light_group_code = uint(floatBitsToInt(a.w)) >> EMITTER_GROUP_SHIFT;
+        sphere_light_group_code = emitter_group_code(k);
 #endif
-#if defined(VCM_MIS) || defined(GLOSSY_LIGHT_SAMPLES)
+#if defined(VCM_MIS) || defined(GLOSSY_LIGHT_SAMPLES) || defined(LIGHT_LINKING)
         sphere_light_record = k;
 #endif
     }

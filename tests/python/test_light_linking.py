@@ -214,28 +214,40 @@ BULB = np.array([-1.5, 1.0, 1.5])
 MIRROR_EYE, MIRROR_FOV = look_at((0.0, 1.0, 4.0), (0.0, 1.0, 0.0)), 1.6
 
 
-def mirror_facing_emitters(g, mirror_receives=True):
+def mirror_facing_emitters(g, mirror_receives=True, blocker=None, groups=False):
     """A perfect mirror (a conductor of colour 1: Fresnel 1 at every angle) in the plane z = 0
     facing the camera, a diffuse floor below, and two emitters of link set 1 in front of the
     mirror: an emissive panel (black, radiance PANEL_RADIANCE, both sides) right of the
     camera's view, which the camera sees directly and in the mirror, and a point light of
     radius BULB_RADIUS (a sphere light: seen in mirrors only) left. The mirror has row 1,
-    which every set reaches unless not `mirror_receives`: then every set but 1."""
+    which every set reaches unless not `mirror_receives`: then every set but 1.
+    `blocker` "excluded" or "blocks": a black plane at z = 0.8, between the mirror and both
+    emitters, hidden from the camera (its rays pass it; the mirror's meet it), of row 2, which
+    shadows every set but 1 ("excluded") or every set ("blocks"). `groups`: the bulb in light
+    group "bulb", the panel in "panel"."""
     mirror = quad((-3.0, -1.0, 0.0), (3.0, -1.0, 0.0), (3.0, 3.0, 0.0), (-3.0, 3.0, 0.0))
     floor = quad((-3.0, -1.0, 0.0), (-3.0, -1.0, 5.0), (3.0, -1.0, 5.0), (3.0, -1.0, 0.0))
     panel = quad((0.9, 0.4, 2.0), (0.9, 1.6, 2.0), (2.1, 1.6, 2.0), (2.1, 0.4, 2.0))
-    p, t, ids = merge((*mirror, 0), (*floor, 1), (*panel, 2))
+    plane = quad((-3.0, -1.0, 0.8), (3.0, -1.0, 0.8), (3.0, 3.0, 0.8), (-3.0, 3.0, 0.8))
+    parts = [(*mirror, 0), (*floor, 1), (*panel, 2)] + ([(*plane, 3)] if blocker else [])
+    p, t, ids = merge(*parts)
     materials = [g.Material("conductor", color=(1.0, 1.0, 1.0)),
                  g.Material("diffuse", color=(0.6, 0.6, 0.6)),
-                 g.Material("diffuse", color=(0.0, 0.0, 0.0), emission=(PANEL_RADIANCE,) * 3)]
+                 g.Material("diffuse", color=(0.0, 0.0, 0.0), emission=(PANEL_RADIANCE,) * 3),
+                 g.Material("diffuse", color=(0.0, 0.0, 0.0), visible_to_camera=False)]
     materials[0].light_link_row = 1
     materials[2].light_link_set = 1
+    materials[3].light_link_row = 2
     bulb = g.Light("point", power=BULB_POWER, position=tuple(BULB), radius=BULB_RADIUS)
     bulb.light_link_set = 1
+    if groups:
+        bulb.light_group, materials[2].light_group = 0, 1
     scene = g.Scene(p, t, material_ids=ids, materials=materials, lights=[bulb],
                     camera=g.Camera(MIRROR_EYE, fov_x=MIRROR_FOV))
-    scene.light_link_receives = [ALL, ALL if mirror_receives else ALL & ~2]
-    scene.shadow_link_blocks = [ALL, ALL]
+    if groups:
+        scene.light_groups = ["bulb", "panel"]
+    scene.light_link_receives = [ALL, ALL if mirror_receives else ALL & ~2, ALL]
+    scene.shadow_link_blocks = [ALL, ALL, ALL & ~2 if blocker == "excluded" else ALL]
     return scene
 
 
@@ -281,16 +293,64 @@ def test_a_mirror_that_does_not_receive_a_light_does_not_show_it(glslppm, settin
     assert np.abs(excluded[mirrored_inner]).max() < 1e-6
     assert np.allclose(receives[direct_inner], PANEL_RADIANCE, rtol=1e-4)
     assert np.allclose(excluded[direct_inner], PANEL_RADIANCE, rtol=1e-4)
-    centre = pixel_of((BULB * [1.0, 1.0, -1.0])[None, :], MIRROR_EYE, MIRROR_FOV, 64)[0]
-    row, col = divmod(int(centre), 64)
-    bulb = np.zeros((64, 64), dtype=bool)
-    bulb[row - 1:row + 2, col - 1:col + 2] = True
+    bulb = bulb_centre_block()
     bulb_radiance = BULB_POWER / (4.0 * math.pi ** 2 * BULB_RADIUS ** 2)
     assert np.allclose(receives[bulb], bulb_radiance, rtol=1e-4)
     assert np.abs(excluded[bulb]).max() < 1e-6
     changed = grow(mirrored, 1) | grow(bulb, 6)
     print("pixels changed", (receives != excluded).any(axis=-1).sum(), "allowed", changed.sum())
     assert np.array_equal(receives[~changed], excluded[~changed])
+
+
+def bulb_centre_block():
+    """The 3x3 pixels at the middle of the bulb's reflection."""
+    centre = pixel_of((BULB * [1.0, 1.0, -1.0])[None, :], MIRROR_EYE, MIRROR_FOV, 64)[0]
+    row, col = divmod(int(centre), 64)
+    bulb = np.zeros((64, 64), dtype=bool)
+    bulb[row - 1:row + 2, col - 1:col + 2] = True
+    return bulb
+
+
+@pytest.mark.parametrize("settings", [{}, {"direct_light": "photons"}])
+def test_a_blocker_excluded_from_a_lights_shadow_does_not_hide_it_in_a_mirror(glslppm,
+                                                                               settings):
+    """Cycles' shadow linking holds for the light an eye path meets past a mirror or glass
+    too: there it sends a dedicated ray on past the surface the path meets, through the
+    blockers that do not shadow the emitter (intersect_dedicated_light.h). mirror_facing_emitters
+    with a black plane between the mirror and both emitters, hidden from the camera (8
+    passes): where the plane is excluded from their set's shadows, the mirror shows the panel
+    (its inner pixels) and the bulb's sphere (3x3 at its middle) as with no plane at all:
+    PANEL_RADIANCE and P / (4 pi^2 r^2), relative 1e-4 (the plane is black and the mirror
+    perfect, so those pixels hold that emission alone). Where the plane shadows every set it
+    hides both (below 1e-6); the panel seen directly holds PANEL_RADIANCE in both. Before
+    session 19 the excluded plane hid them too (0 in both regions)."""
+    g = glslppm
+    options = dict(seed=4, photons_per_pass=16384, **settings)
+    excluded, variant = film(g, mirror_facing_emitters(g, blocker="excluded"), 8, **options)
+    assert "light-linking" in variant
+    blocked, _ = film(g, mirror_facing_emitters(g, blocker="blocks"), 8, **options)
+    _, _, direct_inner, mirrored_inner = panel_footprints()
+    bulb = bulb_centre_block()
+    bulb_radiance = BULB_POWER / (4.0 * math.pi ** 2 * BULB_RADIUS ** 2)
+    assert np.allclose(excluded[mirrored_inner], PANEL_RADIANCE, rtol=1e-4)
+    assert np.allclose(excluded[bulb], bulb_radiance, rtol=1e-4)
+    assert np.abs(blocked[mirrored_inner]).max() < 1e-6
+    assert np.abs(blocked[bulb]).max() < 1e-6
+    for image in (excluded, blocked):
+        assert np.allclose(image[direct_inner], PANEL_RADIANCE, rtol=1e-4)
+    if settings:
+        return
+    # With light groups each emitter's light goes to its group (the bulb's group code was
+    # read with its link set's bits until session 19: its light went to no group).
+    r = g.Renderer(mirror_facing_emitters(g, blocker="excluded", groups=True),
+                   g.Settings(**SIZE, **options))
+    r.run(8)
+    groups = {k: v[..., :3].astype(np.float64) for k, v in r.light_group_passes().items()}
+    r.close()
+    assert np.allclose(groups["panel"][mirrored_inner], PANEL_RADIANCE, rtol=1e-4)
+    assert np.allclose(groups["bulb"][bulb], bulb_radiance, rtol=1e-4)
+    assert np.abs(groups["bulb"][mirrored_inner]).max() < 1e-6
+    assert np.abs(groups["panel"][bulb]).max() < 1e-6
 
 
 def test_light_tracing_in_a_linked_scene_agrees_with_the_photons(glslppm):
