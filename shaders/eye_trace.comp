@@ -39,6 +39,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/bounces.glsl"
 #include "common/light_tracing.glsl"
 #include "common/vcm_mis.glsl"
+#include "common/vcm_merging.glsl"
 #endif
 #ifdef DIRECT_LIGHT_SAMPLED
 #include "common/light_sampling.glsl"

@@ -4,7 +4,8 @@
 // With stochastic hashing a cell's survivor stands for all `count` photons of its cell:
 // E[count * [survivor within R]] is the number of that cell's photons within R, so both M
 // and Phi stay unbiased. With ESTIMATOR_PPPM the radius is the pass's and the update is a sum
-// of the passes' estimates instead. Cycles' Light Paths limits (common/bounces.glsl) take
+// of the passes' estimates instead; so with VCM's vertex merging (VCM_MERGING,
+// docs/vcm.md), whose photons each weigh by their MIS weight (vcm_merge_weight). Cycles' Light Paths limits (common/bounces.glsl) take
 // out of Phi the photons, or the lobes of the point's f, whose full path they would break;
 // M still counts every photon within R, so the radii shrink as they do without limits.
 layout(local_size_x = LOCAL_SIZE) in;
@@ -21,6 +22,9 @@ layout(local_size_x = LOCAL_SIZE) in;
 #include "common/bounces.glsl"
 #ifdef HAS_LIGHT_TRACING
 #include "common/light_splats.glsl"
+#endif
+#ifdef VCM_MERGING
+#include "common/vcm_merging.glsl"
 #endif
 
 shared float group_max_radius[LOCAL_SIZE];
@@ -44,6 +48,19 @@ shared float group_max_radius[LOCAL_SIZE];
     { vec3 light_ = (value); phi += light_; ADD_PHOTON_CLASS(p, light_) ADD_PHOTON_GROUP(p, light_) }
 #else
 #define ADD_PHOTON(p, value) phi += (value)
+#endif
+
+// VCM's merging (common/vcm_mis.glsl): photon p's light at the visible point (shading sh,
+// seen from wo) weighs 1 / (1 + dVC_p p_rev pass_scale) against path tracing, p_rev the
+// point's BSDF density towards the photon's light; its incoming direction is stored scaled by
+// dVC_p (photon_incoming). Elsewhere the direction is stored as it is and every photon
+// weighs 1.
+#ifdef VCM_MERGING
+#define PHOTON_INCOMING_DIR(p) photon_incoming(p)
+#define MERGE_WEIGHT(p) vcm_merge_weight(p, sh, wo)
+#else
+#define PHOTON_INCOMING_DIR(p) photon_record(p, PHOTON_INCOMING).xyz
+#define MERGE_WEIGHT(p) 1.0
 #endif
 
 // Whether the gather takes photon p at this visible point: not where light tracing splats
@@ -86,7 +103,7 @@ bool photon_on_side(uint p, vec3 d, float r, vec3 side, bool both_sides) {
 // One class's (or light group's) photons into its pass, updated as Combined's tau is: PPPM
 // adds the pass's estimate, SPPM adds and shrinks with the radius.
 void update_photon_pass(uint i, uint offset, vec3 weighted_phi, float shrink) {
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     pass_add(i, offset, vec4(weighted_phi * pass_scale, 0.0));
 #else
     uint k = pass_record(i, offset);
@@ -177,11 +194,12 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
         // count their survivor twice.
         if (dot(d, d) <= r2 && grid_cell(x, cell_size) == cell &&
             photon_on_side(p, d, r, side, both_sides)) {
-            vec3 f = photon_f(sh, lambert, lambert_f, wo, photon_record(p, PHOTON_INCOMING).xyz,
-                              rough_only, gather_bounce_kinds(eye_bounces, photon_bounces(p)));
+            vec3 f = photon_f(sh, lambert, lambert_f, wo, PHOTON_INCOMING_DIR(p), rough_only,
+                              gather_bounce_kinds(eye_bounces, photon_bounces(p)));
             float count = float(entry.y);
             m += count;
-            if (GATHERED(p)) ADD_PHOTON(p, count * f * photon_record(p, PHOTON_FLUX).xyz);
+            if (GATHERED(p))
+                ADD_PHOTON(p, count * MERGE_WEIGHT(p) * f * photon_record(p, PHOTON_FLUX).xyz);
         }
 #else
         for (uint k = entry.y; k < entry.y + entry.x; ++k) {
@@ -192,11 +210,11 @@ void gather_photons(vec3 x0, float r, vec3 side, Shading sh, vec3 wo, bool rough
                 photon_on_side(p, d, r, side, both_sides)) {
                 m += 1.0;
                 if (GATHERED(p))
-                    ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo,
-                                           photon_record(p, PHOTON_INCOMING).xyz, rough_only,
+                    ADD_PHOTON(p, photon_f(sh, lambert, lambert_f, wo, PHOTON_INCOMING_DIR(p),
+                                           rough_only,
                                            gather_bounce_kinds(eye_bounces,
                                                                photon_bounces(p))) *
-                                      photon_record(p, PHOTON_FLUX).xyz);
+                                      (MERGE_WEIGHT(p) * photon_record(p, PHOTON_FLUX).xyz));
             }
         }
 #endif
@@ -208,7 +226,7 @@ void main() {
     float radius_after = 0.0;
     if (i < image_width * image_height) {
         vec4 stats0 = pixel_stats[2 * i + 0];
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
         float r = pass_radius;
 #else
         float r = pixel_stats[2 * i + 1].x;
@@ -254,7 +272,7 @@ void main() {
             else
                 gather_photons(point.xyz, r, side, sh, wo, rough_only, eye_bounces, false, m, phi
                                PHOTON_CLASSES);
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
             // PPPM (Knaus and Zwicker 2011, eq. 9): this step's share of the pass's own
             // estimate weight Phi / (pi r_i^2 N_emitted), summed over steps and passes with
             // Kahan compensation (the compensation in the radius record's spare words).

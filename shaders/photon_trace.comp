@@ -27,6 +27,7 @@ layout(local_size_x = LOCAL_SIZE) in;
 #endif
 #ifdef VCM_MIS
 #include "common/vcm_mis.glsl"
+#include "common/vcm_merging.glsl"
 #endif
 #include "common/light_linking.glsl"
 
@@ -83,6 +84,9 @@ const bool photon_link_absorbed = false;
 // and nothing reaches the film (their stored photons are never gathered: the next step
 // overwrites them).
 uniform uint u_warm_up;
+#ifdef VCM_MERGING
+uniform uint u_merge_slots;  // the light vertices' slots a path may fill (vcm_merge_slots)
+#endif
 
 RNG_STATE load_photon_rng(uint i, uint state_index) {
 #ifdef RNG_PCG

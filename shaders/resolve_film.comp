@@ -18,10 +18,10 @@ void main() {
     if (i >= image_width * image_height) return;
     vec3 tau = pixel_stats[2 * i + 0].xyz;
     float r = pixel_stats[2 * i + 1].x;
-#ifdef ESTIMATOR_VCM
-    // No photons gathered yet (docs/vcm.md): its paths' light is the direct light's sum.
+#if defined(ESTIMATOR_VCM) && !defined(VCM_MERGING)
+    // No photons gathered (docs/vcm.md): its paths' light is the direct light's sum.
     vec3 photon_light = vec3(0.0);
-#elif defined(ESTIMATOR_PPPM)
+#elif defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     // The sum of the passes' own estimates (gather.comp): their mean.
     vec3 photon_light = tau * inv_passes;
 #else

@@ -71,7 +71,7 @@ def vcm_techniques(settings):
     if settings.estimator != 'VCM':
         return {}
     technique = getattr(settings, "vcm_techniques", 'PT_LT')
-    return {"vcm_techniques": {'PT_LT': "pt+lt", 'PT': "pt"}[technique]}
+    return {"vcm_techniques": {'PT_LT': "pt+lt", 'PT': "pt", 'PT_LT_VM': "pt+lt+vm"}[technique]}
 
 
 def native_settings(native, settings, width, height, seed_offset=0, film=None, device=None,

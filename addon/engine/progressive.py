@@ -125,10 +125,10 @@ def stats_line(schedule, stats, elapsed):
     """Pass 12/64 | 1.23 M photons/s | radius 0.0123 | 00:05 elapsed, 00:20 left"""
     parts = [f"Pass {schedule.done}/{schedule.passes}"]
     if stats.get("estimator") == "vcm":
-        # VCM has no photons or radius yet (docs/vcm.md): its light paths where it traces any.
+        # VCM: its light paths where it traces any (docs/vcm.md).
         variant = stats.get("variant", "").split(",")
         if stats.get("photons_per_second") and any(v in variant for v in
-                                                   ("vcm=lt", "vcm=pt+lt")):
+                                                   ("vcm=lt", "vcm=pt+lt", "vcm=pt+lt+vm")):
             parts.append(f"{format_rate(stats['photons_per_second'])}light paths/s")
     else:
         if stats.get("photons_per_second"):

@@ -90,9 +90,10 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "pass index, so passes run on several GPUs and farm machines and merge "
                     "exactly (glslppm-merge)"),
                    ('VCM', "VCM (in progress)", "Vertex connection and merging, being built "
-                    "(docs/vcm.md): today path tracing from the camera with light sampling "
-                    "and light tracing of caustics seen directly, weighted together (VCM "
-                    "Techniques); no photons yet; passes are independent as PPPM's. Not yet "
+                    "(docs/vcm.md): today path tracing from the camera with light sampling, "
+                    "light tracing of caustics seen directly and merging of caustics seen "
+                    "through glass, weighted together (VCM Techniques); passes are "
+                    "independent as PPPM's. Not yet "
                     "with render passes, light groups or linking, tiles or a transparent "
                     "film"))),
         "vcm_techniques": EnumProperty(
@@ -102,7 +103,12 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "the lights' paths, weighted by multiple importance sampling; everything "
                     "else by path tracing (docs/vcm.md)"),
                    ('PT', "Path Tracing", "Paths from the camera alone, with light sampling: "
-                    "caustics only where a camera path happens to reach the light"))),
+                    "caustics only where a camera path happens to reach the light"),
+                   ('PT_LT_VM', "Path + Light Tracing + Merging", "As Path + Light Tracing, "
+                    "and caustics seen through glass or a mirror (a pool's floor through "
+                    "its water) merged from the lights' paths at the camera paths' first "
+                    "rough surface behind the glass, weighted against path tracing "
+                    "(docs/vcm.md)"))),
         "first_pass": IntProperty(
             name="First Pass", default=0, min=0, max=INT_MAX,
             description="PPPM and VCM: the pass offset, the index of the first pass this render "

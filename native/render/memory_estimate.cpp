@@ -80,7 +80,22 @@ PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* sce
     s.photon_slot = estimator.photon_slot(settings.photons_per_pass);
     s.steps_per_gather = estimator.photon_steps_per_gather(
         static_cast<std::uint32_t>(s.photon_slot), driver_largest, settings.max_bounces);
+    if (const std::uint32_t slots = vcm_merge_slots(settings, driver_largest)) {
+        s.photon_slot = settings.photons_per_pass;
+        s.steps_per_gather = slots;
+    }
     return s;
+}
+
+std::uint32_t vcm_merge_slots(const RenderSettings& settings, std::int64_t driver_largest) {
+    if (settings.estimator != Estimator::Vcm || !vcm_merges(settings.vcm_techniques)) return 0;
+    const std::size_t gib = std::size_t(1) << 30;
+    const std::size_t cap =
+        std::min(driver_largest > 0 ? static_cast<std::size_t>(driver_largest) : gib, gib);
+    const std::size_t slot_bytes =
+        std::max<std::size_t>(settings.photons_per_pass, 1) * kPhotonBytes;
+    const std::size_t surfaces = static_cast<std::size_t>(std::max(settings.max_bounces, 0)) + 1;
+    return static_cast<std::uint32_t>(std::clamp<std::size_t>(cap / slot_bytes, 1, surfaces));
 }
 
 }  // namespace glslppm

@@ -59,4 +59,12 @@ std::uint32_t hash_cell_count(std::uint32_t photon_threads);
 PassStateShape pass_state_shape(const RenderSettings& settings, const Scene* scene,
                                 std::int64_t driver_largest);
 
+// VCM's vertex merging (docs/vcm.md): how many of a light path's rough vertices a pass stores,
+// in slots of photon_threads photons, one slot for each (the k-th vertex of path i is photon
+// k photon_threads + i): one per surface a path may meet (max_bounces + 1), as many as one
+// storage buffer of at most 1 GiB and the driver's largest (driver_largest; 0: unknown) holds.
+// 0 where VCM does not merge. A path's vertices past that many are not merged (the eye paths
+// weigh their light to path tracing alone: common/vcm_merging.glsl).
+std::uint32_t vcm_merge_slots(const RenderSettings& settings, std::int64_t driver_largest);
+
 }  // namespace glslppm

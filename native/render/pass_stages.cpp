@@ -19,9 +19,13 @@ void Renderer::Gpu::run_pass(std::uint64_t pass_index) {
         settings.photon_warm_up)
         warm_up_photon_paths();
     trace_eye(pass_index);
-    // VCM's light subpaths (common/vcm_light_paths.glsl): each traced whole in one dispatch.
-    if (estimator.photon_paths == PhotonPaths::NoPhotons && programs.light_splats)
+    // VCM's light subpaths (common/vcm_light_paths.glsl): each traced whole in one dispatch;
+    // with vertex merging, the photons they stored hashed and gathered at the eye paths'
+    // visible points (common/vcm_merging.glsl).
+    if (estimator.photon_paths == PhotonPaths::NoPhotons && programs.light_splats) {
         trace_photons(pass_index, 0);
+        if (vcm_merges(settings.vcm_techniques)) gather_stored_steps(steps_per_gather, true);
+    }
     const std::uint32_t steps = estimator.photon_steps_per_pass(settings.max_bounces);
     for (std::uint32_t step = 0; step < steps; ++step) {
         const std::uint32_t slot = step % steps_per_gather;
@@ -60,6 +64,7 @@ void Renderer::Gpu::begin_pass(std::uint64_t pass_index) {
 // eye_trace.comp: each pixel's eye path to its visible point.
 void Renderer::Gpu::trace_eye(std::uint64_t pass_index) {
     mark(0);
+    set_merge_slots(*programs.eye);
     set_rng_seed(*programs.eye, pass_index, 0);
     dispatch(*programs.eye, scene.pixels);
     if (settings.profile) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -79,6 +84,7 @@ void Renderer::Gpu::trace_photons(std::uint64_t pass_index, std::uint32_t step) 
                           (step % steps_per_gather) * slot_bytes, slot_bytes);
     }
     set_rng_seed(*programs.photon, pass_index, 1u + (step << 8));
+    set_merge_slots(*programs.photon);
     dispatch(*programs.photon, scene.photon_threads);
     // Storage barriers only within a pass: the host writes nothing but the frame's uniform
     // block, which no shader writes (a buffer-update barrier here cost a host wait for the
@@ -221,6 +227,16 @@ void Renderer::Gpu::set_rng_seed(const gl::ComputeProgram& program, std::uint64_
     if (location >= 0) {
         program.use();
         glUniform1ui(location, mix_seed(settings.seed, pass_index, stage));
+    }
+}
+
+// VCM's merging: the light vertices' slots a path may fill (vcm_merge_slots), which the eye
+// paths' weights read as well. The programs are shared between renderers: set every pass.
+void Renderer::Gpu::set_merge_slots(const gl::ComputeProgram& program) {
+    const GLint location = program.uniform("u_merge_slots");
+    if (location >= 0) {
+        program.use();
+        glUniform1ui(location, steps_per_gather);
     }
 }
 

@@ -199,6 +199,7 @@ struct Renderer::Gpu {
     // zero. Written by a dispatch (restart_film.comp): the host uploads nothing.
     void restart_film();
     void dispatch(const gl::ComputeProgram& program, std::uint32_t threads);
+    void set_merge_slots(const gl::ComputeProgram& program);
     void set_rng_seed(const gl::ComputeProgram& program, std::uint64_t pass_index,
                       std::uint32_t stage);
     void mark(int stage);

@@ -144,6 +144,10 @@ PassStateShape worker_pass_state_shape(const Renderer::Gpu& g) {
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &largest);
     shape.steps_per_gather = estimator.photon_steps_per_gather(
         static_cast<std::uint32_t>(shape.photon_slot), largest, settings.max_bounces);
+    if (const std::uint32_t slots = vcm_merge_slots(settings, largest)) {
+        shape.photon_slot = g.scene.photon_threads;
+        shape.steps_per_gather = slots;  // VCM's merging: its light vertices' slots
+    }
     return shape;
 }
 

@@ -120,6 +120,13 @@ void choose_features(const Scene& scene, const RenderSettings& settings, unsigne
         f.add("VCM_MIS", "vcm=pt+lt:light");
         f.add("VCM_MIS_LIGHT_PART", "");
     }
+    // Vertex merging besides (common/vcm_merging.glsl).
+    if (vcm_merges(t)) {
+        const bool part = t == VcmTechniques::PathLightTracingAndMergingMergePart;
+        f.add("VCM_MIS", part ? "vcm=pt+lt+vm:merge" : "vcm=pt+lt+vm");
+        f.add("VCM_MERGING", "");
+        if (part) f.add("VCM_MERGE_PART", "");
+    }
     if (t != VcmTechniques::PathTracing && t != VcmTechniques::LightTracing)
         f.add("VCM_LIGHT_TRACING", "");
     f.rows(SpecializationGroup::DirectLight);

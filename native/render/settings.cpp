@@ -41,8 +41,16 @@ VcmTechniques parse_vcm_techniques(const std::string& name) {
     if (name == "pt+lt") return VcmTechniques::PathAndLightTracing;
     if (name == "pt+lt:eye") return VcmTechniques::PathAndLightTracingEyePart;
     if (name == "pt+lt:light") return VcmTechniques::PathAndLightTracingLightPart;
-    throw std::invalid_argument("vcm_techniques: '" + name +
-                                "' is not built (pt, lt, pt+lt, pt+lt:eye, pt+lt:light)");
+    if (name == "pt+lt+vm") return VcmTechniques::PathLightTracingAndMerging;
+    if (name == "pt+lt+vm:merge") return VcmTechniques::PathLightTracingAndMergingMergePart;
+    throw std::invalid_argument(
+        "vcm_techniques: '" + name +
+        "' is not built (pt, lt, pt+lt, pt+lt:eye, pt+lt:light, pt+lt+vm, pt+lt+vm:merge)");
+}
+
+bool vcm_merges(VcmTechniques techniques) {
+    return techniques == VcmTechniques::PathLightTracingAndMerging ||
+           techniques == VcmTechniques::PathLightTracingAndMergingMergePart;
 }
 
 std::string to_string(VcmTechniques techniques) {
@@ -51,6 +59,8 @@ std::string to_string(VcmTechniques techniques) {
         case VcmTechniques::PathAndLightTracing: return "pt+lt";
         case VcmTechniques::PathAndLightTracingEyePart: return "pt+lt:eye";
         case VcmTechniques::PathAndLightTracingLightPart: return "pt+lt:light";
+        case VcmTechniques::PathLightTracingAndMerging: return "pt+lt+vm";
+        case VcmTechniques::PathLightTracingAndMergingMergePart: return "pt+lt+vm:merge";
         default: return "pt";
     }
 }

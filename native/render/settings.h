@@ -37,8 +37,15 @@ enum class VcmTechniques {
     LightTracing,
     PathAndLightTracing,
     PathAndLightTracingEyePart,
-    PathAndLightTracingLightPart
+    PathAndLightTracingLightPart,
+    // Path tracing, light tracing and vertex merging ("pt+lt+vm", docs/vcm.md), and the
+    // merges alone ("pt+lt+vm:merge", for the tests).
+    PathLightTracingAndMerging,
+    PathLightTracingAndMergingMergePart
 };
+// Whether VCM's vertex merging runs (its light paths store photons, its eye paths hold
+// visible points that gather them).
+bool vcm_merges(VcmTechniques techniques);
 // How a scene's instances are traced: through a two-level MTBVH, flattened into world-space
 // triangles, or chosen by the measured rule in render/instancing.h.
 enum class Instancing { Auto, TwoLevel, Flattened };
@@ -129,7 +136,8 @@ HashMode parse_hash_mode(const std::string& name);  // "stochastic" | "exact"
 RngKind parse_rng_kind(const std::string& name);    // "paper" | "pcg"
 DirectLight parse_direct_light(const std::string& name);  // "sampled" | "photons" | "sampled-no-mis"
 Estimator parse_estimator(const std::string& name);       // "sppm" | "pppm" | "vcm"
-VcmTechniques parse_vcm_techniques(const std::string& name);  // "pt" | "lt" | "pt+lt" | "pt+lt:eye" | "pt+lt:light"
+// "pt" | "lt" | "pt+lt" | "pt+lt:eye" | "pt+lt:light" | "pt+lt+vm" | "pt+lt+vm:merge"
+VcmTechniques parse_vcm_techniques(const std::string& name);
 std::string to_string(VcmTechniques techniques);
 Instancing parse_instancing(const std::string& name);  // "auto" | "two-level" | "flattened"
 std::string to_string(HashMode mode);

@@ -5,9 +5,9 @@
 
 // The cell size this pass. SPPM: the largest radius after the last pass, which end_pass
 // leaves in the counters on the GPU. PPPM: the pass's own radius, from the frame, so that
-// no host write to a buffer the shaders write comes between passes.
+// no host write to a buffer the shaders write comes between passes. VCM's merging too.
 float hash_cell_size() {
-#ifdef ESTIMATOR_PPPM
+#if defined(ESTIMATOR_PPPM) || defined(ESTIMATOR_VCM)
     return pass_radius;
 #else
     return uintBitsToFloat(cell_size_bits);

@@ -68,8 +68,50 @@ vec3 vcm_world_met(vec3 dir, float lt) {
     return world;
 }
 
-// One eye path. seen_by_camera: no scatter yet; last_surface: past a limit, the next
-// surface's emission ends the path; after_rough: the last scatter was rough, whose direct
+#ifdef VCM_MERGING
+// Vertex merging (common/vcm_merging.glsl): the path's first rough vertex after one or more
+// smooth ones (not a cut-out seen through), of a material both sides merge at, is held as
+// the pixel's visible point, which gathers the light paths' photons there; past it the
+// path's BSDF sample carries the merging's quantity to the emission it meets through smooth
+// vertices and the rough vertices light paths pass (vcm_lt_past_rough), up to the light
+// paths' last stored slot (u_merge_slots): the light path of a longer path stores no
+// vertex where this path merged, so there it is path tracing's alone.
+uniform uint u_merge_slots;
+#define VCM_HOLD_MERGE_POINT()                                                      \
+    bool merge_here = !seen_by_camera && !rough_met && vcm_connectable(s, sh, wo); \
+    if (merge_here) {                                                              \
+        hold_visible_point(i, s, sh, wo, throughput, false, eye_bounces);          \
+        held = true;                                                               \
+    } else if (held) {                                                             \
+        ++rough_past_merge;                                                        \
+    }                                                                              \
+    rough_met = true
+#define VCM_MERGE_LT()                                                \
+    if (merge_here) lt = vcm_merge_lt(s.geometric_normal, sh, wo, dir); \
+    else if (rough_past_merge >= u_merge_slots) lt = 0.0
+#else
+#define VCM_HOLD_MERGE_POINT()
+#define VCM_MERGE_LT()
+#endif
+
+// The path's light as the film takes it, at its end: with merging and no visible point held,
+// the pixel's none this pass; for the tests' parts one technique's share alone.
+vec3 vcm_path_end(uint i, uint eye_bounces, bool held, vec3 light) {
+#ifdef VCM_MIS_LIGHT_PART
+    light = vec3(0.0);  // the light side's weighted part alone ("pt+lt:light")
+#endif
+#ifdef VCM_MERGING
+    if (!held) hold_no_visible_point(i, eye_bounces);
+#ifdef VCM_MERGE_PART
+    light = vec3(0.0);  // the merges alone ("pt+lt+vm:merge")
+#endif
+#endif
+    return light;
+}
+
+// One eye path (with merging, rough_met: a rough vertex met; held: the visible point held;
+// rough_past_merge: the rough vertices past it). seen_by_camera: no scatter yet;
+// last_surface: past a limit, the next surface's emission ends the path; after_rough: the last scatter was rough, whose direct
 // light holds the emission met next. With VCM_MIS, lt: light tracing's partial quantity past
 // the first vertex y1 (common/vcm_mis.glsl, vcm_lt_past_rough), divided by the cosine at each
 // surface met (lt_here); 0 where light tracing cannot sample the path.
@@ -79,8 +121,9 @@ void main() {
     RNG_STATE rng = load_pixel_rng(i);
     Ray ray = camera_ray(i % image_width, i / image_width, rng);
     vec3 throughput = vec3(1.0), light = vec3(0.0);
-    uint rays = 0u, eye_bounces = 0u, scatters = 0u;
+    uint rays = 0u, eye_bounces = 0u, scatters = 0u, rough_past_merge = 0u;
     bool seen_by_camera = true, last_surface = false, after_rough = false;
+    bool rough_met = false, held = false;  // VCM_MERGING (as rough_past_merge)
     float lt = 0.0;  // VCM_MIS
 #ifdef VCM_MIS
     vec3 lens_point = ray.origin;
@@ -153,6 +196,7 @@ void main() {
 #endif
             throughput /= 1.0 - p_smooth;
             bool rough_only = p_smooth > 0.0;
+            VCM_HOLD_MERGE_POINT();
             LightSampleNumbers n = draw_light_sample_numbers(rng);
             vec3 u_mis = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             light += throughput * direct_light_sampled_lobes(s.material, s.position,
@@ -164,6 +208,7 @@ void main() {
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
 #ifdef VCM_MIS
             lt = vcm_lt_past_rough(s, sh, wo, dir, seen_by_camera, lens_point, lt_here);
+            VCM_MERGE_LT();
 #endif
             kind = bounce_kind(wo, dir, s.geometric_normal,
                                rough_only || bsdf_sample_is_diffuse(sh, wo, u_dir));
@@ -186,10 +231,7 @@ void main() {
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
         if (kind != BOUNCE_NONE) seen_by_camera = false;
     }
-#ifdef VCM_MIS_LIGHT_PART
-    light = vec3(0.0);  // the light side's weighted part alone ("pt+lt:light")
-#endif
-    add_direct_light(i, vec4(light, 0.0));
+    add_direct_light(i, vec4(vcm_path_end(i, eye_bounces, held, light), 0.0));
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);
 }

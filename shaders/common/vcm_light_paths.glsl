@@ -85,9 +85,32 @@ void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bou
     light_splat_add(i, flux * f * (cos_surface * importance * weight));
 }
 
+#ifdef VCM_MERGING
+// Vertex merging's photons (common/vcm_merging.glsl): the light path's rough vertices s after
+// one or more smooth ones, the k-th in slot k (photon k photon_threads + i), up to
+// u_merge_slots of them, each reached along dir with this flux, its dVC there (over the
+// cosine in) stored as its incoming direction's length, its bounce word for the gather's
+// Light Paths limits. The slots it does not fill this pass store none.
+void vcm_store_merge_photon(uint p, Surface s, Shading sh, vec3 dir, vec3 flux, float dvc,
+                            uint path_bounces, inout RNG_STATE rng) {
+    vec4 position_key, stored;
+    photon_at(s, sh, dir, flux, rng, position_key, stored);
+    store_photon_record(p, PHOTON_INCOMING, vec4(vcm_merge_incoming(-dir, dvc),
+                                                 photon_record_word(0.0, path_bounces)));
+    store_photon_record(p, PHOTON_POSITION, position_key);
+    store_photon_record(p, PHOTON_FLUX, stored);
+}
+#define VCM_NO_MORE_MERGE_PHOTONS(i, stored)                              \
+    for (uint slot_ = (stored); slot_ < u_merge_slots; ++slot_)          \
+        store_photon_record(slot_ * photon_threads + (i), PHOTON_FLUX, vec4(0.0))
+#else
+#define VCM_NO_MORE_MERGE_PHOTONS(i, stored)
+#endif
+
 void main() {
     uint i = thread_index();
     if (i >= photon_threads) return;
+    uint merge_stored = 0u;  // VCM_MERGING: the slots filled
     uint state_index = image_width * image_height + i;
     RNG_STATE rng = load_photon_rng(i, state_index);
     RNG_STATE peek = rng;
@@ -150,6 +173,11 @@ void main() {
             vec3 u_dir = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             float p_smooth = bsdf_smooth_probability(sh, -dir);
             bool rough = p_smooth <= 0.0 && smooth_vertices > 0u && vcm_connectable(s, sh, -dir);
+#ifdef VCM_MERGING
+            if (rough && merge_stored < u_merge_slots)
+                vcm_store_merge_photon(merge_stored++ * photon_threads + i, s, sh, dir, flux, dvc,
+                                       path_bounces, rng);
+#endif
             vec3 from = -dir;
             if (surfaces == max_bounces || !(p_smooth >= 1.0 || rough) ||
                 !light_path_scatter(s, sh, u_dir, 1.0, rng_next(rng), dir, flux, path_bounces))
@@ -159,9 +187,12 @@ void main() {
                 // densities read from the leaf as the eye path sees it (from the next vertex).
                 Shading seen = shading_at(s.material, s.normal, s.geometric_normal,
                                           texture_point(s), s.vertex_color, dir, 0.5);
+                // dVC 0 stays 0: a light no eye path meets (vcm_unmet_emitter), whose paths
+                // light tracing and merging take whole. (Until session 19 such a path ended
+                // here, and with it the light a sun's or a point light's caustic sends on.)
                 float p_forward = bsdf_pdf(seen, from, dir);
-                dvc = p_forward > 0.0 ? dvc * bsdf_pdf(seen, dir, from) / p_forward : 0.0;
-                if (!(dvc > 0.0)) break;
+                if (!(p_forward > 0.0)) break;
+                dvc *= bsdf_pdf(seen, dir, from) / p_forward;
             } else {
                 ++smooth_vertices;
             }
@@ -169,6 +200,7 @@ void main() {
             origin = offset_origin(s.position, s.geometric_normal, dir);
         }
     }
+    VCM_NO_MORE_MERGE_PHOTONS(i, merge_stored);
     rng_store(state_index, rng);
     atomicAdd(pass_rays, rays);
 }
