@@ -70,7 +70,7 @@ def vcm_techniques(settings):
     """The VCM Techniques setting, for the VCM estimator (the module refuses it otherwise)."""
     if settings.estimator != 'VCM':
         return {}
-    technique = getattr(settings, "vcm_techniques", 'PT_LT')
+    technique = getattr(settings, "vcm_techniques", 'PT_LT_VM')
     return {"vcm_techniques": {'PT_LT': "pt+lt", 'PT': "pt", 'PT_LT_VM': "pt+lt+vm"}[technique]}
 
 

@@ -97,7 +97,7 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "with render passes, light groups or linking, tiles or a transparent "
                     "film"))),
         "vcm_techniques": EnumProperty(
-            name="VCM Techniques", default='PT_LT',
+            name="VCM Techniques", default='PT_LT_VM',
             items=(('PT_LT', "Path + Light Tracing", "Caustics seen directly (light through "
                     "glass or mirrors onto a diffuse surface) from both the camera's paths and "
                     "the lights' paths, weighted by multiple importance sampling; everything "

@@ -725,21 +725,23 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
 
 
 def test_vcm_techniques_in_render_properties_reach_the_module():
-    """Render Properties > VCM Techniques: the default, Path + Light Tracing, compiles the
-    weighted pair (variant vcm=pt+lt), Path Tracing the eye paths alone; both render a
-    finite, lit image of issue 30's box. Nothing there for light tracing to take (no glass or
-    mirror), and the eye paths draw the same numbers either way, so the two images' means are
-    equal: measured identical (Blender 3.4.1), asserted within 1e-6 relative, which any
-    weight below one on the eye side would break."""
+    """Render Properties > VCM Techniques: the default, Path + Light Tracing + Merging,
+    compiles the three (variant vcm=pt+lt+vm), Path + Light Tracing the weighted pair
+    (vcm=pt+lt), Path Tracing the eye paths alone; each renders a finite, lit image of issue
+    30's box. Nothing there for light tracing or merging to take (no glass or mirror), and
+    the eye paths draw the same numbers every way, so the images' means are equal: measured
+    identical (Blender 3.4.1), asserted within 1e-6 relative, which any weight below one on
+    the eye side would break."""
     helpers.reset_scene(size=(32, 32))
     scene = _issue30_scene()
     scene.glslppm.estimator = 'VCM'
     scene.glslppm.passes = 16
     scene.glslppm.photons_per_pass = 4096
     helpers.load_native()
-    assert scene.glslppm.vcm_techniques == 'PT_LT'
+    assert scene.glslppm.vcm_techniques == 'PT_LT_VM'
     means = {}
-    for technique, variant in (('PT_LT', "vcm=pt+lt"), ('PT', None)):
+    for technique, variant in (('PT_LT_VM', "vcm=pt+lt+vm"), ('PT_LT', "vcm=pt+lt"),
+                               ('PT', None)):
         scene.glslppm.vcm_techniques = technique
         image, error, _ = helpers.render_recorded(f"issue30_vcm_{technique.lower()}")
         assert error is None, error
@@ -752,9 +754,11 @@ def test_vcm_techniques_in_render_properties_reach_the_module():
         line = progressive.stats_line(progressive.PassSchedule(16),
                                       helpers.last_render_stats(), 1.0)
         assert "radius" not in line and "photons/s" not in line, line
-        assert ("light paths/s" in line) == (technique == 'PT_LT'), line
+        assert ("light paths/s" in line) == (technique != 'PT'), line
     print(f"  VCM techniques: means {means}")
-    assert means['PT'] > 0.0 and abs(means['PT_LT'] / means['PT'] - 1.0) < 1e-6, means
+    assert means['PT'] > 0.0
+    for technique in ('PT_LT', 'PT_LT_VM'):
+        assert abs(means[technique] / means['PT'] - 1.0) < 1e-6, means
 
 
 def test_vcm_path_and_light_tracing_quiets_the_caustic_through_the_addon():
@@ -799,18 +803,19 @@ def test_vcm_path_and_light_tracing_quiets_the_caustic_through_the_addon():
     assert noise['PT_LT'] < noise['PT'] / 10.0, noise
 
 
-@helpers.slow("five renders of the pool (8,202 triangles), PPPM's at 65,536 photons a pass "
-              "traced whole: about 95 s on two shared cores")
+@helpers.slow("three renders of the pool (8,202 triangles), PPPM's at 32,768 photons a pass "
+              "traced whole: 21 CPU-s, over 30 s of wall time on two shared cores")
 def test_vcm_merging_renders_the_pool_floor_through_the_addon():
     """The equal-cost harness's pool (scripts/equal_cost_scenes.py: a sun of 0.5 degrees over
     wavy water over a white floor in a pool; the camera sees the floor through the water,
     L S D S E, which neither light tracing nor the light sample can sample and path tracing
-    never meets a sun) through Render Properties > VCM > Path + Light Tracing + Merging,
-    against PPPM, both at 48x48, 24 passes of 65,536 photons, two seeds each: the image means
-    within 2% (measured on Blender 3.4.1: 0.9981; one render's mean spreads about 0.3%
-    between seeds), and Path + Light Tracing below a fifth of PPPM's (0.17: the floor
-    through the water black)."""
-    helpers.reset_scene(size=(48, 48))
+    never meets a sun) through Render Properties > VCM > Path + Light Tracing + Merging (the
+    default), against PPPM, both at 32x32, 16 passes of 32,768 photons: the image means within
+    4% (measured on Blender 3.4.1: 1.0003). One render's mean is about 0.8% noisy here, so
+    this holds the add-on's merging against a missing floor (Path + Light Tracing, asserted
+    below a quarter of PPPM's: measured 0.171), not a 1% bias, which
+    tests/python/test_vcm_merging.py holds against a closed form."""
+    helpers.reset_scene(size=(32, 32))
     scripts = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
     if scripts not in sys.path:
         sys.path.insert(0, os.path.abspath(scripts))
@@ -821,27 +826,25 @@ def test_vcm_merging_renders_the_pool_floor_through_the_addon():
     scene = bpy.context.scene
     scene.world = None
     helpers.set_light_paths(scene, 12)
-    scene.glslppm.passes = 24
-    scene.glslppm.photons_per_pass = 65536
+    scene.glslppm.passes = 16
+    scene.glslppm.photons_per_pass = 32768
+    scene.glslppm.seed = 1
     helpers.load_native()
+    assert scene.glslppm.vcm_techniques == 'PT_LT_VM'
     means = {}
     for estimator, technique in (('VCM', 'PT_LT_VM'), ('PPPM', None), ('VCM', 'PT_LT')):
         scene.glslppm.estimator = estimator
         if technique:
             scene.glslppm.vcm_techniques = technique
         name = technique or estimator
-        values = []
-        for seed in ((1, 2) if technique != 'PT_LT' else (1,)):
-            scene.glslppm.seed = seed
-            image, error, _ = helpers.render_recorded(f"pool_{name.lower()}_{seed}")
-            assert error is None, error
-            values.append(float(image[..., :3].mean()))
-        means[name] = np.mean(values)
+        image, error, _ = helpers.render_recorded(f"pool_{name.lower()}")
+        assert error is None, error
+        means[name] = float(image[..., :3].mean())
     ratio = means['PT_LT_VM'] / means['PPPM']
     print(f"  pool: pt+lt+vm {means['PT_LT_VM']:.5f}, PPPM {means['PPPM']:.5f} (ratio "
-          f"{ratio:.4f}), pt+lt {means['PT_LT']:.5f}")
-    assert abs(ratio - 1.0) < 0.02, means
-    assert means['PT_LT'] < 0.2 * means['PPPM'], means
+          f"{ratio:.4f}), pt+lt {means['PT_LT']:.5f} ({means['PT_LT'] / means['PPPM']:.3f})")
+    assert abs(ratio - 1.0) < 0.04, means
+    assert means['PT_LT'] < 0.25 * means['PPPM'], means
 
 
 def test_issue30_gltf_export_renders_as_the_addon_does():
