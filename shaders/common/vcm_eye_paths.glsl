@@ -111,10 +111,11 @@ vec3 vcm_path_end(uint i, uint eye_bounces, bool held, vec3 light) {
 
 // One eye path (with merging, rough_met: a rough vertex met; held: the visible point held;
 // rough_past_merge: the rough vertices past it). seen_by_camera: no scatter yet;
-// last_surface: past a limit, the next surface's emission ends the path; after_rough: the last scatter was rough, whose direct
-// light holds the emission met next. With VCM_MIS, lt: light tracing's partial quantity past
-// the first vertex y1 (common/vcm_mis.glsl, vcm_lt_past_rough), divided by the cosine at each
-// surface met (lt_here); 0 where light tracing cannot sample the path.
+// last_surface: past a limit, the next surface's emission ends the path; after_rough: the
+// last scatter was rough, whose direct light holds the emission met next. With VCM_MIS, lt:
+// light tracing's partial quantity past the first vertex y1 (common/vcm_mis.glsl,
+// vcm_lt_past_rough), or merging's past its vertex (vcm_merge_lt), divided by the cosine at
+// each surface met (lt_here); 0 where neither can sample the path.
 void main() {
     uint i = thread_index();
     if (i >= image_width * image_height) return;

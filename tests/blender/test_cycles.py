@@ -761,6 +761,23 @@ def test_vcm_techniques_in_render_properties_reach_the_module():
         assert abs(means[technique] / means['PT'] - 1.0) < 1e-6, means
 
 
+def harness_scene(name, size, bounces):
+    """The equal-cost harness's scene `name` (scripts/equal_cost_scenes.py) at size x size,
+    no world, every Light Paths limit `bounces`."""
+    helpers.reset_scene(size=(size, size))
+    scripts = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
+    if scripts not in sys.path:
+        sys.path.insert(0, os.path.abspath(scripts))
+    import equal_cost_scenes
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    equal_cost_scenes.SCENES[name]()
+    scene = bpy.context.scene
+    scene.world = None
+    helpers.set_light_paths(scene, bounces)
+    return scene
+
+
 def test_vcm_path_and_light_tracing_quiets_the_caustic_through_the_addon():
     """The equal-cost harness's caustic scene (scripts/equal_cost_scenes.py: a glass ball on a
     white floor under a small area light) through Render Properties > VCM: Path + Light
@@ -773,17 +790,7 @@ def test_vcm_path_and_light_tracing_quiets_the_caustic_through_the_addon():
     fireflies (its standard error in the box about 0.4 against a mean of 1.0). A first pt+lt
     left every scene with an area light to path tracing alone; this test would have caught
     it."""
-    helpers.reset_scene(size=(64, 64))
-    scripts = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
-    if scripts not in sys.path:
-        sys.path.insert(0, os.path.abspath(scripts))
-    import equal_cost_scenes
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    equal_cost_scenes.build_caustic()
-    scene = bpy.context.scene
-    scene.world = None
-    helpers.set_light_paths(scene, 16)
+    scene = harness_scene("caustic", 64, 16)
     scene.glslppm.estimator = 'VCM'
     scene.glslppm.passes = 24
     scene.glslppm.photons_per_pass = 16384
@@ -815,17 +822,7 @@ def test_vcm_merging_renders_the_pool_floor_through_the_addon():
     this holds the add-on's merging against a missing floor (Path + Light Tracing, asserted
     below a quarter of PPPM's: measured 0.171), not a 1% bias, which
     tests/python/test_vcm_merging.py holds against a closed form."""
-    helpers.reset_scene(size=(32, 32))
-    scripts = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
-    if scripts not in sys.path:
-        sys.path.insert(0, os.path.abspath(scripts))
-    import equal_cost_scenes
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    equal_cost_scenes.build_pool()
-    scene = bpy.context.scene
-    scene.world = None
-    helpers.set_light_paths(scene, 12)
+    scene = harness_scene("pool", 32, 12)
     scene.glslppm.passes = 16
     scene.glslppm.photons_per_pass = 32768
     scene.glslppm.seed = 1
