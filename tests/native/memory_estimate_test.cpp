@@ -70,6 +70,34 @@ TEST(MemoryEstimate, PppmStoresStepsSideBySide) {
     EXPECT_EQ(pass_state_bytes(one_step).photons, 1000u * 48);
 }
 
+TEST(MemoryEstimate, VcmMergingStoresASlotPerLightVertex) {
+    // One slot of photons_per_pass photons for each surface a light path may meet
+    // (max_bounces + 1), as many as one storage buffer holds (docs/vcm.md): Blender's default
+    // 12 bounces and 262,144 paths (12.6 MB a slot) take 13 slots where a buffer may hold
+    // 1 GiB and 10 in llvmpipe's 128 MiB.
+    RenderSettings settings;
+    settings.width = settings.height = 8;
+    settings.photons_per_pass = 262144;
+    settings.max_bounces = 12;
+    settings.estimator = Estimator::Vcm;
+    settings.vcm_techniques = VcmTechniques::PathLightTracingAndMerging;
+    const std::int64_t mib = 1 << 20;
+    EXPECT_EQ(vcm_merge_slots(settings, 4096 * mib), 13u);
+    EXPECT_EQ(vcm_merge_slots(settings, 128 * mib), 10u);
+    EXPECT_EQ(vcm_merge_slots(settings, 0), 13u);  // unknown: 1 GiB
+    const PassStateShape shape = pass_state_shape(settings, nullptr, 128 * mib);
+    EXPECT_EQ(shape.photon_slot, 262144u);
+    EXPECT_EQ(shape.steps_per_gather, 10u);
+    EXPECT_EQ(pass_state_bytes(shape).photons, 10u * 262144 * 48);
+    settings.photons_per_pass = 4 * 1024 * 1024;  // one slot over the buffer: still one slot
+    EXPECT_EQ(vcm_merge_slots(settings, 128 * mib), 1u);
+    settings.vcm_techniques = VcmTechniques::PathAndLightTracing;  // no merging: no slots
+    EXPECT_EQ(vcm_merge_slots(settings, 128 * mib), 0u);
+    settings.vcm_techniques = VcmTechniques::PathLightTracingAndMergingMergePart;
+    settings.estimator = Estimator::Pppm;
+    EXPECT_EQ(vcm_merge_slots(settings, 128 * mib), 0u);
+}
+
 TEST(MemoryEstimate, LightTracingAsSceneFeaturesDecidesIt) {
     const Scene box = make_cornell_box();  // a mirror and glass
     RenderSettings settings;
