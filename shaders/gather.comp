@@ -4,10 +4,11 @@
 // With stochastic hashing a cell's survivor stands for all `count` photons of its cell:
 // E[count * [survivor within R]] is the number of that cell's photons within R, so both M
 // and Phi stay unbiased. With ESTIMATOR_PPPM the radius is the pass's and the update is a sum
-// of the passes' estimates instead; so with VCM's vertex merging (VCM_MERGING,
-// docs/vcm.md), whose photons each weigh by their MIS weight (vcm_merge_weight). Cycles' Light Paths limits (common/bounces.glsl) take
-// out of Phi the photons, or the lobes of the point's f, whose full path they would break;
-// M still counts every photon within R, so the radii shrink as they do without limits.
+// of the passes' estimates instead; so with VCM's vertex merging (VCM_MERGING, docs/vcm.md),
+// whose photons each weigh by their MIS weight (vcm_merge_weight). Cycles' Light Paths limits
+// (common/bounces.glsl) take out of Phi the photons, or the lobes of the point's f, whose
+// full path they would break; M still counts every photon within R, so the radii shrink as
+// they do without limits.
 layout(local_size_x = LOCAL_SIZE) in;
 
 #define USES_PIXEL_STATE
@@ -50,7 +51,7 @@ shared float group_max_radius[LOCAL_SIZE];
 #define ADD_PHOTON(p, value) phi += (value)
 #endif
 
-// VCM's merging (common/vcm_mis.glsl): photon p's light at the visible point (shading sh,
+// VCM's merging (common/vcm_merging.glsl): photon p's light at the visible point (shading sh,
 // seen from wo) weighs 1 / (1 + dVC_p p_rev pass_scale) against path tracing, p_rev the
 // point's BSDF density towards the photon's light; its incoming direction is stored scaled by
 // dVC_p (photon_incoming). Elsewhere the direction is stored as it is and every photon
