@@ -95,13 +95,14 @@ class GlslppmEngineMixin:
         if missing:
             self.report_to_user('WARNING', "passes GLSLPPM does not render are left out of "
                                 "the result: " + ", ".join(missing) + " (docs/passes.md)")
-        if passes and settings.estimator == 'VCM':
-            # VCM renders Combined alone so far (docs/vcm.md): the passes stay empty, said once.
+        # VCM renders Combined and the light groups so far (docs/vcm.md): the other passes
+        # stay empty, said once.
+        self.combined_only = bool(passes) and settings.estimator == 'VCM'
+        if self.combined_only:
             self.report_to_user('WARNING', "the VCM estimator (in progress) renders Combined "
-                                "only: the view layer's other passes (" +
+                                "and the light groups only: the view layer's other passes (" +
                                 ", ".join(sorted(passes)) + ") stay empty")
             passes = set()
-            self.view_layer = None
         devices = render_devices(settings)
         device = devices[0]
         film = film_options(scene)
@@ -263,7 +264,7 @@ class GlslppmEngineMixin:
         result = self.begin_result(x, y, width, height, view=view)
         combined = result.layers[0].passes["Combined"]
         extra = (render_passes.result_passes(result, native, self.view_layer)
-                 if self.view_layer else {})
+                 if self.view_layer and not self.combined_only else {})
         self._group_passes = (render_passes.result_group_passes(result, self.view_layer)
                               if self.view_layer else {})
         start = time.perf_counter()

@@ -73,10 +73,8 @@ void output_and_method_defines(unsigned local_size, Features& f) {
 }
 
 // What VCM's eye paths do not model yet (docs/vcm.md): an error naming it. Its light
-// tracing is its own technique to come, not the photons' (light tracing is off under it).
+// tracing is its own technique, not the photons' (light tracing is off under it).
 void check_vcm_supports(const Scene& scene) {
-    if (!scene.light_groups.empty())
-        throw std::invalid_argument("estimator vcm: light groups are not supported yet");
     if (!scene.light_link_receives.empty())
         throw std::invalid_argument("estimator vcm: light linking is not supported yet");
 }

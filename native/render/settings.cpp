@@ -144,7 +144,6 @@ void validate(const RenderSettings& s) {
         if (!s.passes.empty()) fail("estimator vcm: render passes are not supported yet");
         if (s.direct_light != DirectLight::Sampled)
             fail("estimator vcm: direct_light must be 'sampled' (its path tracing technique)");
-        if (s.transparent) fail("estimator vcm: a transparent film is not supported yet");
         if (s.profile) fail("estimator vcm: profile is not supported yet");
     } else if (s.vcm_techniques != VcmTechniques::PathTracing) {
         fail("vcm_techniques: needs estimator vcm");

@@ -200,7 +200,7 @@ void splat_to_camera(Surface s, vec3 dir, vec3 flux, uint path_bounces, float u_
     if (f == vec3(0.0)) return;
     if (!camera_sees(s.position, s.geometric_normal, to_camera, distance, rng)) return;
     light_splat_add(i, flux * f * (cos_surface * importance));
-#ifdef LIGHT_GROUPS
+#if defined(LIGHT_GROUPS) && defined(USES_PHOTON_PATHS)  // the path's group (emit_photon)
     light_splat_group_add(i, photon_group_code, flux * f * (cos_surface * importance));
 #endif
 }

@@ -68,6 +68,71 @@ vec3 vcm_world_met(vec3 dir, float lt) {
     return world;
 }
 
+#ifdef SPHERE_LIGHT_RECORDS
+// Whether the ray meets a point or spot light's sphere before the surface it hits, and its
+// radiance there, with VCM_MIS weighed against light tracing's paths by lt.
+bool vcm_sphere_light_met(Ray ray, Hit hit, float lt, out vec3 radiance) {
+    if (!sphere_light_before_hit(ray, hit, radiance)) return false;
+#ifdef VCM_MIS
+    radiance *= vcm_sphere_emission_weight(lt);
+#endif
+    return true;
+}
+#endif
+
+#ifdef FILM_TRANSPARENT
+// Blender's Film > Transparent as eye_trace's main has it: a ray leaving the scene is the
+// film's transparency (its sum rides in the film's w) where the camera sees it directly or
+// (FILM_TRANSPARENT_GLASS) through glass alone, which a smooth transmission through a
+// dielectric keeps and any other bounce ends.
+#define VCM_LEAVES_THROUGH_FILM() \
+    if (leaves_through_film(seen_by_camera, through_glass, throughput, transparent)) break
+#define VCM_THROUGH_GLASS(smooth, dir)                                                \
+    through_glass = through_glass && (smooth) && sh.kind == MATERIAL_DIELECTRIC &&   \
+                    dot(dir, s.geometric_normal) * dot(ray.dir, s.geometric_normal) > 0.0
+#else
+#define VCM_LEAVES_THROUGH_FILM()
+#define VCM_THROUGH_GLASS(smooth, dir)
+#endif
+
+// Light the path takes into the pixel's sum (VCM_ADD_LIGHT): with light groups
+// (common/light_groups.glsl) into its emitter's group's too, by the group code: an emissive
+// material's (material_group_code), the world's, a sphere light's (sphere_light_group_code),
+// or LIGHT_GROUP_SAMPLED for a light sample, whose parts direct_light_sampled_lobes hands
+// over itself, times the throughput set here first.
+#ifdef LIGHT_GROUPS
+#define VCM_GROUPS_BEGIN() light_groups_begin()
+#define VCM_ADD_LIGHT(code, value)           \
+    {                                        \
+        light_group_throughput = throughput; \
+        vec3 light_ = (value);               \
+        light += light_;                     \
+        light_group_add(code, light_);       \
+    }
+#define VCM_GROUP_OF(m) material_group_code(m)
+#define VCM_GROUP_SPHERE sphere_light_group_code
+#define VCM_GROUP_WORLD WORLD_GROUP_CODE
+#define VCM_GROUP_SAMPLED LIGHT_GROUP_SAMPLED
+#else
+#define VCM_GROUPS_BEGIN()
+#define VCM_ADD_LIGHT(code, value) light += (value)
+#define VCM_GROUP_OF(m) 0u
+#define VCM_GROUP_SPHERE 0u
+#define VCM_GROUP_WORLD 0u
+#define VCM_GROUP_SAMPLED 0u
+#endif
+// Emission or the world the path meets, of this radiance, times its throughput.
+#define VCM_SEE(code, radiance) VCM_ADD_LIGHT(code, throughput * (radiance))
+
+// Russian roulette on the path's throughput from the fourth scatter on: false where it ends.
+bool vcm_roulette(inout vec3 throughput, uint scatters, inout RNG_STATE rng) {
+    if (scatters <= VCM_ROULETTE_AFTER) return true;
+    float q = min(1.0, max_component(throughput));
+    if (!(rng_next(rng) < q)) return false;
+    throughput /= q;
+    return true;
+}
+
 #ifdef VCM_MERGING
 // Vertex merging (common/vcm_merging.glsl): the path's first rough vertex after one or more
 // smooth ones (not a cut-out seen through), of a material both sides merge at, is held as
@@ -96,15 +161,21 @@ uniform uint u_merge_slots;
 
 // The path's light as the film takes it, at its end: with merging and no visible point held,
 // the pixel's none this pass; for the tests' parts one technique's share alone.
+// With light groups, the path's light per group is stored here too.
 vec3 vcm_path_end(uint i, uint eye_bounces, bool held, vec3 light) {
 #ifdef VCM_MIS_LIGHT_PART
     light = vec3(0.0);  // the light side's weighted part alone ("pt+lt:light")
+    VCM_GROUPS_BEGIN();
 #endif
 #ifdef VCM_MERGING
     if (!held) hold_no_visible_point(i, eye_bounces);
 #ifdef VCM_MERGE_PART
     light = vec3(0.0);  // the merges alone ("pt+lt+vm:merge")
+    VCM_GROUPS_BEGIN();
 #endif
+#endif
+#ifdef LIGHT_GROUPS
+    store_light_groups(i);
 #endif
     return light;
 }
@@ -126,6 +197,8 @@ void main() {
     bool seen_by_camera = true, last_surface = false, after_rough = false;
     bool rough_met = false, held = false;  // VCM_MERGING (as rough_past_merge)
     float lt = 0.0;  // VCM_MIS
+    VCM_GROUPS_BEGIN();
+    float transparent = 0.0; bool through_glass = true;  // FILM_TRANSPARENT, as eye_trace's
 #ifdef VCM_MIS
     vec3 lens_point = ray.origin;
 #endif
@@ -134,16 +207,14 @@ void main() {
         Hit hit = closest_hit(ray);
 #ifdef SPHERE_LIGHT_RECORDS
         vec3 sphere_radiance;
-        if (!seen_by_camera && sphere_light_before_hit(ray, hit, sphere_radiance)) {
-#ifdef VCM_MIS
-            sphere_radiance *= vcm_sphere_emission_weight(lt);
-#endif
-            if (!after_rough) light += throughput * sphere_radiance;
+        if (!seen_by_camera && vcm_sphere_light_met(ray, hit, lt, sphere_radiance)) {
+            if (!after_rough) VCM_SEE(VCM_GROUP_SPHERE, sphere_radiance);
             break;
         }
 #endif
         if (hit.triangle < 0) {
-            if (!after_rough) light += throughput * vcm_world_met(ray.dir, lt);
+            VCM_LEAVES_THROUGH_FILM();
+            if (!after_rough) VCM_SEE(VCM_GROUP_WORLD, vcm_world_met(ray.dir, lt));
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -165,7 +236,7 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             if (front && !hidden && !after_rough)
-                light += throughput * material_emission(s.material) * emission_weight;
+                VCM_SEE(VCM_GROUP_OF(s.material), material_emission(s.material) * emission_weight);
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
@@ -173,8 +244,8 @@ void main() {
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if ((front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) && !after_rough)
-            light += throughput * material_emission_at(s.material, sh.material, texture_point(s)) *
-                     emission_weight;
+            VCM_SEE(VCM_GROUP_OF(s.material), emission_weight * material_emission_at(
+                                                  s.material, sh.material, texture_point(s)));
         if (last_surface) break;
         float p_smooth = bsdf_smooth_probability(sh, wo);
         float u_lobe = rng_next(rng);
@@ -200,10 +271,10 @@ void main() {
             VCM_HOLD_MERGE_POINT();
             LightSampleNumbers n = draw_light_sample_numbers(rng);
             vec3 u_mis = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
-            light += throughput * direct_light_sampled_lobes(s.material, s.position,
-                                                             s.geometric_normal, sh, wo,
-                                                             rough_only, n.pick, n.u, u_mis,
-                                                             0.0, rays);
+            VCM_ADD_LIGHT(VCM_GROUP_SAMPLED,
+                          throughput * direct_light_sampled_lobes(
+                              s.material, s.position, s.geometric_normal, sh, wo, rough_only,
+                              n.pick, n.u, u_mis, 0.0, rays));
             if (!vcm_rough_sample(sh, wo, rough_only, u_dir, dir, weight)) break;
             throughput *= weight;
             dir = on_the_lobes_side(dir, sh, s.geometric_normal);
@@ -214,6 +285,7 @@ void main() {
             kind = bounce_kind(wo, dir, s.geometric_normal,
                                rough_only || bsdf_sample_is_diffuse(sh, wo, u_dir));
         }
+        VCM_THROUGH_GLASS(smooth_bounce, dir);
         eye_bounces = bounces_add(eye_bounces, kind);
         bool within = bounces_within(eye_bounces);
         // Past a limit: a smooth bounce still takes the emission it meets, a rough one's
@@ -224,15 +296,11 @@ void main() {
             ++scatters;
             after_rough = !smooth_bounce;
         }
-        if (scatters > VCM_ROULETTE_AFTER) {
-            float q = min(1.0, max_component(throughput));
-            if (!(rng_next(rng) < q)) break;
-            throughput /= q;
-        }
+        if (!vcm_roulette(throughput, scatters, rng)) break;
         ray = make_ray(offset_origin(s.position, s.geometric_normal, dir), dir);
         if (kind != BOUNCE_NONE) seen_by_camera = false;
     }
-    add_direct_light(i, vec4(vcm_path_end(i, eye_bounces, held, light), 0.0));
+    add_direct_light(i, vec4(vcm_path_end(i, eye_bounces, held, light), transparent));
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);
 }

@@ -83,6 +83,9 @@ void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bou
     float p_reverse = bsdf_pdf(sh, to_camera, -dir);
     float weight = 1.0 / (1.0 + p_camera / float(photon_threads) * dvc * p_reverse);
     light_splat_add(i, flux * f * (cos_surface * importance * weight));
+#if defined(LIGHT_GROUPS) && defined(USES_PHOTON_PATHS)  // the path's group (emit_photon)
+    light_splat_group_add(i, photon_group_code, flux * f * (cos_surface * importance * weight));
+#endif
 }
 
 #ifdef VCM_MERGING

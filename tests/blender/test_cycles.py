@@ -708,7 +708,7 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
     ours, error, engine = helpers.render_recorded("issue30_cornell_vcm")
     assert error is None, error
     assert helpers.last_render_stats()["estimator"] == "vcm"
-    assert any("renders Combined only" in w for w in helpers.warnings_of(engine)), \
+    assert any("renders Combined and the light groups only" in w for w in helpers.warnings_of(engine)), \
         helpers.warnings_of(engine)
     helpers.setup_cycles(samples=1024, bounces=64)
     scene.cycles.pixel_filter_type = 'BOX'

@@ -236,6 +236,22 @@ def test_transparent_film_alpha_matches_cycles():
     assert ours[..., 3].max() == 1.0
 
 
+def test_transparent_film_under_vcm_matches_cycles():
+    """Film > Transparent under the VCM estimator (its eye paths leave the world out as
+    SPPM's do): the same bounds against Cycles as above."""
+    scene = _object_in_the_world(lambda: diffuse_material("Grey", (0.5, 0.5, 0.5)))
+    scene.glslppm.estimator = 'VCM'
+    ours, reference, difference = _alpha_error("transparent_vcm")
+    assert helpers.last_render_stats()["estimator"] == "vcm"
+    print(f"  transparent film, VCM: mean alpha GLSLPPM {ours[..., 3].mean():.4f} Cycles "
+          f"{reference[..., 3].mean():.4f}; mean pixel difference {difference:.4f} "
+          "(tolerance 0.01)")
+    assert difference < 0.01, difference
+    empty = reference[..., 3] == 0.0
+    assert empty.sum() > 1000 and np.abs(ours[empty]).max() == 0.0
+    assert ours[..., 3].max() == 1.0
+
+
 def test_transparent_glass_alpha_matches_cycles():
     """With Cycles' Transparent Glass on, camera rays that leave through smooth glass are
     transparent by what the glass transmits: the glass cube's mean alpha within 0.03 of

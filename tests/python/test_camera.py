@@ -4,7 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from conftest import quad
+import test_specular_closed_forms as specular_tests
+from conftest import merge, quad
 
 
 def emitter_scene(g, z, camera, size=1.0, radiance=2.0):
@@ -124,10 +125,11 @@ def test_pixel_aspect_stretches_the_film_vertically(glslppm):
     assert covered == pytest.approx(32.0, rel=0.03)
 
 
-def test_transparent_film_alpha_is_coverage(glslppm):
+@pytest.mark.parametrize("estimator", ["sppm", "vcm"])
+def test_transparent_film_alpha_is_coverage(glslppm, estimator):
     """With transparent on, alpha is the fraction of camera rays that hit something: the
     1 x 1 square in a 4 x 4 view covers 1/16 of the image; the world (radiance 3) is not
-    seen, and without transparent the alpha is 1 everywhere."""
+    seen, and without transparent the alpha is 1 everywhere. VCM's eye paths as SPPM's."""
     g = glslppm
     camera = g.Camera(np.eye(4, dtype=np.float32), projection="orthographic", ortho_scale=4.0)
     p, t = quad((-0.5, -0.5, -2.0), (0.5, -0.5, -2.0), (0.5, 0.5, -2.0), (-0.5, 0.5, -2.0))
@@ -136,7 +138,7 @@ def test_transparent_film_alpha_is_coverage(glslppm):
                     camera=camera, environment=(3.0, 3.0, 3.0))
     for transparent in (True, False):
         r = g.Renderer(scene, g.Settings(width=32, height=32, photons_per_pass=256,
-                                         transparent=transparent))
+                                         transparent=transparent, estimator=estimator))
         r.run(16)
         film = r.film()
         if transparent:
@@ -148,6 +150,46 @@ def test_transparent_film_alpha_is_coverage(glslppm):
             assert np.all(film[..., 3] == 1.0)
             assert film[0, 0, 0] == pytest.approx(3.0)
         r.close()
+
+
+@pytest.mark.parametrize("estimator", ["sppm", "vcm"])
+def test_transparent_glass_film_sees_through_a_slab_as_often_as_it_transmits(glslppm,
+                                                                            estimator):
+    """Film > Transparent with Transparent Glass: a lossless glass slab (IOR 1.5) seen head-on
+    before a uniform world of radiance L. A camera ray that crosses both faces without a
+    reflection, with probability (1 - R)^2 = 0.9216 (R = 0.04), is transparent film; every
+    other one is reflected, leaves to the world and is seen. So the film's transparency
+    (1 - alpha) is (1 - R)^2 and its colour L (1 - (1 - R)^2). Bound: 5 sigma of the
+    Bernoulli draws on the transparency (0.28%, so a 1% bias is 18 sigma)."""
+    g = glslppm
+    t = specular_tests
+    radiance = 2.0
+    front = t.oriented_quad([(-5, -5, 0.25), (5, -5, 0.25), (5, 5, 0.25), (-5, 5, 0.25)],
+                            (0, 0, 1))
+    back = t.oriented_quad([(-5, -5, -0.25), (5, -5, -0.25), (5, 5, -0.25), (-5, 5, -0.25)],
+                           (0, 0, -1))
+    p, tri, ids = merge((*front, 0), (*back, 0))
+    scene = g.Scene(p, tri, material_ids=ids,
+                    materials=[g.Material("dielectric", color=(1, 1, 1), ior=t.IOR)],
+                    camera=t.ortho_camera(g, (0, 0, 5), (0, 0, 0), (0, 1, 0), 1.0),
+                    environment=(radiance,) * 3)
+    size, passes = 64, 64
+    r = g.Renderer(scene, g.Settings(width=size, height=size, photons_per_pass=1024,
+                                     max_bounces=1024, seed=1, estimator=estimator,
+                                     transparent=True, transparent_glass=True))
+    r.run(passes)
+    film = r.film().astype(np.float64)
+    r.close()
+    assert np.isfinite(film).all()
+    reflectance = ((t.IOR - 1) / (t.IOR + 1)) ** 2
+    expected = (1.0 - reflectance) ** 2
+    transparency = 1.0 - film[..., 3].mean()
+    bound = t.bernoulli_bound(expected, size * size * passes)
+    print(f"  transparency {transparency:.5f} against {expected:.5f}, bound {bound:.5f}")
+    assert bound < 0.003
+    assert abs(transparency / expected - 1.0) < bound
+    # What is not transparent is the world, seen by reflection: the colour is L alpha.
+    assert film[..., :3].mean() == pytest.approx(radiance * (1.0 - transparency), rel=1e-4)
 
 
 def test_radius_scale_multiplies_the_automatic_radius_only(glslppm):

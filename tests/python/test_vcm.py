@@ -19,6 +19,7 @@ import pytest
 import test_direct_light as direct_light_tests
 import test_glass_equilibrium as equilibrium_tests
 import test_glossy_sky as glossy_sky_tests
+import test_light_linking
 import test_specular_closed_forms as specular_tests
 from closed_forms import furnace_scene
 from conftest import BUILD, merge
@@ -188,7 +189,6 @@ def test_vcm_passes_are_independent(glslppm):
 @pytest.mark.parametrize("settings,feature", [
     (dict(passes=["direct"]), "render passes"),
     (dict(direct_light="photons"), "direct_light"),
-    (dict(transparent=True), "a transparent film"),
 ])
 def test_vcm_names_the_settings_it_does_not_support(glslppm, settings, feature):
     g = glslppm
@@ -197,11 +197,12 @@ def test_vcm_names_the_settings_it_does_not_support(glslppm, settings, feature):
                    g.Settings(width=8, height=8, estimator="vcm", **settings))
 
 
-def test_vcm_names_light_groups_as_not_supported(glslppm):
+def test_vcm_names_light_linking_as_not_supported(glslppm):
+    """Light groups render under VCM (test_light_groups' test_vcm_*); light linking does not
+    yet, and says so."""
     g = glslppm
-    scene = furnace_scene(g, 0.5, 1.0)
-    scene.light_groups = ["a"]
-    with pytest.raises(ValueError, match="estimator vcm: light groups"):
+    scene = test_light_linking.two_panels(g)
+    with pytest.raises(ValueError, match="estimator vcm: light linking"):
         g.Renderer(scene, g.Settings(width=8, height=8, estimator="vcm"))
 
 
