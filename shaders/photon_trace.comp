@@ -70,8 +70,14 @@ const bool photon_link_absorbed = false;
 // The path's class (common/pass_films.glsl) after a bounce that scattered it: a caustic stays
 // one, a smooth bounce makes one. Light tracing's classes: common/light_splats.glsl.
 #if defined(HAS_LIGHT_TRACING)
+// A followed lobe keeps a path light tracing's where it is sharp, roughness up to this (GGX
+// alpha 0.01: a caustic spread by about half a degree): behind a rougher one (frosted glass,
+// a glossy metal) the caustic is spread and dim, a few photons a pixel, which splatted one by
+// one are salt-like noise where the gather's disc smooths them (docs/light_tracing.md).
+const float LIGHT_TRACED_ROUGHNESS = 0.1;
+bool light_traced_lobe(Shading sh) { return sh.roughness <= LIGHT_TRACED_ROUGHNESS; }
 #define PATH_SCATTERED(smooth_bounce) \
-    path_class = light_path_after_scatter(path_class, smooth_bounce)
+    path_class = light_path_after_scatter(path_class, (smooth_bounce) && light_traced_lobe(sh))
 #elif defined(PASS_PHOTON_SPLIT)
 #define PATH_SCATTERED(smooth_bounce) \
     path_class = max(path_class, (smooth_bounce) ? PHOTON_PATH_CAUSTIC : PHOTON_PATH_INDIRECT)
