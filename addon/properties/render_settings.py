@@ -93,8 +93,8 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/vcm.md): today path tracing from the camera with light sampling, "
                     "light tracing of caustics seen directly and merging of caustics seen "
                     "through glass, weighted together (VCM Techniques); passes are "
-                    "independent as PPPM's. Renders Combined, light groups and a transparent "
-                    "film; not yet render passes, light linking or tiles"))),
+                    "independent as PPPM's. Renders Combined, light groups, a transparent film "
+                    "and tiles; not yet render passes or light linking"))),
         "vcm_techniques": EnumProperty(
             name="VCM Techniques", default='PT_LT_VM',
             items=(('PT_LT', "Path + Light Tracing", "Caustics seen directly (light through "

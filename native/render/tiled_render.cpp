@@ -139,8 +139,6 @@ std::size_t for_each_tile(const Scene& scene, const RenderSettings& settings, co
                 std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame");
     }
     const bool single = plan.tiles.size() == 1;
-    if (!single && settings.estimator == Estimator::Vcm)
-        throw std::invalid_argument("estimator vcm: tiled renders are not supported yet");
     Scene tile_scene;
     if (!single) tile_scene = scene;  // a copy whose camera each tile replaces
     for (std::size_t t = 0; t < plan.tiles.size(); ++t) {

@@ -221,15 +221,6 @@ def test_cli_renders_vcm(glslppm, tmp_path):
     assert image[..., :3].max() >= 16.9  # the ceiling light seen directly
 
 
-def test_vcm_names_tiles_as_not_supported(glslppm):
-    """A render whose buffers need several tiles (max_block_bytes capped to 16 rows of a
-    48-row image, as test_tiles does) is refused under VCM, naming tiles."""
-    g = glslppm
-    settings = g.Settings(width=48, height=48, estimator="vcm", max_block_bytes=48 * 16 * 4 * 16)
-    with pytest.raises(ValueError, match="estimator vcm: tiled renders"):
-        g.render_tiled(furnace_scene(g, 0.5, 1.0), settings, 1)
-
-
 def test_vcm_farm_chunks_merge_into_the_whole_render(glslppm, tmp_path):
     """glslppm-render --estimator vcm in two chunks of passes (0-2, 3-5), merged by
     glslppm-merge, is the 6-pass render to test_farm_merge's bound (a few 2^-24)."""
