@@ -95,14 +95,16 @@ class GlslppmEngineMixin:
         if missing:
             self.report_to_user('WARNING', "passes GLSLPPM does not render are left out of "
                                 "the result: " + ", ".join(missing) + " (docs/passes.md)")
-        # VCM renders Combined and the light groups so far (docs/vcm.md): the other passes
-        # stay empty, said once.
-        self.combined_only = bool(passes) and settings.estimator == 'VCM'
-        if self.combined_only:
-            self.report_to_user('WARNING', "the VCM estimator (in progress) renders Combined "
-                                "and the light groups only: the view layer's other passes (" +
-                                ", ".join(sorted(passes)) + ") stay empty")
-            passes = set()
+        # VCM does not split Combined's light yet (docs/vcm.md): Direct, Indirect and
+        # Caustics stay empty, said once; its other passes and the light groups are written.
+        self.passes_left_empty = set()
+        if settings.estimator == 'VCM':
+            self.passes_left_empty = passes & render_passes.LIGHT_SPLIT
+            passes -= self.passes_left_empty
+        if self.passes_left_empty:
+            self.report_to_user('WARNING', "the VCM estimator (in progress) does not split "
+                                "Combined's light yet: the passes " +
+                                ", ".join(sorted(self.passes_left_empty)) + " stay empty")
         devices = render_devices(settings)
         device = devices[0]
         film = film_options(scene)
@@ -263,8 +265,9 @@ class GlslppmEngineMixin:
         clock = DisplayClock()
         result = self.begin_result(x, y, width, height, view=view)
         combined = result.layers[0].passes["Combined"]
-        extra = (render_passes.result_passes(result, native, self.view_layer)
-                 if self.view_layer and not self.combined_only else {})
+        extra = (render_passes.result_passes(result, native, self.view_layer,
+                                             leave_out=self.passes_left_empty)
+                 if self.view_layer else {})
         self._group_passes = (render_passes.result_group_passes(result, self.view_layer)
                               if self.view_layer else {})
         start = time.perf_counter()

@@ -8,6 +8,10 @@ from ..compat import PASS_NAME_KEY
 _PASS_TYPES = {"Z": 'VALUE', "XYZ": 'VECTOR', "RGB": 'COLOR'}
 
 
+# The light split's passes (View Layer > Passes > GLSLPPM Light Split).
+LIGHT_SPLIT = frozenset({"direct", "indirect", "caustics"})
+
+
 def requested(view_layer):
     """The module's names of the passes the view layer enables, in the module's order."""
     own = view_layer.glslppm
@@ -23,7 +27,7 @@ def requested(view_layer):
     if view_layer.use_pass_environment:
         wanted.add("environment")
     if own.use_pass_light_split:
-        wanted |= {"direct", "indirect", "caustics"}
+        wanted |= LIGHT_SPLIT
     return wanted
 
 
@@ -91,9 +95,10 @@ def result_group_passes(result, view_layer):
             if light_group_pass(name) in by_name}
 
 
-def result_passes(result, native, view_layer):
-    """{module name: the result's RenderPass} for the requested passes a result has."""
+def result_passes(result, native, view_layer, leave_out=frozenset()):
+    """{module name: the result's RenderPass} for the requested passes a result has, but
+    those left out (the module does not render them: they stay empty)."""
     by_name = {p.name: p for p in result.layers[0].passes}
     return {name: by_name[blender_name]
             for name, blender_name, _, _ in catalog(native, view_layer)
-            if blender_name in by_name}
+            if blender_name in by_name and name not in leave_out}

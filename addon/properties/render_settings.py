@@ -93,8 +93,9 @@ class GlslppmRenderSettings(bpy.types.PropertyGroup):
                     "(docs/vcm.md): today path tracing from the camera with light sampling, "
                     "light tracing of caustics seen directly and merging of caustics seen "
                     "through glass, weighted together (VCM Techniques); passes are "
-                    "independent as PPPM's. Renders Combined, light groups, a transparent film "
-                    "and tiles; not yet render passes or light linking"))),
+                    "independent as PPPM's. Renders Combined, the render passes but the light "
+                    "split, light groups, a transparent film and tiles; not yet light "
+                    "linking"))),
         "vcm_techniques": EnumProperty(
             name="VCM Techniques", default='PT_LT_VM',
             items=(('PT_LT', "Path + Light Tracing", "Caustics seen directly (light through "

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "render/density_estimator.h"
+#include "render/render_passes.h"
 
 namespace glslppm {
 
@@ -141,7 +142,15 @@ void validate(const RenderSettings& s) {
              " can start at a pass other than 0");
     if (s.estimator == Estimator::Vcm) {
         // What VCM does not model yet (docs/vcm.md): an error, never a wrong image.
-        if (!s.passes.empty()) fail("estimator vcm: render passes are not supported yet");
+        // Its data passes, Emission and Environment are written (docs/vcm.md); the light
+        // split's Direct, Indirect and Caustics, whose parts its techniques do not keep apart
+        // yet, are not.
+        for (RenderPass pass : s.passes) {
+            if (pass == RenderPass::Direct || pass == RenderPass::Indirect ||
+                pass == RenderPass::Caustics)
+                fail(std::string("estimator vcm: render pass '") + render_pass_info(pass).name +
+                     "' (the light split: direct, indirect, caustics) is not supported yet");
+        }
         if (s.direct_light != DirectLight::Sampled)
             fail("estimator vcm: direct_light must be 'sampled' (its path tracing technique)");
         if (s.profile) fail("estimator vcm: profile is not supported yet");

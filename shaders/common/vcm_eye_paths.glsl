@@ -101,7 +101,6 @@ bool vcm_sphere_light_met(Ray ray, Hit hit, float lt, out vec3 radiance) {
 // or LIGHT_GROUP_SAMPLED for a light sample, whose parts direct_light_sampled_lobes hands
 // over itself, times the throughput set here first.
 #ifdef LIGHT_GROUPS
-#define VCM_GROUPS_BEGIN() light_groups_begin()
 #define VCM_ADD_LIGHT(code, value)           \
     {                                        \
         light_group_throughput = throughput; \
@@ -114,15 +113,57 @@ bool vcm_sphere_light_met(Ray ray, Hit hit, float lt, out vec3 radiance) {
 #define VCM_GROUP_WORLD WORLD_GROUP_CODE
 #define VCM_GROUP_SAMPLED LIGHT_GROUP_SAMPLED
 #else
-#define VCM_GROUPS_BEGIN()
 #define VCM_ADD_LIGHT(code, value) light += (value)
 #define VCM_GROUP_OF(m) 0u
 #define VCM_GROUP_SPHERE 0u
 #define VCM_GROUP_WORLD 0u
 #define VCM_GROUP_SAMPLED 0u
 #endif
-// Emission or the world the path meets, of this radiance, times its throughput.
-#define VCM_SEE(code, radiance) VCM_ADD_LIGHT(code, throughput * (radiance))
+
+// Render passes (docs/passes.md) under VCM: the eye stage's EyePasses (Depth and Normal of
+// the first surface the camera sees; Emission and Environment seen before the path's first
+// rough scatter, as SPPM's eye paths see them) and its denoising features (every surface
+// while they are pending, and the light seen on the way), stored with the light groups
+// (store_eye_passes). The light split (Direct, Indirect, Caustics) is refused (settings).
+#ifdef PASS_STRIDE
+#define VCM_EYE_PASSES_BEGIN_() EyePasses passes = start_eye_passes()
+#define VCM_EYE_PASSES_END_(i) store_eye_passes(i, passes)
+#define VCM_NOTE_SURFACE(s, front) note_first_surface(passes, s, front)
+#define VCM_PASS_PART(part, value) \
+    if (!rough_met) passes.part += (value)
+#else
+#define VCM_EYE_PASSES_BEGIN_()
+#define VCM_EYE_PASSES_END_(i)
+#define VCM_NOTE_SURFACE(s, front)
+#define VCM_PASS_PART(part, value)
+#endif
+#ifdef DENOISING_FEATURES
+#define VCM_FEATURES_BEGIN_() DenoisingFeatures features = start_denoising_features()
+#define VCM_FEATURES_END_(i) store_denoising_passes(i, features)
+#define VCM_FEATURE_SURFACE(s, sh, wo) add_feature_surface_at(features, s, sh, wo)
+#define VCM_FEATURE_LIGHT(radiance) add_feature_light(features, radiance)
+#else
+#define VCM_FEATURES_BEGIN_()
+#define VCM_FEATURES_END_(i)
+#define VCM_FEATURE_SURFACE(s, sh, wo)
+#define VCM_FEATURE_LIGHT(radiance)
+#endif
+#define VCM_PASSES_BEGIN() \
+    VCM_EYE_PASSES_BEGIN_(); \
+    VCM_FEATURES_BEGIN_()
+#define VCM_PASSES_END(i) \
+    VCM_EYE_PASSES_END_(i); \
+    VCM_FEATURES_END_(i)
+// Emission or the world the path meets, of this radiance, times its throughput: in the
+// pixel's sum, its group's, its pass (part: emitted or world) and the denoising albedo's.
+#define VCM_SEE(part, code, radiance)                \
+    {                                                \
+        vec3 seen_ = (radiance);                     \
+        VCM_ADD_LIGHT(code, throughput * seen_);     \
+        VCM_PASS_PART(part, throughput * seen_);     \
+        VCM_FEATURE_LIGHT(seen_);                    \
+    }
+#define VCM_SEE_EMISSION(m, radiance) VCM_SEE(emitted, VCM_GROUP_OF(m), radiance)
 
 // Russian roulette on the path's throughput from the fourth scatter on: false where it ends.
 bool vcm_roulette(inout vec3 throughput, uint scatters, inout RNG_STATE rng) {
@@ -149,8 +190,7 @@ uniform uint u_merge_slots;
         held = true;                                                               \
     } else if (held) {                                                             \
         ++rough_past_merge;                                                        \
-    }                                                                              \
-    rough_met = true
+    }
 #define VCM_MERGE_LT()                                                \
     if (merge_here) lt = vcm_merge_lt(s.geometric_normal, sh, wo, dir); \
     else if (rough_past_merge >= u_merge_slots) lt = 0.0
@@ -161,21 +201,23 @@ uniform uint u_merge_slots;
 
 // The path's light as the film takes it, at its end: with merging and no visible point held,
 // the pixel's none this pass; for the tests' parts one technique's share alone.
-// With light groups, the path's light per group is stored here too.
+// With light groups, the parts clear theirs as well (stored with the passes).
+#ifdef LIGHT_GROUPS
+#define VCM_GROUPS_CLEAR() light_groups_begin()
+#else
+#define VCM_GROUPS_CLEAR()
+#endif
 vec3 vcm_path_end(uint i, uint eye_bounces, bool held, vec3 light) {
 #ifdef VCM_MIS_LIGHT_PART
     light = vec3(0.0);  // the light side's weighted part alone ("pt+lt:light")
-    VCM_GROUPS_BEGIN();
+    VCM_GROUPS_CLEAR();
 #endif
 #ifdef VCM_MERGING
     if (!held) hold_no_visible_point(i, eye_bounces);
 #ifdef VCM_MERGE_PART
     light = vec3(0.0);  // the merges alone ("pt+lt+vm:merge")
-    VCM_GROUPS_BEGIN();
+    VCM_GROUPS_CLEAR();
 #endif
-#endif
-#ifdef LIGHT_GROUPS
-    store_light_groups(i);
 #endif
     return light;
 }
@@ -195,26 +237,24 @@ void main() {
     vec3 throughput = vec3(1.0), light = vec3(0.0);
     uint rays = 0u, eye_bounces = 0u, scatters = 0u, rough_past_merge = 0u;
     bool seen_by_camera = true, last_surface = false, after_rough = false;
-    bool rough_met = false, held = false;  // VCM_MERGING (as rough_past_merge)
+    bool rough_met = false, held = false;  // a rough vertex met; VCM_MERGING: held
     float lt = 0.0;  // VCM_MIS
-    VCM_GROUPS_BEGIN();
+    VCM_PASSES_BEGIN();  // with light groups, their sums too
     float transparent = 0.0; bool through_glass = true;  // FILM_TRANSPARENT, as eye_trace's
-#ifdef VCM_MIS
-    vec3 lens_point = ray.origin;
-#endif
+    vec3 lens_point = ray.origin;  // VCM_MIS
     for (uint depth = 0u; depth <= max_bounces; ++depth) {  // surfaces, as eye_trace's
         ++rays;
         Hit hit = closest_hit(ray);
 #ifdef SPHERE_LIGHT_RECORDS
         vec3 sphere_radiance;
         if (!seen_by_camera && vcm_sphere_light_met(ray, hit, lt, sphere_radiance)) {
-            if (!after_rough) VCM_SEE(VCM_GROUP_SPHERE, sphere_radiance);
+            if (!after_rough) VCM_SEE(emitted, VCM_GROUP_SPHERE, sphere_radiance);
             break;
         }
 #endif
         if (hit.triangle < 0) {
             VCM_LEAVES_THROUGH_FILM();
-            if (!after_rough) VCM_SEE(VCM_GROUP_WORLD, vcm_world_met(ray.dir, lt));
+            if (!after_rough) VCM_SEE(world, VCM_GROUP_WORLD, vcm_world_met(ray.dir, lt));
             break;
         }
         Surface s = surface_at(ray, hit);
@@ -236,16 +276,18 @@ void main() {
 #endif
         if ((flags & MATERIAL_LIGHT_SURFACE) != 0) {
             if (front && !hidden && !after_rough)
-                VCM_SEE(VCM_GROUP_OF(s.material), material_emission(s.material) * emission_weight);
+                VCM_SEE_EMISSION(s.material, material_emission(s.material) * emission_weight);
             ray = make_ray(offset_origin(s.position, s.geometric_normal, ray.dir), ray.dir);
             continue;
         }
+        VCM_NOTE_SURFACE(s, front);
         vec3 wo = -ray.dir;
         Shading sh = shading_at(s.material, s.normal, s.geometric_normal, texture_point(s),
                                 s.vertex_color, wo, rng_next(rng));
         if ((front || (flags & MATERIAL_ONE_SIDED_EMISSION) == 0) && !after_rough)
-            VCM_SEE(VCM_GROUP_OF(s.material), emission_weight * material_emission_at(
-                                                  s.material, sh.material, texture_point(s)));
+            VCM_SEE_EMISSION(s.material, emission_weight * material_emission_at(
+                                             s.material, sh.material, texture_point(s)));
+        VCM_FEATURE_SURFACE(s, sh, wo);
         if (last_surface) break;
         float p_smooth = bsdf_smooth_probability(sh, wo);
         float u_lobe = rng_next(rng);
@@ -269,6 +311,7 @@ void main() {
             throughput /= 1.0 - p_smooth;
             bool rough_only = p_smooth > 0.0;
             VCM_HOLD_MERGE_POINT();
+            rough_met = true;
             LightSampleNumbers n = draw_light_sample_numbers(rng);
             vec3 u_mis = vec3(rng_next(rng), rng_next(rng), rng_next(rng));
             VCM_ADD_LIGHT(VCM_GROUP_SAMPLED,
@@ -301,6 +344,7 @@ void main() {
         if (kind != BOUNCE_NONE) seen_by_camera = false;
     }
     add_direct_light(i, vec4(vcm_path_end(i, eye_bounces, held, light), transparent));
+    VCM_PASSES_END(i);
     rng_store(i, rng);
     atomicAdd(pass_rays, rays);
 }

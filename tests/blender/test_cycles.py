@@ -704,11 +704,15 @@ def test_vcm_path_tracing_through_the_addon_matches_cycles_on_the_issue30_box():
     scene.glslppm.vcm_techniques = 'PT'
     scene.glslppm.passes = 1024
     helpers.load_native()
-    bpy.context.view_layer.use_pass_z = True  # Blender's default: VCM leaves it empty, warned
+    bpy.context.view_layer.use_pass_z = True  # Blender's default: VCM writes it
+    # The light split VCM does not write yet: left empty, with one warning naming it.
+    bpy.context.view_layer.glslppm.use_pass_light_split = True
     ours, error, engine = helpers.render_recorded("issue30_cornell_vcm")
+    bpy.context.view_layer.glslppm.use_pass_light_split = False
     assert error is None, error
     assert helpers.last_render_stats()["estimator"] == "vcm"
-    assert any("renders Combined and the light groups only" in w for w in helpers.warnings_of(engine)), \
+    assert any("does not split Combined's light yet: the passes caustics, direct, indirect "
+               "stay empty" in w for w in helpers.warnings_of(engine)), \
         helpers.warnings_of(engine)
     helpers.setup_cycles(samples=1024, bounces=64)
     scene.cycles.pixel_filter_type = 'BOX'

@@ -236,8 +236,20 @@ def test_denoising_passes_match_cycles_on_a_principled_cube():
     0.22 at 16 passes), per pixel within ALBEDO_RMS of Cycles' and each channel's mean within
     ALBEDO_MEAN (both are base colour plus the specular layer's expected albedo: Cycles 3.4
     takes Fresnel at the view angle, 4.x its GGX albedo table, as here)."""
+    _denoising_cube_against_cycles('SPPM', "denoising_cube")
+
+
+def test_denoising_passes_under_vcm_match_cycles_on_a_principled_cube():
+    """The same passes under the VCM estimator (docs/vcm.md: its eye paths write the
+    denoising features as SPPM's eye stage does), with the same bounds against Cycles."""
+    _denoising_cube_against_cycles('VCM', "denoising_cube_vcm")
+
+
+def _denoising_cube_against_cycles(estimator, name):
     principled_cube_scene()
-    ours = render_multilayer("denoising_cube")
+    bpy.context.scene.glslppm.estimator = estimator
+    ours = render_multilayer(name, helpers.recording_engine().bl_idname)
+    assert helpers.last_render_stats()["estimator"] == estimator.lower()
     helpers.setup_cycles(samples=16)
     reference = render_multilayer("denoising_cube_cycles", 'CYCLES')
     bpy.context.scene.render.engine = 'GLSLPPM'

@@ -51,12 +51,16 @@ TEST(DensityEstimator, SettingsNameWhatVcmDoesNotSupportYet) {
     s.direct_light = DirectLight::Photons;
     EXPECT_THROW(validate(s), std::invalid_argument);
     s.direct_light = DirectLight::Sampled;
-    s.passes = {RenderPass::Direct};
+    s.passes = {RenderPass::Depth, RenderPass::Normal, RenderPass::Emission,
+                RenderPass::Environment, RenderPass::DenoisingNormal, RenderPass::DenoisingAlbedo};
+    EXPECT_NO_THROW(validate(s));  // its data passes, Emission and Environment
+    s.passes.push_back(RenderPass::Caustics);
     try {
         validate(s);
-        FAIL() << "VCM with render passes";
+        FAIL() << "VCM with the light split's passes";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "estimator vcm: render passes are not supported yet");
+        EXPECT_STREQ(e.what(), "estimator vcm: render pass 'caustics' (the light split: direct, "
+                               "indirect, caustics) is not supported yet");
     }
 }
 

@@ -218,7 +218,7 @@ def plane_scene(g, textured):
     return scene, forward
 
 
-@pytest.mark.parametrize("estimator", ["sppm", "pppm"])
+@pytest.mark.parametrize("estimator", ["sppm", "pppm", "vcm"])
 def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
     g = glslppm
     scene, forward = plane_scene(g, textured=False)
@@ -239,14 +239,16 @@ def test_depth_normal_albedo_of_a_plane(glslppm, estimator):
     assert np.allclose(albedo, (0.8, 0.4, 0.2), rtol=0, atol=1e-6)
 
 
-def test_depth_of_background_and_textured_albedo(glslppm):
+@pytest.mark.parametrize("estimator", ["sppm", "vcm"])
+def test_depth_of_background_and_textured_albedo(glslppm, estimator):
     """The textured plane's Denoising Albedo is the texel's colour (float stripes 0.2 and 0.9,
     compared in each stripe's central half, away from the bilinear blend); where the camera
     sees no surface, Depth is Cycles' 1e10, the normals 0 and the albedo the world's
-    radiance (1 here), as Cycles writes the background into Denoising Albedo."""
+    radiance (1 here), as Cycles writes the background into Denoising Albedo. VCM's eye
+    paths write them as SPPM's."""
     g = glslppm
     scene, _ = plane_scene(g, textured=True)
-    r = render(g, scene, ["depth", "normal", "denoising_albedo"])
+    r = render(g, scene, ["depth", "normal", "denoising_albedo"], estimator=estimator)
     r.run(4)
     albedo = r.render_pass("denoising_albedo")[..., 0]
     near = {v: np.abs(albedo - v) < 1e-6 for v in (0.2, 0.9)}
@@ -259,7 +261,8 @@ def test_depth_of_background_and_textured_albedo(glslppm):
                     materials=[g.Material("diffuse", color=(0.5, 0.5, 0.5))],
                     camera=g.Camera(np.eye(4, dtype=np.float32), fov_x=0.5),
                     environment=(1.0, 1.0, 1.0))
-    r = render(g, empty, ["depth", "normal", "denoising_normal", "denoising_albedo"])
+    r = render(g, empty, ["depth", "normal", "denoising_normal", "denoising_albedo"],
+               estimator=estimator)
     r.run(2)
     depth = r.render_pass("depth")[..., 0]
     assert depth[24, 4] == 1e10 and abs(depth[24, 40] - 5.0) < 1e-5
@@ -412,8 +415,9 @@ def test_two_pppm_workers_merge_their_passes_as_their_films(glslppm):
                        atol=1e-6)
 
 
+@pytest.mark.parametrize("estimator", ["sppm", "vcm"])
 @pytest.mark.parametrize("wall", ["diffuse", "rough_conductor"])
-def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall):
+def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall, estimator):
     """Cycles' rule (kernel/film/denoising_passes.h): a specular surface multiplies the
     feature throughput by its albedo and the features come from the next surface. A mirror
     of colour (0.9, 0.8, 0.7) at 45 degrees fills an orthographic view and shows a wall of
@@ -435,7 +439,7 @@ def test_denoising_features_pass_through_a_mirror_as_cycles(glslppm, wall):
     scene = g.Scene(p, t, material_ids=np.array([0, 0, 1, 1], dtype=np.uint32),
                     materials=materials, environment=(1.0, 1.0, 1.0),
                     camera=g.Camera(to_world, projection="orthographic", ortho_scale=1.9))
-    r = render(g, scene, ["denoising_normal", "denoising_albedo"])
+    r = render(g, scene, ["denoising_normal", "denoising_albedo"], estimator=estimator)
     r.run(4)
     albedo = r.render_pass("denoising_albedo")
     want = np.array([0.9 * 0.8, 0.8 * 0.4, 0.7 * 0.2])
@@ -487,3 +491,45 @@ def test_passes_and_combined_share_one_orientation(glslppm):
         assert (seen != combined).mean() < 0.05, (seen != combined).mean()
         assert (seen != facing).mean() < 0.05, (seen != facing).mean()
     r.close()
+
+
+def test_vcm_emission_and_environment_are_the_light_seen_before_a_rough_scatter(glslppm):
+    """VCM (docs/vcm.md) writes Emission and Environment as SPPM's eye stage does: the light
+    of emitters and the world the camera sees directly or through mirrors, none of what its
+    paths meet past a rough scatter (that light is Combined's, whose split VCM does not write
+    yet). A grey floor under a world of radiance (0.2, 0.3, 0.4), an emissive panel of
+    radiance 5 above it in view, a mirror beside it showing the sky: where the camera sees
+    the panel, Emission is 5 and Combined equals it (the panel is black, lit or not); where
+    it sees the sky directly or in the mirror, Environment is the sky's radiance (times the
+    mirror's colour, 0.9) and equals Combined; on the floor both are 0 while Combined is
+    lit. Exact to float rounding (bound 1e-5: a 1% error is 3e-3 or more). Light tracing
+    and merging add nothing to these passes' pixels (the panel and the sky hold no photon)."""
+    g = glslppm
+    sky = np.array([0.2, 0.3, 0.4])
+    floor = quad((-4, 0, -4), (-4, 0, 4), (4, 0, 4), (4, 0, -4))
+    panel = quad((-1.5, 1.0, -2.0), (-0.5, 1.0, -2.0), (-0.5, 2.0, -2.0), (-1.5, 2.0, -2.0))
+    mirror = quad((0.5, 1.0, -2.0), (1.5, 1.0, -2.5), (1.5, 2.0, -2.5), (0.5, 2.0, -2.0))
+    p, t, ids = merge((*floor, 0), (*panel, 1), (*mirror, 2))
+    materials = [g.Material("diffuse", color=(0.5, 0.5, 0.5)),
+                 g.Material("diffuse", color=(0.0, 0.0, 0.0), emission=(5.0, 5.0, 5.0)),
+                 g.Material("conductor", color=(0.9, 0.9, 0.9))]
+    scene = g.Scene(p, t, material_ids=ids, materials=materials, environment=tuple(sky),
+                    camera=g.Camera(look_at((0, 1.5, 3), (0, 1.0, -2)), fov_x=1.2))
+    r = render(g, scene, ["emission", "environment", "depth"], estimator="vcm")
+    r.run(8)
+    combined = r.film()[..., :3].astype(np.float64)
+    emission = r.render_pass("emission").astype(np.float64)
+    environment = r.render_pass("environment").astype(np.float64)
+    depth = r.render_pass("depth")[..., 0]
+    r.close()
+    on_panel = np.all(np.abs(emission - 5.0) < 1e-5, axis=-1)
+    sky_seen = np.all(np.abs(environment - sky) < 1e-5, axis=-1)
+    mirrored = np.all(np.abs(environment - 0.9 * sky) < 1e-5, axis=-1)
+    floor_seen = (depth < 1e9) & np.all(emission == 0.0, axis=-1) & \
+        np.all(environment == 0.0, axis=-1)
+    assert on_panel.sum() > 20 and sky_seen.sum() > 50 and mirrored.sum() > 20, \
+        (on_panel.sum(), sky_seen.sum(), mirrored.sum())
+    assert floor_seen.sum() > 300 and combined[floor_seen].mean() > 0.05
+    assert np.abs(combined[on_panel] - emission[on_panel]).max() < 1e-5
+    for seen in (sky_seen, mirrored):
+        assert np.abs(combined[seen] - environment[seen]).max() < 1e-5

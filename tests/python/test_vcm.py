@@ -187,7 +187,7 @@ def test_vcm_passes_are_independent(glslppm):
 
 
 @pytest.mark.parametrize("settings,feature", [
-    (dict(passes=["direct"]), "render passes"),
+    (dict(passes=["depth", "direct"]), "render pass 'direct' \\(the light split"),
     (dict(direct_light="photons"), "direct_light"),
 ])
 def test_vcm_names_the_settings_it_does_not_support(glslppm, settings, feature):
