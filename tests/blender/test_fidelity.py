@@ -230,7 +230,11 @@ def test_transparent_film_alpha_matches_cycles():
 
 def test_transparent_film_under_vcm_matches_cycles():
     """Film > Transparent under the VCM estimator (its eye paths leave the world out as
-    SPPM's do): the same bounds against Cycles as above."""
+    SPPM's do): the same bounds against Cycles as above. Measured: mean alpha 0.1977
+    against Cycles' 0.1975-0.1977, mean pixel difference 0.0016 (bound 0.01) on 3.4.1,
+    4.3.2 and 5.2.2. The bound catches a film that shows the world or loses the cube; a 1%
+    bias of the transparency itself is the module's test_camera::
+    test_transparent_glass_film_sees_through_a_slab_as_often_as_it_transmits[vcm] (0.28%)."""
     _transparent_grey_cube_against_cycles('VCM', "transparent_vcm")
 
 
