@@ -46,6 +46,7 @@ class GlslppmEngineMixin:
     tile_progress = None  # (tile, tiles) while a frame renders as image tiles
     stage_clock = None
     view_layer = None  # the view layer being rendered: its passes (engine/render_passes.py)
+    passes_left_empty = frozenset()  # requested passes left empty (VCM's light split)
 
     def update_render_passes(self, scene=None, renderlayer=None):
         """Blender asks which passes a view layer's result and Render Layers node have."""

@@ -82,9 +82,10 @@ void vcm_weighted_splat(Surface s, vec3 dir, vec3 flux, float dvc, uint path_bou
     float p_camera = cos_surface * importance / light_splat_pixel_area();
     float p_reverse = bsdf_pdf(sh, to_camera, -dir);
     float weight = 1.0 / (1.0 + p_camera / float(photon_threads) * dvc * p_reverse);
-    light_splat_add(i, flux * f * (cos_surface * importance * weight));
+    vec3 splat = flux * f * (cos_surface * importance * weight);
+    light_splat_add(i, splat);
 #if defined(LIGHT_GROUPS) && defined(USES_PHOTON_PATHS)  // the path's group (emit_photon)
-    light_splat_group_add(i, photon_group_code, flux * f * (cos_surface * importance * weight));
+    light_splat_group_add(i, photon_group_code, splat);
 #endif
 }
 
