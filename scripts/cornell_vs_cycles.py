@@ -13,7 +13,8 @@ radiusR (radius scale R), pppm (the PPPM estimator), hidden (the light hidden fr
 camera), principled (Principled BSDF walls of roughness 1, which Blender's glTF exporter
 keeps; it writes a Diffuse BSDF as its default material: white, metallic 1, roughness 1),
 spec0 (with principled: Specular 0), balls (a mirror and a glass ball for the boxes),
-glossy (the issue's glossy variant: glossy_objects).
+glossy (the issue's glossy variant: glossy_objects), and with glossy: frost0 (its frosted
+ball smooth), frostglass (the ball a Glass BSDF), frostonly (the frosted ball alone).
 
 Cycles renders twice at half the samples with seeds 1 and 2 (cached under --cache by
 variant): their mean is the reference, half their difference the reference's noise. Prints
@@ -36,7 +37,8 @@ RED = (0.65, 0.05, 0.05)
 GREEN = (0.12, 0.45, 0.15)
 WARM = (1.0, 0.78, 0.55)
 # The changes that make another scene (and another Cycles reference); the rest are settings.
-SCENE_CHANGES = ("white", "area", "hidden", "principled", "spec0", "balls", "glossy")
+SCENE_CHANGES = ("white", "area", "hidden", "principled", "spec0", "balls", "glossy",
+                 "frost0", "frostglass", "frostonly")
 
 
 def enable_source_addon():
@@ -139,16 +141,29 @@ def ball(name, location, material, radius=0.15):
     return obj
 
 
-def glossy_objects(white):
+def frosted_material(changes):
+    """The glossy variant's frosted glass: Principled, transmission 1, roughness 0.15 (IOR
+    1.45, the node's default); frost0 makes it smooth, frostglass a Glass BSDF of the same
+    roughness and IOR."""
+    roughness = 0.0 if "frost0" in changes else 0.15
+    if "frostglass" in changes:
+        return node_material("Frosted", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=roughness)
+    transmission = "Transmission" if bpy.app.version < (4, 0, 0) else "Transmission Weight"
+    return node_material("Frosted", "ShaderNodeBsdfPrincipled",
+                         **{transmission: 1.0, "Roughness": roughness})
+
+
+def glossy_objects(white, changes=()):
     """The issue's glossy variant: a gold Principled ball (metallic 1, roughness 0.3), a
     frosted glass one (transmission 1, roughness 0.15), a blue plastic Principled box
-    (roughness 0.4); the floor a Mix of the white Diffuse and a Glossy 0.2 at factor 0.3."""
-    transmission = "Transmission" if bpy.app.version < (4, 0, 0) else "Transmission Weight"
+    (roughness 0.4); the floor a Mix of the white Diffuse and a Glossy 0.2 at factor 0.3.
+    frostonly keeps the frosted ball alone on the white floor."""
+    ball("Frosted", (0.2, -0.1, 0.15), frosted_material(changes))
+    if "frostonly" in changes:
+        return
     ball("Gold", (-0.2, 0.15, 0.15), node_material(
         "Gold", "ShaderNodeBsdfPrincipled", **{"Base Color": (1.0, 0.77, 0.34, 1.0),
                                                "Metallic": 1.0, "Roughness": 0.3}))
-    ball("Frosted", (0.2, -0.1, 0.15), node_material(
-        "Frosted", "ShaderNodeBsdfPrincipled", **{transmission: 1.0, "Roughness": 0.15}))
     box("Plastic", 0.2, 0.2, (0.25, 0.25, 0), 20.0, node_material(
         "Plastic", "ShaderNodeBsdfPrincipled", **{"Base Color": (0.1, 0.2, 0.8, 1.0),
                                                   "Roughness": 0.4}))
@@ -185,7 +200,7 @@ def build(changes):
         ball("Glass", (0.2, -0.1, 0.15), node_material("Glass", "ShaderNodeBsdfGlass",
                                                        IOR=1.5, Roughness=0.0))
     elif "glossy" in changes:
-        glossy_objects(white)
+        glossy_objects(white, changes)
     else:
         box("ShortBox", 0.3, 0.3, (-0.17, -0.1, 0), -17.0, white)
         box("TallBox", 0.3, 0.6, (0.17, 0.15, 0), 17.0, white)

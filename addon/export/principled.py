@@ -12,8 +12,10 @@ The node is a tree of Mix materials, as Cycles composes its closures:
 - metal: a GGX conductor with Schlick Fresnel from the base colour, and v2's F82 tint from
   its Specular Tint (as Cycles 4.x: reflectance at about 82 degrees is Schlick's times the
   tint); v2's tint of the dielectric reflection is not modelled (warned);
-- glass: a GGX dielectric tinting its transmission by the base colour; v1 tints its
-  reflection too (its glass reflection starts at the base colour), v2 does not;
+- glass: a GGX dielectric tinting its transmission by the base colour and not its
+  reflection, in both versions: v1's glass reflection starts at lerp(white, base colour,
+  Specular Tint), white at the default tint 0 (Cycles 3.x's principled_v1_glass_refl);
+  Specular Tint itself is warned about;
 - plastic, v2: a white GGX dielectric layer over a Lambert base of the base colour,
   energy conserving (as 4.x layers them), its index from IOR scaled by Specular IOR
   Level (F0 times 2 level, as Cycles 4.x does);
@@ -99,7 +101,7 @@ def convert_principled(node, context):
         specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
                                 **roughness)
         plastic = Mix(diffuse, Mix(BLACK, specular, mode="layer_fresnel", ior=layer_ior))
-    glass = lobe("dielectric", ior=glass_ior, tint_reflection=not v2)
+    glass = lobe("dielectric", ior=glass_ior)
     if not v2:
         glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)
 

@@ -11,6 +11,7 @@ int bench_converge(int argc, char** argv);
 int bench_specialization(int argc, char** argv);
 int bench_long_run(int argc, char** argv);
 int bench_restart(int argc, char** argv);
+int bench_refit(int argc, char** argv);
 
 namespace {
 
@@ -32,6 +33,7 @@ int dispatch(int argc, char** argv) {
         return bench_specialization(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "longrun") == 0) return bench_long_run(argc - 2, argv + 2);
     if (argc >= 2 && std::strcmp(argv[1], "restart") == 0) return bench_restart(argc - 2, argv + 2);
+    if (argc >= 2 && std::strcmp(argv[1], "refit") == 0) return bench_refit(argc - 2, argv + 2);
     usage(stderr);
     return 2;
 }
@@ -55,6 +57,8 @@ void usage(std::FILE* out) {
                          "       glslppm-bench longrun [--passes K --photons N --width W]\n"
                          "       glslppm-bench restart [--scene S --width W --height H --photons N "
                          "--moves K] [--json]\n"
+                         "       glslppm-bench refit [--triangles N --amplitudes a,b --rays R] "
+                         "[--json]\n"
                          "  scenes: cornell, cornell-diffuse, cornell-glossy, caustic, million[:N] (e.g. million:100k), "
                          "furnace (converge: against its exact radiance), or a .gltf/.glb/.obj "
                          "file; any of them +motion (instances and camera move: motion blur),\n"
