@@ -316,6 +316,8 @@ def main():
     parser.add_argument("--passes", type=int, default=400)
     parser.add_argument("--photons", type=int, default=65536)
     parser.add_argument("--samples", type=int, default=1024)
+    parser.add_argument("--seed", type=int, action="append", default=[],
+                        help="GLSLPPM's seed (repeatable: one render per seed)")
     parser.add_argument("--cache", default="/tmp/cornell30")
     parser.add_argument("--gltf", default=None)
     parser.add_argument("--no-glslppm", action="store_true")
@@ -351,9 +353,13 @@ def main():
         radius = next((float(c[6:]) for c in changes if c.startswith("radius")), 1.0)
         scene.glslppm.radius_scale = radius
         scene.glslppm.estimator = 'PPPM' if "pppm" in changes else 'SPPM'
-        name = f"{variant}_glslppm{args.passes}_{args.photons}.exr"
-        ours = render(os.path.join(args.cache, name), 'GLSLPPM')
-        compare(variant, ours, reference, noise)
+        for seed in args.seed or [None]:
+            suffix = "" if seed is None else f"_seed{seed}"
+            if seed is not None:
+                scene.glslppm.seed = seed
+            name = f"{variant}_glslppm{args.passes}_{args.photons}{suffix}.exr"
+            ours = render(os.path.join(args.cache, name), 'GLSLPPM')
+            compare(variant + suffix, ours, reference, noise)
 
 
 if __name__ == "__main__":

@@ -12,10 +12,10 @@ The node is a tree of Mix materials, as Cycles composes its closures:
 - metal: a GGX conductor with Schlick Fresnel from the base colour, and v2's F82 tint from
   its Specular Tint (as Cycles 4.x: reflectance at about 82 degrees is Schlick's times the
   tint); v2's tint of the dielectric reflection is not modelled (warned);
-- glass: a GGX dielectric tinting its transmission by the base colour and not its
-  reflection, in both versions: v1's glass reflection starts at lerp(white, base colour,
-  Specular Tint), white at the default tint 0 (Cycles 3.x's principled_v1_glass_refl);
-  Specular Tint itself is warned about;
+- glass: a GGX dielectric tinting its transmission, and not its reflection: v2 by the
+  square root of the base colour at each refraction (Cycles 4.x), v1 by the base colour;
+  v1's glass reflection starts at lerp(white, base colour, Specular Tint), white at the
+  default tint 0 (Cycles 3.x's principled_v1_glass_refl); Specular Tint is warned about;
 - plastic, v2: a white GGX dielectric layer over a Lambert base of the base colour,
   energy conserving (as 4.x layers them), its index from IOR scaled by Specular IOR
   Level (F0 times 2 level, as Cycles 4.x does);
@@ -102,7 +102,9 @@ def convert_principled(node, context):
                                 **roughness)
         plastic = Mix(diffuse, Mix(BLACK, specular, mode="layer_fresnel", ior=layer_ior))
     glass = lobe("dielectric", ior=glass_ior)
-    if not v2:
+    if v2:
+        glass = _v2_glass_tint(glass, warn)
+    else:
         glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)
 
     transmission = context.factor(input_socket(node, "Transmission Weight", "Transmission"))
@@ -116,6 +118,17 @@ def convert_principled(node, context):
         tree = with_emission(tree, radiance)
     alpha = context.factor(node.inputs["Alpha"])
     return mix(TRANSPARENT, tree, *alpha)
+
+
+def _v2_glass_tint(glass, warn):
+    """Cycles 4.x tints each refraction of the Principled glass by the square root of the
+    base colour (so that light passing into and out of an object keeps the base colour);
+    a textured or vertex base colour is read as it is and tints each refraction by itself."""
+    if glass.color_texture >= 0 or glass.vertex_color:
+        warn("the glass's transmission is tinted by the textured Base Color at each "
+             "refraction, where Blender 4.x tints by its square root")
+        return glass
+    return replace(glass, color=tuple(math.sqrt(max(c, 0.0)) for c in glass.color))
 
 
 def _v1_transmission_roughness(node, context, glass, multiscatter, warn):

@@ -210,8 +210,11 @@ def test_principled_mappings():
     material = _material_of(data)
     assert material.kind == "dielectric" and abs(material.ior - 1.33) < 1e-5, material
     # Neither version tints the glass's reflection by the base colour (v1 by Specular Tint
-    # only, which is 0 here: Cycles 3.x's principled_v1_glass_refl).
+    # only, which is 0 here: Cycles 3.x's principled_v1_glass_refl); each refraction is
+    # tinted by the base colour (0.8) in v1, by its square root in v2 (Cycles 4.x).
     assert not material.tint_reflection, material
+    tint = math.sqrt(0.8) if helpers.BLENDER_4 else 0.8
+    assert all(abs(c - tint) < 1e-6 for c in material.color), material
 
     glow = {EMISSION_COLOR: (1.0, 0.5, 0.25, 1), "Emission Strength": 4.0}
     data = _single(node_material("Glow", PRINCIPLED, **glow))
