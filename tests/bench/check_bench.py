@@ -445,6 +445,30 @@ def check_furnace_pppm(bench):
     check(last["rmse"] < 0.06, f"pppm furnace: RMSE {last['rmse']} against the exact radiance")
 
 
+def check_refit(bench):
+    """Refit, rebuild and motion-aware trees of a rippling mesh (issue 32): unmoved, the
+    refitted and motion-aware trees are the built tree box for box, so every ray visits the
+    same nodes in all three; rippled, the motion-aware tree on a step is the refitted one and
+    between steps never tighter."""
+    rows = run_lines(bench, "refit", "--triangles", "2000", "--rays", "4000",
+                     "--amplitudes", "0,0.3", "--json")
+    if rows is None:
+        return
+    check(len(rows) == 4, f"refit: {len(rows)} rows for 2 amplitudes x 2 times")
+    for row in rows:
+        nodes = row["nodes_per_ray"]
+        check(row["rebuild_ms"] > 0 and row["host_refit_ms"] >= 0, f"refit: times {row}")
+        if row["amplitude"] == 0:
+            check(nodes["rebuilt"] == nodes["refitted"] == nodes["motion_aware"],
+                  f"refit: unmoved trees visit different nodes {nodes}")
+        elif row["t"] == 1.0:
+            check(nodes["motion_aware"] == nodes["refitted"],
+                  f"refit: on a step the motion-aware tree is not the refitted one {nodes}")
+        else:
+            check(nodes["motion_aware"] >= nodes["refitted"] > nodes["rebuilt"],
+                  f"refit: between steps nodes visited out of order {nodes}")
+
+
 def main():
     if len(sys.argv) < 2:
         print(__doc__)
@@ -469,6 +493,7 @@ def main():
         check_specialize(bench)
         check_restart(bench)
         check_longrun(bench)
+        check_refit(bench)
         print(f"test-bench: {time.monotonic() - start:.1f} s, {len(FAILURES)} failures")
     return 1 if FAILURES else 0
 
