@@ -58,26 +58,6 @@ std::vector<glm::vec3> rippled(const OwnedMesh& mesh, float amplitude, float t) 
     return out;
 }
 
-// Each node's parent (-1 for the root), from the preorder layout (packed_bvh.h): a node's
-// parent is the node before it if that one is inner, else the innermost inner node still
-// waiting for its right child.
-std::vector<std::int32_t> parents(const PackedBvh& bvh) {
-    std::vector<std::int32_t> parent(bvh.node_count, -1);
-    std::vector<std::uint32_t> open;
-    for (std::uint32_t j = 0; j < bvh.node_count; ++j) {
-        if (j > 0) {
-            if (float_bits(bvh.nodes[2 * (j - 1) + 1].w) == 0) {
-                parent[j] = std::int32_t(j - 1);
-            } else {
-                parent[j] = std::int32_t(open.back());
-                open.pop_back();
-            }
-        }
-        if (float_bits(bvh.nodes[2 * j + 1].w) == 0) open.push_back(j);
-    }
-    return parent;
-}
-
 // The frame's tree with its triangles at `positions` and its boxes refitted: leaves padded
 // as the build pads them, inner boxes the unions of their children's (one backwards sweep:
 // in preorder every descendant comes after its ancestor).
@@ -171,7 +151,7 @@ int bench_refit(int argc, char** argv) {
     }
     OwnedMesh mesh = make_sphere_mesh(triangles);
     const PackedBvh frame = build_packed_bvh(validate_mesh(mesh.view(), 1), {}, 6);
-    const std::vector<std::int32_t> parent = parents(frame);
+    const std::vector<std::int32_t> parent = node_parents(frame);
     std::vector<Row> rows;
     for (const float amplitude : amplitudes) {
         PackedBvh step0 = frame, step1 = frame;

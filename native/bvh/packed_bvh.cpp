@@ -133,4 +133,24 @@ PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options
     return packed;
 }
 
+std::vector<std::int32_t> node_parents(const PackedBvh& bvh) {
+    auto count_of = [&](std::uint32_t j) {
+        return std::bit_cast<std::int32_t>(bvh.nodes[2 * j + 1].w);
+    };
+    std::vector<std::int32_t> parent(bvh.node_count, -1);
+    std::vector<std::uint32_t> open;
+    for (std::uint32_t j = 0; j < bvh.node_count; ++j) {
+        if (j > 0) {
+            if (count_of(j - 1) == 0) {
+                parent[j] = std::int32_t(j - 1);
+            } else {
+                parent[j] = std::int32_t(open.back());
+                open.pop_back();
+            }
+        }
+        if (count_of(j) == 0) open.push_back(j);
+    }
+    return parent;
+}
+
 }  // namespace glslppm

@@ -67,4 +67,9 @@ PackedBvh pack_bvh(const ValidMesh& mesh, const Bvh& bvh, ThreadedBvh threaded,
 // three stages poll options.cancel (Cancelled).
 PackedBvh build_packed_bvh(const ValidMesh& mesh, const BvhBuildOptions& options, int order_count);
 
+// Each node's parent (-1 for the root), read from the preorder layout: a node's parent is
+// the node before it if that one is inner, else the innermost inner node still waiting for
+// its right child. (A refit sweeps the nodes backwards, growing each parent by its child.)
+std::vector<std::int32_t> node_parents(const PackedBvh& bvh);
+
 }  // namespace glslppm

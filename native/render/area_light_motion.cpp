@@ -65,24 +65,10 @@ void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh) {
         if (l.frame.kind == LightKind::Area)
             sweeps.push_back({l.first_triangle, l.end_triangle, sweep_box(l)});
     if (sweeps.empty()) return;
-    // Preorder, left child first: a node's parent is the node before it if that one is
-    // inner, else the innermost inner node still waiting for its right child.
-    std::vector<std::int32_t> parent(bvh.node_count, -1);
-    std::vector<std::uint32_t> open;
+    const std::vector<std::int32_t> parent = node_parents(bvh);
     for (std::uint32_t j = 0; j < bvh.node_count; ++j) {
-        if (j > 0) {
-            if (float_bits(bvh.nodes[2 * (j - 1) + 1].w) == 0) {
-                parent[j] = std::int32_t(j - 1);
-            } else {
-                parent[j] = std::int32_t(open.back());
-                open.pop_back();
-            }
-        }
         const std::int32_t count = float_bits(bvh.nodes[2 * j + 1].w);
-        if (count == 0) {
-            open.push_back(j);
-            continue;
-        }
+        if (count == 0) continue;
         Aabb box{glm::vec3(bvh.nodes[2 * j]), glm::vec3(bvh.nodes[2 * j + 1])};
         bool grown = false;
         const std::int32_t begin = float_bits(bvh.nodes[2 * j].w);
