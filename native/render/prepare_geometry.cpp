@@ -80,8 +80,8 @@ void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
         instanced_scene_bounds(geometry.mesh, scene, p.bounds.lo, p.bounds.hi);
     if (instances_move && !p.instancing.two_level) {
         // Flattened (they emit light): photons start from world-space emitters.
-        p.warnings.push_back("motion blur of instances that emit light is not done: they "
-                             "render at the frame's time");
+        p.warnings.push_back("motion blur of instances is not done where an instance emits "
+                             "light: every instance renders at the frame's time");
         motion = motion->with_still_instances();
     } else if (instances_move) {
         grow_bounds_over_motion(scene, *motion, p.bounds.lo, p.bounds.hi);

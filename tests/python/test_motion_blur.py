@@ -533,8 +533,8 @@ def test_a_moving_glass_balls_caustic_is_the_mean_of_still_frames(glslppm):
 
 
 def test_moving_emitters_and_set_camera_fall_back_to_still(glslppm):
-    """Instances that emit light are flattened (photons start from world-space emitters), so
-    their motion is dropped with a warning that says so; a camera given by set_camera (the
+    """Instances that emit light are flattened (photons start from world-space emitters), and
+    with them every instance, so all instance motion is dropped with a warning that says so; a camera given by set_camera (the
     viewport's) stands still, while the instances keep moving."""
     g = glslppm
     scene = sweep_scene(g, "strip")
@@ -550,8 +550,8 @@ def test_moving_emitters_and_set_camera_fall_back_to_still(glslppm):
                     instances=[(0, [0.0, 1.0], np.array([translation(0.0), translation(1.0)]))])
     _, stats = render(g, lamp, passes=1)
     assert stats["motion"] == "none" and stats["instancing"] == "flattened"
-    assert "motion blur of instances that emit light is not done: they render at the " \
-           "frame's time" in stats["warnings"]
+    assert "motion blur of instances is not done where an instance emits light: every " \
+           "instance renders at the frame's time" in stats["warnings"]
     cams = np.array([translation(0, 0, 4), translation(1, 0, 4)])
     lamp.set_motion(shutter_open=0.0, shutter_length=1.0,
                     instances=[(0, [0.0, 1.0], np.array([translation(0.0), translation(1.0)]))],
