@@ -37,6 +37,25 @@ Aabb sweep_box(const MovingLight& l) {
     return pad_box(Aabb{box.lo - pad, box.hi + pad});
 }
 
+// A moving emitting instance's triangle over the shutter, sampled and padded as a light's.
+Aabb emitter_sweep_box(const MovingMeshEmitter& e, std::size_t triangle) {
+    Aabb box;
+    const std::vector<double>& times = e.motion.times;
+    const std::size_t intervals = std::max<std::size_t>(times.size() - 1, 1);
+    const glm::uvec3 corners = e.triangles[triangle];
+    for (std::size_t s = 0; s < intervals; ++s)
+        for (int j = 0; j <= 64; ++j) {
+            const double u = j / 64.0;
+            const double t =
+                times.size() == 1 ? times[0] : times[s] * (1.0 - u) + times[s + 1] * u;
+            const glm::mat4 m = e.motion.at(t);
+            for (int c = 0; c < 3; ++c)
+                box.grow(glm::vec3(m * glm::vec4(e.positions[corners[c]], 1.0f)));
+        }
+    const glm::vec3 pad(1e-3f * glm::length(box.extent()));
+    return pad_box(Aabb{box.lo - pad, box.hi + pad});
+}
+
 }  // namespace
 
 void locate_area_lights(const Scene& scene, std::vector<MovingLight>& lights) {
@@ -64,7 +83,7 @@ void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh) {
     for (const MovingLight& l : plan.lights)
         if (l.frame.kind == LightKind::Area)
             sweeps.push_back({l.first_triangle, l.end_triangle, sweep_box(l)});
-    if (sweeps.empty()) return;
+    if (sweeps.empty() && plan.mesh_emitters.empty()) return;
     const std::vector<std::int32_t> parent = node_parents(bvh);
     for (std::uint32_t j = 0; j < bvh.node_count; ++j) {
         const std::int32_t count = float_bits(bvh.nodes[2 * j + 1].w);
@@ -77,6 +96,11 @@ void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh) {
             for (const Sweep& s : sweeps)
                 if (id >= s.first && id < s.end) {
                     box.grow(s.box);
+                    grown = true;
+                }
+            for (const MovingMeshEmitter& e : plan.mesh_emitters)
+                if (id >= e.first_triangle && id < e.end_triangle) {
+                    box.grow(emitter_sweep_box(e, std::size_t(id - e.first_triangle)));
                     grown = true;
                 }
         }

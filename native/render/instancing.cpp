@@ -52,15 +52,22 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
                              " puts material " + std::to_string(top) + " past the " +
                              std::to_string(materials.size()) + " materials");
         plan.instanced_triangles += triangles_of(scene.instance_meshes[inst.mesh]);
-        const MeshView& mesh = scene.instance_meshes[inst.mesh];
-        if (mesh.material_ids.empty()) {
-            emissive |= emits(materials[inst.material_offset]);
-        } else {
-            for (std::uint32_t k = 0; k <= most[inst.mesh] && !emissive; ++k)
-                emissive |= emits(materials[inst.material_offset + k]);
-        }
+        bool lit = false;
+        for (std::uint32_t k = 0; k <= most[inst.mesh] && !lit; ++k)
+            lit = emits(materials[inst.material_offset + k]);
+        plan.emitting.push_back(lit);
+        emissive |= lit;
     }
-    if (instances_move && !emissive) {
+    const auto emitting_count =
+        static_cast<std::size_t>(std::count(plan.emitting.begin(), plan.emitting.end(), true));
+    if (instances_move && emissive) {
+        // Emitters are placed once (photons start from world-space triangles); the rest,
+        // if any, move through the two levels.
+        plan.placed_once = true;
+        plan.path = emitting_count < scene.instances.size() ? "two-level" : "flattened";
+        plan.reason = "instances move (motion blur); the " + std::to_string(emitting_count) +
+                      " that emit light are placed once";
+    } else if (instances_move) {
         plan.path = "two-level";
         plan.reason = "instances move (motion blur)";
     } else if (mode == Instancing::Flattened) {
@@ -87,7 +94,8 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
 }
 
 std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene& scene,
-                                             bool keep_uvs) {
+                                             bool keep_uvs, const std::vector<bool>* only,
+                                             std::vector<std::int64_t>* first_triangle) {
     auto out = std::make_shared<OwnedMesh>();
     bool normals = !world.normals.empty(), uvs = keep_uvs && !world.uvs.empty();
     bool tangents = !world.tangents.empty(), colors = !world.colors.empty();
@@ -142,8 +150,13 @@ std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene&
         }
     };
     append(world, glm::mat4(1.0f), 0, false);
-    for (const Instance& inst : scene.instances)
+    if (first_triangle) first_triangle->assign(scene.instances.size(), -1);
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        if (only && !(*only)[i]) continue;
+        if (first_triangle) (*first_triangle)[i] = std::int64_t(out->triangles.size());
+        const Instance& inst = scene.instances[i];
         append(scene.instance_meshes[inst.mesh], inst.to_world, inst.material_offset, true);
+    }
     return out;
 }
 

@@ -30,13 +30,19 @@ struct InstancePlan {
     std::string path;    // "none" (no instances), "two-level" or "flattened": stats()["instancing"]
     std::string reason;  // why, for stats and logs
     std::size_t instanced_triangles = 0;  // what the flattened copy holds (instances only)
+    // Per instance, whether it emits light (one of its materials has an emission). Where
+    // instances move and some emit, the emitting ones are placed once (flattened) and the
+    // rest traced through the two levels; `placed_once` says so.
+    std::vector<bool> emitting;
+    bool placed_once = false;
 };
 
 // Checks the instances (mesh index, finite affine invertible transform, material offsets in
 // range: SceneError naming the instance) and chooses the path.
 // flatten_max_triangles: the device's bound above (Auto mode only). instances_move: some
 // instances move in the shutter (render/motion.h), which only the two levels trace (their
-// top level refitted per pass), whatever the mode; unless instances emit light.
+// top level refitted per pass), whatever the mode; those that emit light are placed once
+// with the other emitters (their motion rewritten per pass: MovingMeshEmitter).
 InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& materials,
                              Instancing mode,
                              std::size_t flatten_max_triangles = kFlattenMaxTrianglesSoftware,
@@ -47,8 +53,12 @@ InstancePlan plan_instancing(const Scene& scene, const std::vector<Material>& ma
 // the two-level traversal's do), zero normals and uvs for meshes without them (the renderer
 // then falls back to the geometric normal), material ids plus the instance's offset; the
 // corners of a mirrored instance's triangles swapped so that their front sides stay.
+// `only` (one per instance, or null for all): the instances to flatten; `first_triangle`
+// (or null): each flattened instance's first triangle in the result (-1 for the others).
 std::shared_ptr<OwnedMesh> flatten_instances(const MeshView& world, const Scene& scene,
-                                             bool keep_uvs);
+                                             bool keep_uvs,
+                                             const std::vector<bool>* only = nullptr,
+                                             std::vector<std::int64_t>* first_triangle = nullptr);
 
 // The box of a scene with instances, the same whichever path traces them (the photon hash
 // grid, ray offsets and radius floors derive from it, so the two paths render alike): the

@@ -215,7 +215,8 @@ Camera MotionPlan::camera_at(double t) const {
 }
 
 std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
-    if (instances.empty() && meshes.empty() && lights.empty()) return nullptr;
+    if (instances.empty() && meshes.empty() && lights.empty() && mesh_emitters.empty())
+        return nullptr;
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
@@ -224,20 +225,42 @@ std::shared_ptr<const MotionPlan> MotionPlan::with_still_camera() const {
     plan->instance_motion = instance_motion;
     plan->meshes = meshes;
     plan->lights = lights;
+    plan->mesh_emitters = mesh_emitters;
     plan->frame_camera = frame_camera;
     return plan;
 }
 
-std::shared_ptr<const MotionPlan> MotionPlan::with_still_instances() const {
-    if (!camera && lights.empty()) return nullptr;
+std::shared_ptr<const MotionPlan> MotionPlan::with_emitters_placed_once(
+    const Scene& scene, const std::vector<bool>& emitting,
+    const std::vector<std::int64_t>& first_triangle) const {
     auto plan = std::make_shared<MotionPlan>();
     plan->shutter_open = shutter_open;
     plan->shutter_length = shutter_length;
     plan->shutter_curve = shutter_curve;
+    plan->meshes = meshes;
     plan->lights = lights;
+    plan->mesh_emitters = mesh_emitters;
     if (camera) plan->camera = std::make_unique<TransformMotion>(*camera);
     plan->camera_fov_x = camera_fov_x;
     plan->frame_camera = frame_camera;
+    for (std::size_t k = 0; k < instances.size(); ++k) {
+        const std::uint32_t i = instances[k];
+        if (!emitting[i]) {
+            plan->instances.push_back(i);
+            plan->instance_motion.push_back(instance_motion[k]);
+            continue;
+        }
+        const Instance& inst = scene.instances[i];
+        const MeshView& mesh = scene.instance_meshes[inst.mesh];
+        MovingMeshEmitter e{i, instance_motion[k], {}, {}, {}, first_triangle[i], -1};
+        e.positions.assign(mesh.positions.begin(), mesh.positions.end());
+        e.normals.assign(mesh.normals.begin(), mesh.normals.end());
+        const bool mirrored = glm::determinant(glm::mat3(inst.to_world)) < 0.0f;
+        for (const glm::uvec3& t : mesh.triangles)
+            e.triangles.push_back(mirrored ? glm::uvec3(t.x, t.z, t.y) : t);
+        e.end_triangle = e.first_triangle + std::int64_t(e.triangles.size());
+        plan->mesh_emitters.push_back(std::move(e));
+    }
     return plan;
 }
 

@@ -92,6 +92,20 @@ struct MovingLight {
     Light at(double t) const;
 };
 
+// A moving instance that emits light (render/emitter_motion.cpp). Photons and light samples
+// start from world-space emitter triangles, so it is placed once with them, in the geometry
+// mesh as triangles [first_triangle, end_triangle) (flatten_instances appends it), and each
+// pass rewrites those triangles, their normals and their emitter records at its interpolated
+// transform, as a moving area light's are. Its mesh's own-space triangles are kept for that.
+// A transform whose scale changes in the shutter keeps the frame's power (as area lights do).
+struct MovingMeshEmitter {
+    std::uint32_t instance = 0;  // index into Scene::instances
+    TransformMotion motion;
+    std::vector<glm::vec3> positions, normals;  // the mesh's, in its own space (normals: or none)
+    std::vector<glm::uvec3> triangles;          // corners as flattened (a mirror swaps two)
+    std::int64_t first_triangle = -1, end_triangle = -1;
+};
+
 // What moves, once validated; null from plan_motion when nothing does (every step the same
 // matrix), and then nothing of this runs.
 struct MotionPlan {
@@ -100,6 +114,7 @@ struct MotionPlan {
     std::vector<TransformMotion> instance_motion;
     std::vector<DeformMotion> meshes;  // the instance meshes that deform
     std::vector<MovingLight> lights;   // the lamps that move (their emitter records move)
+    std::vector<MovingMeshEmitter> mesh_emitters;  // moving instances that emit, placed once
     std::unique_ptr<TransformMotion> camera;  // null: the camera stands still
     std::vector<double> camera_fov_x;         // empty: the camera's own
     Camera frame_camera;                      // the scene's camera (its other fields)
@@ -112,15 +127,19 @@ struct MotionPlan {
     // The same instances', meshes' and lights' motion under a camera that stands still; null
     // if nothing else moves.
     std::shared_ptr<const MotionPlan> with_still_camera() const;
-    // The same camera and light motion with every instance and mesh still; null if neither
-    // moves.
-    std::shared_ptr<const MotionPlan> with_still_instances() const;
+    // The same motion with the instances that `emitting` marks taken out of the moving
+    // instances (they are placed once, their triangles in the geometry mesh from
+    // first_triangle[i]): those that move become mesh_emitters.
+    std::shared_ptr<const MotionPlan> with_emitters_placed_once(
+        const Scene& scene, const std::vector<bool>& emitting,
+        const std::vector<std::int64_t>& first_triangle) const;
 };
 std::shared_ptr<const MotionPlan> plan_motion(const Scene& scene);
 
 // Moving area lights (render/area_light_motion.cpp): where their triangles lie in the
-// geometry mesh, and the placed-once tree's leaves that hold them (and the nodes above)
-// grown over their whole sweep, so that the tree holds them at every time.
+// geometry mesh, and the placed-once tree's leaves that hold them, or a moving emitting
+// instance's triangles (MotionPlan::mesh_emitters), and the nodes above, grown over their
+// whole sweep, so that the tree holds them at every time.
 struct PackedBvh;
 void locate_area_lights(const Scene& scene, std::vector<MovingLight>& lights);
 void grow_over_area_light_motion(const MotionPlan& plan, PackedBvh& bvh);

@@ -171,6 +171,7 @@ void Renderer::Gpu::move_to_shutter_time(std::uint64_t pass_index) {
         move_lights(t);
         move_area_lights(t);
     }
+    if (!plan.mesh_emitters.empty()) move_mesh_emitters(t);
     if ((plan.instances.empty() && plan.meshes.empty()) || !two_level) return;
     const auto start = std::chrono::steady_clock::now();
     const TwoLevelBvh& tree = *two_level;

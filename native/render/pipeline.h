@@ -103,6 +103,13 @@ struct AreaLightTriangle {
     std::size_t light = 0, packed = 0, local = 0;
 };
 
+// A moving emitting instance's packed triangle (MotionPlan::mesh_emitters[emitter], its
+// triangle `local`), and its emitter record (-1: a triangle of a material that does not emit).
+struct EmitterTriangle {
+    std::size_t emitter = 0, packed = 0, local = 0;
+    std::int32_t record = -1;
+};
+
 // Motion blur's per-pass copies (motion_pass.cpp): the two-level tree's top nodes and the
 // instance records, rewritten at each pass's time and uploaded, the moving instances'
 // record range and top leaves.
@@ -119,6 +126,8 @@ struct MotionScratch {
     std::vector<glm::vec4> light_records;  // the moving lights' records, at the pass's time
     bool area_lights_traced = false;  // area_triangles found (render/area_light_motion.cpp)
     std::vector<AreaLightTriangle> area_triangles;
+    bool mesh_emitters_traced = false;  // emitter_triangles found (render/emitter_motion.cpp)
+    std::vector<EmitterTriangle> emitter_triangles;  // in packed order
 };
 
 // GPU time per stage when settings.profile: timestamps at the stages' boundaries.
@@ -185,6 +194,9 @@ struct Renderer::Gpu {
     // Moving lamps: their emitter records at time t (render/light_motion.cpp).
     void move_lights(double t);
     void move_area_lights(double t);
+    // Moving instances that emit light, placed once: their triangles, normals and emitter
+    // records at time t (render/emitter_motion.cpp).
+    void move_mesh_emitters(double t);
     void trace_eye(std::uint64_t pass_index);
     void trace_photons(std::uint64_t pass_index, std::uint32_t step);
     // PhotonPaths::AcrossPasses: before a film's first pass, photon steps that bring the

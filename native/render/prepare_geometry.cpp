@@ -78,23 +78,38 @@ void flatten_or_instance(const Scene& scene, const RenderSettings& settings,
     p.instance_count = scene.instances.size();
     if (!scene.instances.empty())
         instanced_scene_bounds(geometry.mesh, scene, p.bounds.lo, p.bounds.hi);
-    if (instances_move && !p.instancing.two_level) {
-        // Flattened (they emit light): photons start from world-space emitters.
-        p.warnings.push_back("motion blur of instances is not done where an instance emits "
-                             "light: every instance renders at the frame's time");
-        motion = motion->with_still_instances();
-    } else if (instances_move) {
-        grow_bounds_over_motion(scene, *motion, p.bounds.lo, p.bounds.hi);
-    }
-    p.motion = motion;
-    if (p.instancing.path == "flattened") {
-        const std::shared_ptr<OwnedMesh> flat = flatten_instances(geometry.mesh, scene, true);
+    if (instances_move) grow_bounds_over_motion(scene, *motion, p.bounds.lo, p.bounds.hi);
+    const bool placed_once = p.instancing.placed_once;
+    if (p.instancing.path == "flattened" || placed_once) {
+        // Placed once: every instance, or (moving instances, some emitting) the emitting ones,
+        // whose motion then rewrites their triangles per pass.
+        std::vector<std::int64_t> first;
+        const std::shared_ptr<OwnedMesh> flat = flatten_instances(
+            geometry.mesh, scene, true, placed_once ? &p.instancing.emitting : nullptr, &first);
         geometry.owned = flat;
         geometry.mesh = flat->view();
+        if (placed_once) {
+            bool deforms = false;
+            for (const DeformMotion& d : motion->meshes)
+                for (std::size_t i = 0; i < scene.instances.size(); ++i)
+                    deforms |= p.instancing.emitting[i] && scene.instances[i].mesh == d.mesh;
+            if (deforms)
+                p.warnings.push_back("deformation blur of instances that emit light is not "
+                                     "done: they move as rigid objects");
+            motion = motion->with_emitters_placed_once(scene, p.instancing.emitting, first);
+        }
     }
+    p.motion = motion;
     bool has_uvs = !geometry.mesh.uvs.empty();
     if (p.instancing.two_level) {
         p.instance_meshes = scene.instance_meshes;
+        p.traced_instances = scene.instances;
+        if (placed_once) {
+            const auto empty = static_cast<std::uint32_t>(p.instance_meshes.size());
+            p.instance_meshes.emplace_back();
+            for (std::size_t i = 0; i < p.traced_instances.size(); ++i)
+                if (p.instancing.emitting[i]) p.traced_instances[i].mesh = empty;
+        }
         for (const MeshView& m : p.instance_meshes) has_uvs |= !m.uvs.empty();
     }
     p.textures = texture_use(scene, has_uvs, p.warnings);
@@ -147,7 +162,7 @@ const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
         dropped += valid_instance_meshes.back().stats.degenerate_dropped;
     }
     if (two_level)
-        for (const Instance& inst : scene.instances)
+        for (const Instance& inst : p.traced_instances)
             kept += valid_instance_meshes[inst.mesh].kept.size();
     if (kept == 0)
         throw SceneError("the scene has no geometry: nothing to render (" +
@@ -168,7 +183,7 @@ const PackedBvh& build_bvh(const Scene& scene, const RenderSettings& settings,
         const double bottom_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - bottom_start).count();
         std::vector<Instance> instances{Instance{}};
-        for (Instance inst : scene.instances) {
+        for (Instance inst : p.traced_instances) {
             ++inst.mesh;
             instances.push_back(inst);
         }

@@ -242,6 +242,7 @@ RenderStats Renderer::stats() {
         if (!m->instances.empty()) parts += parts.empty() ? "instances" : ",instances";
         if (!m->meshes.empty()) parts += parts.empty() ? "deformation" : ",deformation";
         if (!m->lights.empty()) parts += parts.empty() ? "lights" : ",lights";
+        if (!m->mesh_emitters.empty()) parts += parts.empty() ? "emitters" : ",emitters";
         s.motion = parts;
         s.moving_instances = m->instances.size();
         for (const auto& w : gpus_) s.motion_refit_seconds += w->motion.refit_seconds;

@@ -65,8 +65,11 @@ struct PipelineScene {
 
 struct PreparedScene : PipelineScene {
     SceneGeometry geometry;  // the scene's mesh and materials, area lights appended
-    // Two levels: the instance meshes as traced (uvs and colours only where used).
+    // Two levels: the instance meshes as traced (uvs and colours only where used), and the
+    // instances as traced: the scene's, except that those placed once (emitting, where
+    // instances move: InstancePlan::placed_once) take an empty mesh, the last one here.
     std::vector<MeshView> instance_meshes;
+    std::vector<Instance> traced_instances;
     PackedBvh bvh;  // the triangles placed once (with the area lights)
     // The two-level MTBVH (the placed-once triangles its mesh 0) when instances are traced
     // that way (instancing.two_level); null otherwise (flattened into `bvh`).
