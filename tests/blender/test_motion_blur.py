@@ -117,6 +117,24 @@ def test_keyframed_strip_renders_the_box_filtered_sweep():
         assert abs(measured / exact - 1) < 0.003
 
 
+def _renders_the_centred_sweep(name, label, motion, radiance=ALBEDO * SUN / math.pi):
+    """Renders the scene as built (the strip, however it is made, keyframed as
+    _moving_strip_scene keys it, shutter 0.5 centred on frame 1) and checks the closed-form
+    sweep: worst pixel within 0.1 L, the profile's spread within 0.3%."""
+    image, error, engine = helpers.render_recorded(name)
+    assert error is None, error
+    assert helpers.last_render_stats()["motion"] == motion, helpers.last_render_stats()
+    rows = image[..., 0].astype(np.float64) / radiance
+    want = analytic_columns(SHUTTER, -0.25 - SPEED * SHUTTER / 2)
+    worst = float(np.abs(rows - want[None, :]).max())
+    measured, exact = spread(rows.mean(axis=0)), spread(want)
+    print(f"  {label}: worst pixel {worst:.3f} of L, spread {measured:.5f} analytic "
+          f"{exact:.5f} ({measured / exact - 1:+.3%})")
+    assert worst < 0.1, worst
+    assert abs(measured / exact - 1) < 0.003
+    return engine
+
+
 def test_a_moving_collection_instance_renders_the_box_filtered_sweep():
     """Instances blur as objects do (issue 32 item 1): the strip kept in a collection that
     the view layer excludes, shown by an Empty instancing that collection, and the Empty
@@ -140,17 +158,8 @@ def test_a_moving_collection_instance_renders_the_box_filtered_sweep():
         holder.location = (-0.25 + SPEED * (frame - 1), 0, 0)
         _linear_keyframe(holder, frame)
     scene.frame_set(1)
-    image, error, engine = helpers.render_recorded("motion_blur_collection_instance")
-    assert error is None, error
-    assert helpers.last_render_stats()["motion"] == "instances", helpers.last_render_stats()
-    rows = image[..., 0].astype(np.float64) / (ALBEDO * SUN / math.pi)
-    want = analytic_columns(SHUTTER, -0.25 - SPEED * SHUTTER / 2)
-    worst = float(np.abs(rows - want[None, :]).max())
-    measured, exact = spread(rows.mean(axis=0)), spread(want)
-    print(f"  collection instance: worst pixel {worst:.3f} of L, spread {measured:.5f} "
-          f"analytic {exact:.5f} ({measured / exact - 1:+.3%})")
-    assert worst < 0.1, worst
-    assert abs(measured / exact - 1) < 0.003
+    _renders_the_centred_sweep("motion_blur_collection_instance", "collection instance",
+                               "instances")
 
 
 def _strip_by_geometry_nodes(material):
@@ -197,17 +206,8 @@ def test_a_moving_geometry_nodes_instance_renders_the_box_filtered_sweep():
         holder.location = (-0.25 + SPEED * (frame - 1) + STRIP / 2, 0, 0)
         _linear_keyframe(holder, frame)
     scene.frame_set(1)
-    image, error, engine = helpers.render_recorded("motion_blur_geometry_nodes")
-    assert error is None, error
-    assert helpers.last_render_stats()["motion"] == "instances", helpers.last_render_stats()
-    rows = image[..., 0].astype(np.float64) / (ALBEDO * SUN / math.pi)
-    want = analytic_columns(SHUTTER, -0.25 - SPEED * SHUTTER / 2)
-    worst = float(np.abs(rows - want[None, :]).max())
-    measured, exact = spread(rows.mean(axis=0)), spread(want)
-    print(f"  geometry nodes instance: worst pixel {worst:.3f} of L, spread {measured:.5f} "
-          f"analytic {exact:.5f} ({measured / exact - 1:+.3%})")
-    assert worst < 0.1, worst
-    assert abs(measured / exact - 1) < 0.003
+    _renders_the_centred_sweep("motion_blur_geometry_nodes", "geometry nodes instance",
+                               "instances")
 
 
 def test_a_keyframed_emitting_strip_renders_the_box_filtered_sweep():
@@ -221,19 +221,9 @@ def test_a_keyframed_emitting_strip_renders_the_box_filtered_sweep():
     strip.data.materials[0] = helpers.emission_material("Glow", (1.0, 1.0, 1.0), 1.5)
     for obj in [o for o in scene.objects if o.type == 'LIGHT']:
         bpy.data.objects.remove(obj)
-    image, error, engine = helpers.render_recorded("motion_blur_emitting_strip")
-    assert error is None, error
-    stats = helpers.last_render_stats()
-    assert stats["motion"] == "emitters", stats.get("motion")
+    engine = _renders_the_centred_sweep("motion_blur_emitting_strip", "emitting strip",
+                                        "emitters", radiance=1.5)
     assert not any("motion blur" in w for w in helpers.warnings_of(engine))
-    rows = image[..., 0].astype(np.float64) / 1.5
-    want = analytic_columns(SHUTTER, -0.25 - SPEED * SHUTTER / 2)
-    worst = float(np.abs(rows - want[None, :]).max())
-    measured, exact = spread(rows.mean(axis=0)), spread(want)
-    print(f"  emitting strip: worst pixel {worst:.3f} of L, spread {measured:.5f} analytic "
-          f"{exact:.5f} ({measured / exact - 1:+.3%})")
-    assert worst < 0.1, worst
-    assert abs(measured / exact - 1) < 0.003
 
 
 def test_keyframed_camera_blurs_the_still_strip_the_same_way():
