@@ -101,13 +101,14 @@ def convert_principled(node, context):
         specular = MaterialData("conductor", (2.0, 2.0, 2.0), multiscatter=multiscatter,
                                 **roughness)
         plastic = Mix(diffuse, Mix(BLACK, specular, mode="layer_fresnel", ior=layer_ior))
+    transmission = context.factor(input_socket(node, "Transmission Weight", "Transmission"))
     glass = lobe("dielectric", ior=glass_ior)
     if v2:
-        glass = _v2_glass_tint(glass, warn)
+        # Warned only where the glass is used (a Transmission of 0 leaves it out).
+        glass = _v2_glass_tint(glass, warn if transmission[0] > 0.0 else None)
     else:
         glass = _v1_transmission_roughness(node, context, glass, multiscatter, warn)
 
-    transmission = context.factor(input_socket(node, "Transmission Weight", "Transmission"))
     metallic = context.factor(node.inputs["Metallic"])
     tree = mix(mix(plastic, glass, *transmission), metal, *metallic)
     tree = _coat(node, context, v2, tree, multiscatter, warn)
@@ -123,10 +124,12 @@ def convert_principled(node, context):
 def _v2_glass_tint(glass, warn):
     """Cycles 4.x tints each refraction of the Principled glass by the square root of the
     base colour (so that light passing into and out of an object keeps the base colour);
-    a textured or vertex base colour is read as it is and tints each refraction by itself."""
+    a textured or vertex base colour is read as it is and tints each refraction by itself
+    (`warn`, unless None, says so)."""
     if glass.color_texture >= 0 or glass.vertex_color:
-        warn("the glass's transmission is tinted by the textured Base Color at each "
-             "refraction, where Blender 4.x tints by its square root")
+        if warn:
+            warn("the glass's transmission is tinted by the textured Base Color at each "
+                 "refraction, where Blender 4.x tints by its square root")
         return glass
     return replace(glass, color=tuple(math.sqrt(max(c, 0.0)) for c in glass.color))
 
