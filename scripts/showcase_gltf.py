@@ -10,8 +10,9 @@ The triangles, normals and camera are the add-on's own (instances flattened). Ma
 map to glTF's metallic-roughness model as glslppm-render reads it back
 (native/loaders/gltf_materials.cpp): Lambert is specular 0, a conductor metallic 1, glass
 transmission 1 with KHR_materials_ior and KHR_materials_volume for its absorption. The
-spot lamp keeps its power (KHR_lights_punctual's candela at 683 lm/W) and cone, and loses
-its radius, which glTF has no field for: its caustics are sharper than Blender's. Writes no
+spot lamp keeps its power (KHR_lights_punctual's candela at 683 lm/W) and cone; its radius,
+which glTF has no field for, goes in the light's extras ("radius", "soft_falloff"), which
+glslppm-render reads (native/loaders/gltf_punctual.h) and other readers ignore. Writes no
 textures: the showcase has none.
 """
 
@@ -129,7 +130,8 @@ def write_gltf(data, path):
         if light.kind not in ("point", "spot"):
             raise SystemExit(f"showcase_gltf: a {light.kind} lamp is not written")
         entry = {"type": light.kind, "color": list(light.color),
-                 "intensity": light.power * WATTS_TO_LUMENS / (4.0 * math.pi)}
+                 "intensity": light.power * WATTS_TO_LUMENS / (4.0 * math.pi),
+                 "extras": {"radius": light.radius, "soft_falloff": bool(light.facing_disc)}}
         if light.kind == "spot":
             outer = 0.5 * light.spot_size
             entry["spot"] = {"outerConeAngle": outer,

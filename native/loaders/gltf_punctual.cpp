@@ -18,6 +18,18 @@ constexpr double kPi = 3.14159265358979323846;
     throw SceneFileError(file + ": " + element + ": " + what);
 }
 
+// A number in the light's extras, or `fallback` where the key is absent; anything but a
+// finite number >= 0 is an error naming the key.
+float extras_length(const tinygltf::Light& l, const char* key, float fallback,
+                    const std::string& file, const std::string& element) {
+    if (!l.extras.IsObject() || !l.extras.Has(key)) return fallback;
+    const tinygltf::Value& v = l.extras.Get(key);
+    const double x = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+    if (!(x >= 0.0) || !std::isfinite(x))
+        fail(file, element, std::string("extras.") + key + " must be a finite number >= 0");
+    return float(x);
+}
+
 }  // namespace
 
 Camera convert_camera(const tinygltf::Camera& c, const glm::mat4& to_world, float aspect,
@@ -89,6 +101,20 @@ std::optional<Light> convert_light(const tinygltf::Light& l, const glm::mat4& to
         return std::nullopt;
     }
     if (!std::isfinite(light.power)) fail(file, element, "intensity is too large");
+    // glTF lights are points; extras carry Blender's size where the writer kept it.
+    if (light.kind == LightKind::Sun) {
+        light.angle = extras_length(l, "angle", 0.0f, file, element);
+        if (light.angle >= float(kPi)) fail(file, element, "extras.angle must be below pi");
+    } else {
+        light.radius = extras_length(l, "radius", 0.0f, file, element);
+        if (l.extras.IsObject() && l.extras.Has("soft_falloff")) {
+            const tinygltf::Value& v = l.extras.Get("soft_falloff");
+            if (!v.IsBool()) fail(file, element, "extras.soft_falloff must be true or false");
+            light.facing_disc = v.Get<bool>();
+        } else {
+            light.facing_disc = light.radius > 0.0f;  // Blender's default: Soft Falloff on
+        }
+    }
     return light;
 }
 

@@ -103,6 +103,7 @@ py::list lights_list(const Scene& s) {
         d["spot_size"] = l.spot_size;
         d["spot_blend"] = l.spot_blend;
         d["radius"] = l.radius;
+        d["facing_disc"] = l.facing_disc;
         d["angle"] = l.angle;
         out.append(d);
     }

@@ -7,6 +7,7 @@ import base64
 import json
 import math
 import os
+import re
 import struct
 import subprocess
 import zlib
@@ -487,6 +488,48 @@ def test_gltf_punctual_lights_use_blenders_units(glslppm, tmp_path):
     assert sun["kind"] == "sun"
     assert sun["power"] == pytest.approx(2.0, rel=1e-6)  # lux / 683 = W/m^2
     np.testing.assert_allclose(sun["direction"], [0, -1, 0], atol=1e-6)
+
+
+def _lights_with_extras(tmp_path, extras):
+    """A quad and a point, a spot and a sun, each given its entry of `extras`."""
+    g = Gltf()
+    g.extension("KHR_lights_punctual")
+    kinds = [{"type": "point", "intensity": 1.0},
+             {"type": "spot", "intensity": 1.0, "spot": {"outerConeAngle": 0.5}},
+             {"type": "directional", "intensity": 1.0}]
+    for light, extra in zip(kinds, extras):
+        if extra is not None:
+            light["extras"] = extra
+    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": kinds}}
+    g.node(mesh=g.mesh(QUAD, QUAD_TRIS))
+    for k in range(3):
+        g.node(translation=[0, 3, 0], extensions={"KHR_lights_punctual": {"light": k}})
+    return g.write(tmp_path / "sized.gltf")
+
+
+def test_gltf_lights_take_blenders_size_from_their_extras(glslppm, tmp_path):
+    """glTF lights are points; scripts/showcase_gltf.py keeps Blender's Radius and Soft
+    Falloff (and a sun's Angle) in the light's extras, and glslppm-render reads them back."""
+    path = _lights_with_extras(tmp_path, [{"radius": 0.02},
+                                          {"radius": 0.5, "soft_falloff": False},
+                                          {"angle": 0.00873}])
+    point, spot, sun = load(glslppm, path)[1]["lights"]
+    assert point["radius"] == pytest.approx(0.02) and point["facing_disc"] is True
+    assert spot["radius"] == pytest.approx(0.5) and spot["facing_disc"] is False
+    assert sun["angle"] == pytest.approx(0.00873) and sun["radius"] == 0.0
+    plain = load(glslppm, _lights_with_extras(tmp_path, [None, {}, None]))[1]["lights"]
+    assert [(l["radius"], l["angle"], l["facing_disc"]) for l in plain] == [(0.0, 0.0, False)] * 3
+
+
+@pytest.mark.parametrize("extras, message", [
+    ([{"radius": -1.0}, None, None], "lights[0]: extras.radius must be a finite number >= 0"),
+    ([{"radius": "big"}, None, None], "extras.radius must be a finite number >= 0"),
+    ([None, {"soft_falloff": 1}, None], "extras.soft_falloff must be true or false"),
+    ([None, None, {"angle": 4.0}], "extras.angle must be below pi"),
+])
+def test_gltf_light_extras_out_of_range_name_the_key(glslppm, tmp_path, extras, message):
+    with pytest.raises(Exception, match=re.escape(message)):
+        glslppm.load_scene(str(_lights_with_extras(tmp_path, extras)), 1.0)
 
 
 @pytest.mark.parametrize("aspect", [1.0, 2.0])
