@@ -360,7 +360,7 @@ float conductor_pdf(Shading sh, vec3 wo, vec3 wi) {
     float p_ms = conductor_multiple_probability(sh, wo);
     vec3 h = normalize(wo + wi);
     float a2 = sh.alpha * sh.alpha;
-    return (1.0 - p_ms) * ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h)) + p_ms * wi.z / PI;
+    return (1.0 - p_ms) * ggx_reflection_pdf(wo, h, a2) + p_ms * wi.z / PI;
 }
 
 bool conductor_sample(Shading sh, vec3 wo, vec3 u, out vec3 wi) {
@@ -482,7 +482,7 @@ vec3 plastic_base_f(Shading sh, vec3 wo, vec3 wi) {
 float plastic_layer_pdf(Shading sh, vec3 wo, vec3 wi) {
     vec3 h = normalize(wo + wi);
     float a2 = sh.alpha * sh.alpha;
-    return ggx_visible_pdf(wo, h, a2) / (4.0 * dot(wo, h));
+    return ggx_reflection_pdf(wo, h, a2);
 }
 
 // ---- The material: dispatch on the leaf's kind. Only scenes with a lobe beyond Lambert, the

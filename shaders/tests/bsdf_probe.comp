@@ -1,6 +1,7 @@
 // Test program for common/lobes.glsl (tests/native/bsdf_probe_test.cpp): the lobes the
-// renderer's stages use, on a surface at the origin with normal +z, seen from u_wo. Not a
-// pipeline stage.
+// renderer's stages use, on a surface at the origin with unit normal u_n (+z unless a test
+// tilts it, so that the shading frame's rotations round as a mesh's do), seen from u_wo. Not
+// a pipeline stage.
 //   u_mode 0: thread i draws one sample: (wi, 1 if drawn), (weight = f cos / pdf, bsdf_pdf).
 //   u_mode 1: thread i evaluates the direction probe_in[i]: (f, bsdf_pdf), (f(wi, wo) with
 //             the roles exchanged, 0): reciprocity.
@@ -16,6 +17,7 @@ uniform uint u_mode;
 uniform uint u_count;
 uniform int u_material;
 uniform vec3 u_wo;
+uniform vec3 u_n;
 uniform uint u_seed;
 uniform uint u_adjoint;
 
@@ -34,7 +36,7 @@ float probe_uniform(inout uint s) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= u_count) return;
-    vec3 n = vec3(0.0, 0.0, 1.0);
+    vec3 n = u_n;
     uint s = probe_hash(i ^ probe_hash(u_seed));
     TexturePoint at = TexturePoint(vec2(0.0), vec3(0.0));
     Shading sh = shading_at(u_material, n, n, at, vec3(1.0), u_wo, probe_uniform(s));
