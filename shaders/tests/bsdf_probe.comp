@@ -9,6 +9,7 @@ layout(local_size_x = 64) in;
 
 #include "common/frame.glsl"
 #include "common/lobes.glsl"
+#include "tests/probe_random.glsl"
 
 layout(std430, binding = 20) readonly buffer ProbeIn { vec4 probe_in[]; };
 layout(std430, binding = 21) writeonly buffer ProbeOut { vec4 probe_out[]; };
@@ -20,18 +21,6 @@ uniform vec3 u_wo;
 uniform vec3 u_n;
 uniform uint u_seed;
 uniform uint u_adjoint;
-
-// Independent uniform numbers per thread (a PCG step and an output permutation).
-uint probe_hash(uint v) {
-    uint state = v * 747796405u + 2891336453u;
-    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-float probe_uniform(inout uint s) {
-    s = probe_hash(s);
-    return float(s >> 8) * (1.0 / 16777216.0);
-}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

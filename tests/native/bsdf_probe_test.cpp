@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "chi_squared.h"
 #include "gl_probe.h"
 #include "gl/shader_program.h"
 #include "render/gpu_layout.h"
@@ -123,35 +124,7 @@ glm::vec3 incident(double theta_degrees) {
     return {static_cast<float>(std::sin(t)), 0.0f, static_cast<float>(std::cos(t))};
 }
 
-// The regularised upper incomplete gamma Q(a, x), by its series (x < a + 1) or its
-// continued fraction (Lentz's method).
-double gamma_q(double a, double x) {
-    if (x <= 0.0) return 1.0;
-    const double log_prefix = a * std::log(x) - x - std::lgamma(a);
-    if (x < a + 1.0) {
-        double term = 1.0 / a, sum = term;
-        for (int n = 1; n < 1000; ++n) {
-            term *= x / (a + n);
-            sum += term;
-            if (std::abs(term) < std::abs(sum) * 1e-15) break;
-        }
-        return 1.0 - sum * std::exp(log_prefix);
-    }
-    double b = x + 1.0 - a, c = 1e300, d = 1.0 / b, h = d;
-    for (int n = 1; n < 1000; ++n) {
-        const double an = -n * (n - a);
-        b += 2.0;
-        d = an * d + b;
-        if (std::abs(d) < 1e-300) d = 1e-300;
-        c = b + an / c;
-        if (std::abs(c) < 1e-300) c = 1e-300;
-        d = 1.0 / d;
-        const double delta = d * c;
-        h *= delta;
-        if (std::abs(delta - 1.0) < 1e-15) break;
-    }
-    return std::exp(log_prefix) * h;
-}
+using chi_squared::gamma_q;
 
 constexpr int kThetaBins = 18, kPhiBins = 36;
 
