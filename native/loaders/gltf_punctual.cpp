@@ -20,7 +20,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 // A number in the light's extras, or `fallback` where the key is absent; anything but a
 // finite number >= 0 is an error naming the key.
-float extras_length(const tinygltf::Light& l, const char* key, float fallback,
+float extras_number(const tinygltf::Light& l, const char* key, float fallback,
                     const std::string& file, const std::string& element) {
     if (!l.extras.IsObject() || !l.extras.Has(key)) return fallback;
     const tinygltf::Value& v = l.extras.Get(key);
@@ -103,10 +103,10 @@ std::optional<Light> convert_light(const tinygltf::Light& l, const glm::mat4& to
     if (!std::isfinite(light.power)) fail(file, element, "intensity is too large");
     // glTF lights are points; extras carry Blender's size where the writer kept it.
     if (light.kind == LightKind::Sun) {
-        light.angle = extras_length(l, "angle", 0.0f, file, element);
+        light.angle = extras_number(l, "angle", 0.0f, file, element);
         if (light.angle >= float(kPi)) fail(file, element, "extras.angle must be below pi");
     } else {
-        light.radius = extras_length(l, "radius", 0.0f, file, element);
+        light.radius = extras_number(l, "radius", 0.0f, file, element);
         if (l.extras.IsObject() && l.extras.Has("soft_falloff")) {
             const tinygltf::Value& v = l.extras.Get("soft_falloff");
             if (!v.IsBool()) fail(file, element, "extras.soft_falloff must be true or false");

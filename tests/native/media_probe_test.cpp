@@ -9,6 +9,11 @@
 // Equiangular sampling of a distance towards a light point (shaders/common/equiangular.glsl):
 // the same three checks over distance bins, for a light near the ray and far from it, with
 // the segment around its foot and beside it.
+// Measured (llvmpipe): the chi-squared p-values 0.22 to 0.98 against thresholds of 2.5e-3
+// and 3.3e-3; the returned densities within 3.5e-5 of the closed form (bound 2e-3); the
+// integrals 1.000000 to 1.000001 (bound 1e-4). A density 1% off fails the integral by 100
+// times its bound. Planted errors, not kept: a sign error in the phase function's inverse
+// gave chi2 6e5 to 3e8; the light's foot moved by 0.01 put the density 22% off.
 #include <gtest/gtest.h>
 
 #include <algorithm>
